@@ -1,0 +1,120 @@
+#pragma once
+/**
+ * @file reconstruction.h
+ * One-dimensional reconstructions from cell averages to points of a cell,
+ * used dimension by dimension (paper section 4, Titarev & Toro 2004):
+ * first along the face normal to the two faces (xi = -1/2, +1/2), then along
+ * each transverse direction to the two Gauss points xi = -+sqrt(3)/6.
+ *
+ * Each class evaluates a *pair* of points from one stencil (so smoothness
+ * indicators are computed once): pair 0 = faces, pair 1 = Gauss points.
+ * The linear weights of WENO at arbitrary points are computed from the
+ * exact polynomial reconstruction (point_coefficients) at construction.
+ *
+ * REFERENCES
+ *  - G.-S. Jiang, C.-W. Shu, J. Comput. Phys. 126 (1996) 202 (WENO5 weights)
+ *  - V. Titarev, E. Toro, J. Sci. Comput. 17 (2002); J. Comput. Phys. 201 (2004)
+ *  - B. van Leer, J. Comput. Phys. 23 (1977) (MC-limited MUSCL)
+ */
+#include <array>
+#include <cmath>
+#include <vector>
+
+namespace granhydro::convection
+{
+  /// points of pair p: xi(p, 0) < xi(p, 1), in units of the cell width
+  double pair_point(const unsigned int pair, const unsigned int side);
+
+  /**
+   * Weights w_j such that sum_j w_j vbar_{first+j} is the value at xi of the
+   * unique polynomial of degree n-1 with the given cell averages on cells
+   * first .. first+n-1 (cell 0 = [-1/2, 1/2]).
+   */
+  std::vector<double> point_coefficients(const int first, const unsigned int n, const double xi);
+
+  struct FirstOrder
+  {
+    static constexpr int r = 0;
+    void pair(const double *v, const unsigned int, double &lo, double &hi) const
+    {
+      lo = hi = v[0];
+    }
+  };
+
+  /// MUSCL with the monotonized-central limiter: v0 + xi * slope
+  struct Muscl
+  {
+    static constexpr int r = 1;
+    void pair(const double *v, const unsigned int p, double &lo, double &hi) const
+    {
+      const double dm = v[1] - v[0], dp = v[2] - v[1];
+      double       s  = 0;
+      if (dm * dp > 0)
+        {
+          const double a = std::abs(0.5 * (dm + dp)), b = 2 * std::abs(dm), c = 2 * std::abs(dp);
+          s = std::copysign(std::min(a, std::min(b, c)), dm);
+        }
+      const double x = p == 0 ? 0.5 : 0.28867513459481287;
+      lo = v[1] - x * s;
+      hi = v[1] + x * s;
+    }
+  };
+
+  /// WENO3 (two 2-cell candidates), Jiang-Shu type weights
+  struct Weno3
+  {
+    static constexpr int r = 1;
+    Weno3();
+    double c[2][2][2][2]; // [pair][side][candidate][j]
+    double d[2][2][2];    // linear weights [pair][side][candidate]
+    double eps = 1e-6;
+    void pair(const double *v, const unsigned int p, double &lo, double &hi) const
+    {
+      const double b0 = (v[1] - v[0]) * (v[1] - v[0]);
+      const double b1 = (v[2] - v[1]) * (v[2] - v[1]);
+      double out[2];
+      for (unsigned int s = 0; s < 2; ++s)
+        {
+          const double a0 = d[p][s][0] / ((eps + b0) * (eps + b0));
+          const double a1 = d[p][s][1] / ((eps + b1) * (eps + b1));
+          const double q0 = c[p][s][0][0] * v[0] + c[p][s][0][1] * v[1];
+          const double q1 = c[p][s][1][0] * v[1] + c[p][s][1][1] * v[2];
+          out[s]          = (a0 * q0 + a1 * q1) / (a0 + a1);
+        }
+      lo = out[0];
+      hi = out[1];
+    }
+  };
+
+  /// WENO5 (three 3-cell candidates), Jiang-Shu smoothness indicators and weights
+  struct Weno5
+  {
+    static constexpr int r = 2;
+    Weno5();
+    double c[2][2][3][3]; // [pair][side][candidate][j]
+    double d[2][2][3];
+    double eps = 1e-6;
+    void pair(const double *v, const unsigned int p, double &lo, double &hi) const
+    {
+      const double t0 = v[0] - 2 * v[1] + v[2], t1 = v[1] - 2 * v[2] + v[3], t2 = v[2] - 2 * v[3] + v[4];
+      const double s0 = v[0] - 4 * v[1] + 3 * v[2], s1 = v[1] - v[3], s2 = 3 * v[2] - 4 * v[3] + v[4];
+      const double b0 = 13. / 12. * t0 * t0 + 0.25 * s0 * s0;
+      const double b1 = 13. / 12. * t1 * t1 + 0.25 * s1 * s1;
+      const double b2 = 13. / 12. * t2 * t2 + 0.25 * s2 * s2;
+      const double i0 = 1. / ((eps + b0) * (eps + b0)), i1 = 1. / ((eps + b1) * (eps + b1)),
+                   i2 = 1. / ((eps + b2) * (eps + b2));
+      double out[2];
+      for (unsigned int s = 0; s < 2; ++s)
+        {
+          const auto  &cc = c[p][s];
+          const double a0 = d[p][s][0] * i0, a1 = d[p][s][1] * i1, a2 = d[p][s][2] * i2;
+          const double q0 = cc[0][0] * v[0] + cc[0][1] * v[1] + cc[0][2] * v[2];
+          const double q1 = cc[1][0] * v[1] + cc[1][1] * v[2] + cc[1][2] * v[3];
+          const double q2 = cc[2][0] * v[2] + cc[2][1] * v[3] + cc[2][2] * v[4];
+          out[s]          = (a0 * q0 + a1 * q1 + a2 * q2) / (a0 + a1 + a2);
+        }
+      lo = out[0];
+      hi = out[1];
+    }
+  };
+} // namespace granhydro::convection

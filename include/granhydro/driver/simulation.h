@@ -1,0 +1,91 @@
+#pragma once
+/**
+ * @file simulation.h
+ * The time loop of a scene: mesh and state from the scene, CFL time step on
+ * the maximal convective wave speed, SSP-RK3 convection, rejected-step
+ * handling (an inadmissible result is retried with half the step, counted,
+ * and stops the run with a clear message when retries run out), output
+ * schedule, progress line and run summary.
+ */
+#include <granhydro/convection/convection_operator.h>
+#include <granhydro/io/output.h>
+#include <granhydro/mesh/cartesian_patch.h>
+#include <granhydro/physics/ideal_gas.h>
+#include <granhydro/scene/scene.h>
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/lac/la_parallel_vector.h>
+
+#include <functional>
+#include <memory>
+#include <ostream>
+
+namespace granhydro
+{
+  /// a run that cannot continue (inadmissible state after all retries, ...)
+  class RunError : public std::runtime_error
+  {
+  public:
+    using std::runtime_error::runtime_error;
+  };
+
+  struct RunSummary
+  {
+    unsigned int steps = 0, rejected_steps = 0;
+    double       time_si = 0, wall_seconds = 0, convection_seconds = 0;
+    convection::ConvectionStatistics convection;
+  };
+
+  template <int dim>
+  class Simulation
+  {
+  public:
+    using Vector = dealii::LinearAlgebra::distributed::Vector<double>;
+    using State  = physics::State<dim>;
+
+    Simulation(const Scene &scene, const MPI_Comm comm, std::ostream &log);
+    ~Simulation();
+
+    /// mesh, operators, initial state from the scene's expressions
+    void setup();
+
+    /// replace the initial state: f(x) returns the conservative state in SI
+    /// units at a point x [m]; cell averages by Gauss quadrature (nq points per direction)
+    void set_initial_state(const std::function<State(const dealii::Point<dim> &)> &f,
+                           const unsigned int nq);
+
+    /// run to the scene's end time (or max steps)
+    RunSummary run();
+
+    const CartesianPatch<dim> &patch() const { return *patch_; }
+    const Vector              &state() const { return U; }
+    const Units               &units() const { return units_; }
+    const physics::IdealGas<dim> &description() const { return desc; }
+    const convection::ConvectionOperator<dim, physics::IdealGas<dim>> &convection() const
+    {
+      return *conv;
+    }
+
+    /// conservative SI state of owned slot s
+    State state_si(const unsigned int s) const;
+
+    /// global sums of the conserved variables times the cell volume (scaled units)
+    State totals() const;
+
+  private:
+    void print_header() const;
+
+    Scene                     scene;
+    MPI_Comm                  comm;
+    dealii::ConditionalOStream pcout;
+    Units                     units_;
+    physics::IdealGas<dim>    desc;
+    std::unique_ptr<CartesianPatch<dim>> patch_;
+    std::unique_ptr<convection::ConvectionOperator<dim, physics::IdealGas<dim>>> conv;
+    std::unique_ptr<io::Output<dim>> output;
+    Vector                    U;
+  };
+
+  /// read the scene's dimension and run it; returns the process exit code
+  int run_scene(const Scene &scene, const MPI_Comm comm, std::ostream &log);
+} // namespace granhydro

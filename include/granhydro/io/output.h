@@ -1,0 +1,42 @@
+#pragma once
+/**
+ * @file output.h
+ * Output for people: VTU/PVTU per output time plus a PVD series for ParaView
+ * (SI fields with units in their names), and profiles.csv with averages over
+ * the directions other than the profile direction.
+ */
+#include <granhydro/mesh/cartesian_patch.h>
+#include <granhydro/physics/ideal_gas.h>
+#include <granhydro/scene/scene.h>
+
+#include <deal.II/lac/la_parallel_vector.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace granhydro::io
+{
+  template <int dim>
+  class Output
+  {
+  public:
+    using Vector = dealii::LinearAlgebra::distributed::Vector<double>;
+    Output(const Scene &scene, const CartesianPatch<dim> &patch, const physics::IdealGas<dim> &desc);
+
+    /// write VTU/PVTU/PVD and/or a block of profiles.csv, as the scene asks
+    void write(const Vector &U, const double time_si, const unsigned int step);
+
+  private:
+    void write_vtu(const Vector &U, const double time_si, const unsigned int step);
+    void write_profiles(const Vector &U, const double time_si);
+
+    const Scene                   &scene;
+    const CartesianPatch<dim>     &patch;
+    const physics::IdealGas<dim>  &desc;
+    Units                          units;
+    unsigned int                   counter = 0;
+    std::vector<std::pair<double, std::string>> pvd_records;
+    bool profiles_started = false;
+  };
+} // namespace granhydro::io

@@ -1,0 +1,106 @@
+#pragma once
+/**
+ * @file cartesian_patch.h
+ * The mesh of a scene and the stencil tables of its uniform Cartesian patch.
+ *
+ * deal.II/p4est own the mesh, the partition and the DoF numbering (DG0
+ * FESystem with dim+2 components: one value per cell and conserved
+ * variable). deal.II gives one ghost layer; WENO5 with transverse Gauss-point
+ * reconstruction needs every cell within Chebyshev distance r+1 (r = stencil
+ * half width) of an owned cell. This class builds that wider ghost set from
+ * the cells' lattice indices, a Utilities::MPI::Partitioner for the state
+ * vector with those ghosts, and flat neighbour tables (no cell iterators in
+ * hot loops). Walls are represented by boundary-ghost slots whose state is a
+ * mirror (slip wall) or a copy (outflow) of an interior cell.
+ *
+ * Slot numbering: [0, n_owned) owned cells in DoF order, then [n_owned,
+ * n_owned + n_mpi_ghost) cells owned by other ranks in DoF order, then
+ * boundary ghosts. Slot s's conserved variables are entries s*(dim+2)+c of
+ * the local storage of a vector built on partitioner() (owned + ghosts), so
+ * the vector's memory is the beginning of a slot-indexed array.
+ *
+ * Limits (to be lifted by the AMR issue): uniform meshes only; the lattice to
+ * DoF map is replicated on every rank (16 bytes per cell).
+ */
+#include <granhydro/scene/scene.h>
+
+#include <deal.II/base/partitioner.h>
+#include <deal.II/base/point.h>
+#include <deal.II/distributed/tria_base.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_system.h>
+
+#include <array>
+#include <memory>
+#include <vector>
+
+namespace granhydro
+{
+  template <int dim>
+  class CartesianPatch
+  {
+  public:
+    static constexpr unsigned int n_components = dim + 2;
+
+    /// a boundary-ghost slot: copy of slot source, momentum components with bit d of
+    /// flip_mask set change sign (mirror at a slip wall normal to d)
+    struct BoundaryGhost
+    {
+      unsigned int slot, source, flip_mask;
+    };
+
+    CartesianPatch(const MPI_Comm comm);
+    ~CartesianPatch();
+
+    /// build mesh, DoFs and tables; ghost_width = r + 1 for a stencil half width r
+    void build(const Scene &scene, const unsigned int ghost_width);
+
+    const dealii::parallel::TriangulationBase<dim> &triangulation() const { return *tria; }
+    const dealii::DoFHandler<dim> &dof_handler() const { return *dofh; }
+    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> partitioner() const { return part; }
+    MPI_Comm communicator() const { return comm; }
+
+    unsigned int n_owned() const { return n_owned_; }
+    unsigned int n_mpi_ghosts() const { return n_mpi_ghost_; }
+    unsigned int n_slots() const { return lattice_.size(); }
+    unsigned int ghost_width() const { return G; }
+    unsigned long long n_global_cells() const { return n_global_; }
+
+    /// neighbour slot of s at offset o (|o| <= ghost_width) along d, or -1
+    int neighbor(const unsigned int s, const unsigned int d, const int o) const
+    {
+      return nb_[(std::size_t(s) * dim + d) * (2 * G + 1) + (o + int(G))];
+    }
+
+    /// extended lattice coordinates of a slot (may lie outside [0,N) for boundary ghosts)
+    const std::array<int, 3> &lattice(const unsigned int s) const { return lattice_[s]; }
+    const std::vector<BoundaryGhost> &boundary_ghosts() const { return bghosts_; }
+
+    double cell_size(const unsigned int d) const { return h_[d]; }
+    double cell_volume() const;
+    unsigned int cells(const unsigned int d) const { return N_[d]; }
+    double lower(const unsigned int d) const { return lo_[d]; }
+    dealii::Point<dim> center(const unsigned int s) const;
+
+    /// active_cell_index of each owned slot (for output only)
+    const std::vector<unsigned int> &owned_active_cell_index() const { return active_index_; }
+
+  private:
+    MPI_Comm comm;
+    std::unique_ptr<dealii::parallel::TriangulationBase<dim>> tria;
+    std::unique_ptr<dealii::FESystem<dim>> fe;
+    std::unique_ptr<dealii::DoFHandler<dim>> dofh;
+    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> part;
+
+    unsigned int G = 3;
+    std::array<unsigned int, 3> N_{{1, 1, 1}};
+    std::array<double, 3> h_{{1, 1, 1}}, lo_{{0, 0, 0}};
+    std::array<bool, 3> periodic_{{true, true, true}};
+    unsigned long long n_global_ = 0;
+    unsigned int n_owned_ = 0, n_mpi_ghost_ = 0;
+    std::vector<std::array<int, 3>> lattice_;
+    std::vector<int> nb_;
+    std::vector<BoundaryGhost> bghosts_;
+    std::vector<unsigned int> active_index_;
+  };
+} // namespace granhydro

@@ -1,0 +1,99 @@
+#pragma once
+/**
+ * @file ideal_gas.h
+ * The hyperbolic (convective) system of granular hydrodynamics, paper eq. (2.5),
+ * for the verification model "ideal gas": pressure p = n T (Z = 1) and internal
+ * energy T/(gamma_a - 1) per particle. With gamma_a = 5/3 this is exactly the
+ * dilute elastic limit of the granular system (physics.md 6(b)).
+ *
+ * Units: the code's scaled units (length sigma, mass m = grain mass), so the
+ * mass density equals the number density and the momentum row of (2.5) is the
+ * ordinary Euler momentum equation. State U = (n, n u_1..n u_dim, nE).
+ *
+ * This is a "description" in the sense of design.md: it bundles the state,
+ * the physical flux, pressure, wave speed and the admissible set. A second
+ * description (Garzó–Dufty granular gas) follows the same interface.
+ */
+#include <array>
+#include <cmath>
+
+namespace granhydro::physics
+{
+  template <int dim>
+  using State = std::array<double, dim + 2>;
+
+  template <int dim>
+  struct IdealGas
+  {
+    static constexpr unsigned int n_components = dim + 2;
+    static constexpr unsigned int energy       = dim + 1;
+
+    /// adiabatic index gamma_a; 5/3 = monatomic gas = elastic dilute grains
+    double gamma = 5. / 3.;
+
+    double kinetic_energy(const State<dim> &U) const
+    {
+      double m2 = 0;
+      for (int d = 0; d < dim; ++d)
+        m2 += U[1 + d] * U[1 + d];
+      return 0.5 * m2 / U[0];
+    }
+
+    double pressure(const State<dim> &U) const
+    {
+      return (gamma - 1.) * (U[energy] - kinetic_energy(U));
+    }
+
+    /// granular temperature in energy units: T = p / n
+    double temperature(const State<dim> &U) const { return pressure(U) / U[0]; }
+
+    double sound_speed(const double n, const double p) const
+    {
+      return std::sqrt(gamma * p / n);
+    }
+
+    /// |u_d| + c for a state, used by CFL and the Riemann fluxes
+    double max_wave_speed(const State<dim> &U, const unsigned int d) const
+    {
+      const double p = pressure(U);
+      return std::abs(U[1 + d] / U[0]) + sound_speed(U[0], p > 0 ? p : 0.);
+    }
+
+    /// physical flux F_d(U) (paper 2.6 with m = 1); returns the pressure too
+    double flux(const State<dim> &U, const unsigned int d, State<dim> &F) const
+    {
+      const double p  = pressure(U);
+      const double ud = U[1 + d] / U[0];
+      F[0]            = U[1 + d];
+      for (int k = 0; k < dim; ++k)
+        F[1 + k] = U[1 + k] * ud;
+      F[1 + d] += p;
+      F[energy] = (U[energy] + p) * ud;
+      return p;
+    }
+
+    /// admissible set: n > 0, T > 0, finite
+    bool admissible(const State<dim> &U) const
+    {
+      if (!(U[0] > 0.) || !std::isfinite(U[energy]))
+        return false;
+      const double p = pressure(U);
+      return p > 0. && std::isfinite(p);
+    }
+
+    /// conservative state from n, velocity (first dim components used) and T
+    State<dim> from_primitive(const double n, const double *u, const double T) const
+    {
+      State<dim> U;
+      U[0]       = n;
+      double ke  = 0;
+      for (int d = 0; d < dim; ++d)
+        {
+          U[1 + d] = n * u[d];
+          ke += 0.5 * n * u[d] * u[d];
+        }
+      U[energy] = ke + n * T / (gamma - 1.);
+      return U;
+    }
+  };
+} // namespace granhydro::physics

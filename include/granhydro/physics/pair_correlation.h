@@ -1,0 +1,209 @@
+#pragma once
+/**
+ * @file pair_correlation.h
+ * Pair correlation at contact chi(phi) of hard spheres, Torquato (1995) form,
+ * with the C^1 linear continuation beyond phi_max = phi_c - delta
+ * (physics.md section 2, "Guard", item 2).
+ *
+ * Header only, standard library only. All member functions are inline and
+ * templated on the number type (double, float, long double, or any scalar type
+ * with the usual arithmetic, comparison and std::log overloads).
+ */
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace granhydro::physics
+{
+  /**
+   * Torquato (1995) contact value of the pair correlation, physics.md section 2:
+   *
+   *   phi <= phi_f        : chi = (1 - phi/2)/(1 - phi)^3           (Carnahan-Starling)
+   *   phi_f < phi <= phi_max : chi = chi_f (phi_c - phi_f)/(phi_c - phi)  (pole at phi_c)
+   *   phi > phi_max       : chi = chi(phi_max) + chi'(phi_max)(phi - phi_max)
+   *
+   * with chi_f = chi_CS(phi_f) and phi_max = phi_c - delta. chi is C^0 at phi_f
+   * (its derivative jumps there) and C^1 at phi_max. phi is never clamped: the
+   * continuation keeps p = n T Z increasing in n beyond phi_max (restoring
+   * pressure, hyperbolicity preserved). A state with phi >= phi_c is
+   * inadmissible; detecting and reporting it is the caller's job.
+   */
+  class PairCorrelationTorquato
+  {
+  public:
+    /**
+     * @param phi_f  freezing packing fraction, 0 < phi_f < phi_c (default 0.49)
+     * @param phi_c  random close packing, phi_f < phi_c < 1 (default 0.64)
+     * @param delta  guard distance, 0 < delta < phi_c - phi_f (default 1e-3)
+     * @throws std::invalid_argument naming the offending parameter and its
+     *         allowed range.
+     */
+    explicit PairCorrelationTorquato(const double phi_f = 0.49,
+                                     const double phi_c = 0.64,
+                                     const double delta = 1.e-3)
+      : phi_f_(phi_f)
+      , phi_c_(phi_c)
+      , delta_(delta)
+    {
+      if (!(phi_c > 0. && phi_c < 1.))
+        fail("phi_c", phi_c, "0 < phi_c < 1");
+      if (!(phi_f > 0. && phi_f < phi_c))
+        fail("phi_f", phi_f, "0 < phi_f < phi_c (phi_c = " + str(phi_c) + ")");
+      if (!(delta > 0. && delta < phi_c - phi_f))
+        fail("delta", delta, "0 < delta < phi_c - phi_f (= " + str(phi_c - phi_f) + ")");
+
+      phi_max_ = phi_c_ - delta_;
+      chi_f_   = carnahan_starling(phi_f_);
+      A_       = chi_f_ * (phi_c_ - phi_f_);
+      chi_max_ = A_ / (phi_c_ - phi_max_);
+      dchi_max_ = A_ / ((phi_c_ - phi_max_) * (phi_c_ - phi_max_));
+      X_f_     = integral_cs(phi_f_);
+      X_max_   = X_f_ + A_ * std::log((phi_c_ - phi_f_) / (phi_c_ - phi_max_));
+    }
+
+    /** @name Parameters and derived constants (physics.md section 2) */
+    ///@{
+    double phi_f() const { return phi_f_; }
+    double phi_c() const { return phi_c_; }
+    double delta() const { return delta_; }
+    /// start of the linear continuation, phi_c - delta
+    double phi_max() const { return phi_max_; }
+    /// chi_f = (1 - phi_f/2)/(1 - phi_f)^3 (5.691627 for phi_f = 0.49)
+    double chi_f() const { return chi_f_; }
+    /// chi(phi_max) (853.744 with the defaults)
+    double chi_max() const { return chi_max_; }
+    /// dchi/dphi at phi_max, the slope of the continuation (8.53744e5 with the defaults)
+    double dchi_max() const { return dchi_max_; }
+    ///@}
+
+    /// Carnahan-Starling contact value (1 - phi/2)/(1 - phi)^3 (physics.md section 2).
+    template <typename Number>
+    static Number carnahan_starling(const Number phi)
+    {
+      const Number w = Number(1.) - phi;
+      return (Number(1.) - Number(0.5) * phi) / (w * w * w);
+    }
+
+    /// d chi_CS/d phi = (5/2 - phi)/(1 - phi)^4 (physics.md section 2).
+    template <typename Number>
+    static Number carnahan_starling_derivative(const Number phi)
+    {
+      const Number w  = Number(1.) - phi;
+      const Number w2 = w * w;
+      return (Number(2.5) - phi) / (w2 * w2);
+    }
+
+    /**
+     * chi(phi), physics.md section 2 (Torquato 1995 + C^1 guard, item 2).
+     * Finite for every phi < 1 on the Carnahan-Starling branch and for every
+     * phi > phi_f above (linear beyond phi_max; no clamping).
+     */
+    template <typename Number>
+    Number chi(const Number phi) const
+    {
+      if (phi <= Number(phi_f_))
+        return carnahan_starling(phi);
+      if (phi <= Number(phi_max_))
+        return Number(A_) / (Number(phi_c_) - phi);
+      return Number(chi_max_) + Number(dchi_max_) * (phi - Number(phi_max_));
+    }
+
+    /**
+     * dchi/dphi, physics.md section 2: (5/2 - phi)/(1 - phi)^4 up to phi_f
+     * (the left derivative at phi_f; the derivative jumps there),
+     * chi_f (phi_c - phi_f)/(phi_c - phi)^2 up to phi_max, constant beyond.
+     */
+    template <typename Number>
+    Number dchi_dphi(const Number phi) const
+    {
+      if (phi <= Number(phi_f_))
+        return carnahan_starling_derivative(phi);
+      if (phi <= Number(phi_max_))
+        {
+          const Number w = Number(phi_c_) - phi;
+          return Number(A_) / (w * w);
+        }
+      return Number(dchi_max_);
+    }
+
+    /// chi and dchi/dphi together (one branch decision), physics.md section 2.
+    template <typename Number>
+    void chi_and_derivative(const Number phi, Number &chi_value, Number &dchi_value) const
+    {
+      if (phi <= Number(phi_f_))
+        {
+          const Number w  = Number(1.) - phi;
+          const Number w3 = w * w * w;
+          chi_value  = (Number(1.) - Number(0.5) * phi) / w3;
+          dchi_value = (Number(2.5) - phi) / (w3 * w);
+        }
+      else if (phi <= Number(phi_max_))
+        {
+          const Number w = Number(phi_c_) - phi;
+          chi_value  = Number(A_) / w;
+          dchi_value = chi_value / w;
+        }
+      else
+        {
+          chi_value  = Number(chi_max_) + Number(dchi_max_) * (phi - Number(phi_max_));
+          dchi_value = Number(dchi_max_);
+        }
+    }
+
+    /**
+     * X(phi) = int_0^phi chi(s) ds, physics.md section 2 (used by the
+     * hydrostatic column of section 6(d)):
+     *   phi <= phi_f : 1/(4(1-phi)^2) + 1/(2(1-phi)) - 3/4, evaluated in the
+     *                  algebraically identical, cancellation-free form
+     *                  phi (4 - 3 phi) / (4 (1 - phi)^2);
+     *   phi_f < phi <= phi_max : X(phi_f) + chi_f (phi_c - phi_f) ln[(phi_c - phi_f)/(phi_c - phi)];
+     *   phi > phi_max : the exact integral of the linear continuation,
+     *                  X(phi_max) + chi_max s + dchi_max s^2/2, s = phi - phi_max
+     *                  (physics.md only states the first two branches; this
+     *                  keeps X consistent with chi, X' = chi everywhere).
+     */
+    template <typename Number>
+    Number integral(const Number phi) const
+    {
+      using std::log;
+      if (phi <= Number(phi_f_))
+        return integral_cs(phi);
+      if (phi <= Number(phi_max_))
+        return Number(X_f_) + Number(A_) * log(Number(phi_c_ - phi_f_) / (Number(phi_c_) - phi));
+      const Number s = phi - Number(phi_max_);
+      return Number(X_max_) + s * (Number(chi_max_) + Number(0.5) * Number(dchi_max_) * s);
+    }
+
+  private:
+    template <typename Number>
+    static Number integral_cs(const Number phi)
+    {
+      const Number w = Number(1.) - phi;
+      return phi * (Number(4.) - Number(3.) * phi) / (Number(4.) * w * w);
+    }
+
+    static std::string str(const double x)
+    {
+      std::ostringstream s;
+      s.precision(17);
+      s << x;
+      return s.str();
+    }
+
+    [[noreturn]] static void fail(const char *name, const double value, const std::string &range)
+    {
+      throw std::invalid_argument(std::string("PairCorrelationTorquato: parameter ") + name +
+                                  " = " + str(value) + " is outside the allowed range " + range);
+    }
+
+    double phi_f_, phi_c_, delta_;
+    double phi_max_  = 0.; ///< phi_c - delta
+    double chi_f_    = 0.; ///< chi_CS(phi_f)
+    double A_        = 0.; ///< chi_f (phi_c - phi_f), numerator of the pole branch
+    double chi_max_  = 0.; ///< chi(phi_max)
+    double dchi_max_ = 0.; ///< chi'(phi_max)
+    double X_f_      = 0.; ///< X(phi_f)
+    double X_max_    = 0.; ///< X(phi_max)
+  };
+} // namespace granhydro::physics

@@ -1,0 +1,140 @@
+#pragma once
+/**
+ * @file scene.h
+ * A scene: everything a run needs, read from a deal.II ParameterHandler file
+ * in SI units, validated before any work is done (design.md "Scenes and
+ * effects"). Internally the code works in scaled units (struct Units).
+ */
+#include <deal.II/base/parameter_handler.h>
+
+#include <array>
+#include <stdexcept>
+#include <string>
+
+namespace granhydro
+{
+  /// A bad scene: names the parameter (subsection/key) and what is allowed.
+  class SceneError : public std::runtime_error
+  {
+  public:
+    using std::runtime_error::runtime_error;
+  };
+
+  enum class BoundaryType
+  {
+    periodic,
+    slip_wall,
+    outflow
+  };
+
+  enum class ReconstructionType
+  {
+    first_order,
+    muscl,
+    weno3,
+    weno5
+  };
+
+  enum class FaceQuadrature
+  {
+    gauss,
+    midpoint
+  };
+
+  enum class FluxType
+  {
+    musta,
+    rusanov,
+    hll
+  };
+
+  /// Scaled units: length sigma, mass m (grain mass), velocity V0.
+  struct Units
+  {
+    double length   = 1; // [m]
+    double mass     = 1; // [kg]
+    double velocity = 1; // [m/s]
+    double time() const { return length / velocity; }
+    double energy() const { return mass * velocity * velocity; }
+    double number_density() const { return 1. / (length * length * length); }
+    /// energy density and pressure [J/m^3 = Pa]
+    double pressure() const { return energy() * number_density(); }
+  };
+
+  struct Scene
+  {
+    std::string source = "<default scene>";
+    unsigned int dimension = 1;
+
+    // Domain
+    std::array<double, 3>       lower{{0, 0, 0}}, upper{{1, 1, 1}};
+    std::array<unsigned int, 3> cells{{1, 1, 1}};
+    /// boundary[2*d] lower side, boundary[2*d+1] upper side of direction d
+    std::array<BoundaryType, 6> boundary{};
+
+    // Material
+    std::string model = "ideal gas";
+    double grain_diameter   = 1e-3;
+    double material_density = 2600;
+    double adiabatic_index  = 5. / 3.;
+
+    // Initial state (FunctionParser expressions in x, y, z [m], SI values)
+    std::string initial_packing_fraction = "0.01";
+    std::string initial_velocity         = "0; 0; 0";
+    std::string initial_temperature      = "1e-8";
+    std::string initial_constants        = "";
+    unsigned int initial_quadrature      = 3;
+
+    // Numerics
+    ReconstructionType reconstruction = ReconstructionType::weno5;
+    FaceQuadrature     face_quadrature = FaceQuadrature::gauss;
+    FluxType           flux            = FluxType::musta;
+    unsigned int musta_max_stages = 4;
+    double       musta_tolerance  = 0.01;
+    double       musta_local_cfl  = 0.9;
+    double       cfl              = 0.4;
+    double       fixed_time_step  = 0;   // [s], 0: from CFL
+    double       reference_velocity = 0; // [m/s], 0: sqrt(g sigma), g = 9.81
+    unsigned int max_step_retries = 6;
+
+    // Time
+    double       end_time  = 1;
+    unsigned int max_steps = 0;
+
+    // Output
+    std::string  output_directory = "output";
+    std::string  base_name        = "solution";
+    double       output_interval  = 0;
+    bool         write_vtu        = true;
+    bool         write_profiles   = true;
+    int          profile_direction = -1; // -1: last dimension
+    double       progress_interval = 5;  // wall seconds
+    bool         verbose           = true;
+
+    Units units() const;
+    double grain_mass() const;
+  };
+
+  /// declare every parameter with its default, pattern and documentation
+  void declare_scene_parameters(dealii::ParameterHandler &prm);
+
+  /// the embedded default scene (a Sod shock tube in the ideal-gas limit)
+  std::string default_scene_text();
+
+  /**
+   * Read a scene from a file ("" = embedded default), validate it and
+   * return it. Throws SceneError naming the offending parameter.
+   */
+  Scene read_scene(const std::string &filename);
+
+  /// the same from a string in .prm syntax (tests)
+  Scene parse_scene(const std::string &text, const std::string &source_name);
+
+  /// check every impossible combination; throws SceneError
+  void validate(const Scene &scene);
+
+  std::string to_string(ReconstructionType);
+  std::string to_string(FluxType);
+  std::string to_string(FaceQuadrature);
+  std::string to_string(BoundaryType);
+} // namespace granhydro

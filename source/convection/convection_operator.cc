@@ -1,0 +1,350 @@
+#include <granhydro/convection/convection_operator.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <algorithm>
+#include <cstring>
+#include <sstream>
+
+namespace granhydro::convection
+{
+  using namespace dealii;
+
+  template <int dim, class Description>
+  ConvectionOperator<dim, Description>::ConvectionOperator(const CartesianPatch<dim> &patch,
+                                                           const Description         &desc,
+                                                           const Scene               &scene)
+    : patch(patch)
+    , desc(desc)
+    , numflux(desc, scene)
+    , rtype(scene.reconstruction)
+    , gauss(scene.face_quadrature == FaceQuadrature::gauss && dim > 1)
+  {
+    // the patch geometry is in SI; the operator works in scaled units (length sigma)
+    for (unsigned int d = 0; d < dim; ++d)
+      inv_h[d] = scene.units().length / patch.cell_size(d);
+  }
+
+  template <int dim, class Description>
+  unsigned int ConvectionOperator<dim, Description>::stencil_half_width(const ReconstructionType t)
+  {
+    return t == ReconstructionType::weno5 ? 2 : (t == ReconstructionType::first_order ? 0 : 1);
+  }
+
+  namespace
+  {
+    void unique_sort(std::vector<unsigned int> &v)
+    {
+      std::sort(v.begin(), v.end());
+      v.erase(std::unique(v.begin(), v.end()), v.end());
+    }
+  } // namespace
+
+  template <int dim, class Description>
+  void ConvectionOperator<dim, Description>::setup()
+  {
+    const int r = stencil_half_width(rtype);
+    AssertThrow(patch.ghost_width() >= unsigned(r) + 1, ExcMessage("ghost width too small"));
+    const unsigned int n_owned = patch.n_owned();
+    auto nb = [&](unsigned int s, unsigned int d, int o) {
+      const int t = patch.neighbor(s, d, o);
+      AssertThrow(t >= 0, ExcMessage("stencil leaves the ghost patch (internal error)"));
+      return unsigned(t);
+    };
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        faces[d].clear();
+        for (unsigned int s = 0; s < n_owned; ++s)
+          {
+            faces[d].emplace_back(s, nb(s, d, 1));
+            const unsigned int l = nb(s, d, -1);
+            if (l >= n_owned)
+              faces[d].emplace_back(l, s);
+          }
+        std::vector<unsigned int> fin;
+        for (const auto &f : faces[d])
+          {
+            fin.push_back(f.first);
+            fin.push_back(f.second);
+          }
+        unique_sort(fin);
+        auto widen = [&](const std::vector<unsigned int> &in, unsigned int dir) {
+          std::vector<unsigned int> out;
+          for (const unsigned int s : in)
+            for (int o = -r; o <= r; ++o)
+              out.push_back(nb(s, dir, o));
+          unique_sort(out);
+          return out;
+        };
+        listA[d].clear();
+        listB[d].clear();
+        listC[d].clear();
+        if (gauss && dim == 3)
+          {
+            listC[d] = fin;
+            listB[d] = widen(listC[d], (d + 2) % 3);
+            listA[d] = widen(listB[d], (d + 1) % 3);
+          }
+        else if (gauss && dim == 2)
+          {
+            listB[d] = fin;
+            listA[d] = widen(listB[d], 1 - d);
+          }
+        else
+          listA[d] = fin;
+        for (const unsigned int s : listA[d]) // the normal stencil must exist
+          for (int o = -r; o <= r; ++o)
+            nb(s, d, o);
+      }
+    const std::size_t ns = patch.n_slots();
+    A.assign(ns * 2 * NC, 0.);
+    if (gauss)
+      B.assign(ns * 4 * NC, 0.);
+    if (gauss && dim == 3)
+      C.assign(ns * 8 * NC, 0.);
+  }
+
+  template <int dim, class Description>
+  void ConvectionOperator<dim, Description>::apply(const double *Wp, double *rhs) const
+  {
+    switch (rtype)
+      {
+        case ReconstructionType::first_order:
+          apply_impl(rec1, Wp, rhs);
+          break;
+        case ReconstructionType::muscl:
+          apply_impl(rec_muscl, Wp, rhs);
+          break;
+        case ReconstructionType::weno3:
+          apply_impl(rec3, Wp, rhs);
+          break;
+        default:
+          apply_impl(rec5, Wp, rhs);
+      }
+  }
+
+  template <int dim, class Description>
+  template <class Recon>
+  void ConvectionOperator<dim, Description>::apply_impl(const Recon &rec, const double *Wp,
+                                                        double *rhs) const
+  {
+    constexpr int      r = Recon::r;
+    constexpr int      w = 2 * r + 1;
+    const unsigned int n_owned = patch.n_owned();
+    std::fill(rhs, rhs + std::size_t(n_owned) * NC, 0.);
+    ++stats.rhs_evaluations;
+    stats.cell_updates += n_owned;
+    const unsigned int npts = gauss ? (1u << (dim - 1)) : 1;
+    const double       wq   = 1. / npts;
+
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        // stage A: along d to the two faces
+        for (const unsigned int s : listA[d])
+          {
+            int idx[w];
+            for (int o = -r; o <= r; ++o)
+              idx[o + r] = patch.neighbor(s, d, o);
+            double *out = &A[std::size_t(s) * 2 * NC];
+            for (unsigned int c = 0; c < NC; ++c)
+              {
+                double v[w];
+                for (int k = 0; k < w; ++k)
+                  v[k] = Wp[std::size_t(idx[k]) * NC + c];
+                rec.pair(v, 0, out[c], out[NC + c]);
+              }
+          }
+        const double *fin = A.data();
+        if (gauss)
+          {
+            // stage B: first transverse direction to its Gauss points
+            const unsigned int t1 = dim == 3 ? (d + 1) % 3 : 1 - d;
+            for (const unsigned int s : listB[d])
+              {
+                int idx[w];
+                for (int o = -r; o <= r; ++o)
+                  idx[o + r] = patch.neighbor(s, t1, o);
+                double *out = &B[std::size_t(s) * 4 * NC];
+                for (unsigned int side = 0; side < 2; ++side)
+                  for (unsigned int c = 0; c < NC; ++c)
+                    {
+                      double v[w];
+                      for (int k = 0; k < w; ++k)
+                        v[k] = A[(std::size_t(idx[k]) * 2 + side) * NC + c];
+                      rec.pair(v, 1, out[(side * 2) * NC + c], out[(side * 2 + 1) * NC + c]);
+                    }
+              }
+            fin = B.data();
+            if (dim == 3)
+              {
+                const unsigned int t2 = (d + 2) % 3;
+                for (const unsigned int s : listC[d])
+                  {
+                    int idx[w];
+                    for (int o = -r; o <= r; ++o)
+                      idx[o + r] = patch.neighbor(s, t2, o);
+                    double *out = &C[std::size_t(s) * 8 * NC];
+                    for (unsigned int sq = 0; sq < 4; ++sq) // side*2 + q1
+                      for (unsigned int c = 0; c < NC; ++c)
+                        {
+                          double v[w];
+                          for (int k = 0; k < w; ++k)
+                            v[k] = B[(std::size_t(idx[k]) * 4 + sq) * NC + c];
+                          rec.pair(v, 1, out[(sq * 2) * NC + c], out[(sq * 2 + 1) * NC + c]);
+                        }
+                  }
+                fin = C.data();
+              }
+          }
+        // positivity: fall back to the cell average in direction d
+        double *finw = const_cast<double *>(fin);
+        const std::vector<unsigned int> &finlist =
+          (gauss && dim == 3) ? listC[d] : (gauss ? listB[d] : listA[d]);
+        if (Recon::r > 0)
+          for (const unsigned int s : finlist)
+            {
+              double *vals = finw + std::size_t(s) * 2 * npts * NC;
+              bool    ok   = true;
+              for (unsigned int q = 0; q < 2 * npts && ok; ++q)
+                {
+                  physics::State<dim> U;
+                  std::copy(vals + q * NC, vals + (q + 1) * NC, U.begin());
+                  ok = desc.admissible(U);
+                }
+              if (!ok)
+                {
+                  for (unsigned int q = 0; q < 2 * npts; ++q)
+                    std::copy(Wp + std::size_t(s) * NC, Wp + std::size_t(s + 1) * NC, vals + q * NC);
+                  if (s < n_owned)
+                    ++stats.limited_cells;
+                }
+            }
+        // fluxes
+        const double ih = inv_h[d];
+        for (const auto &[sl, sr] : faces[d])
+          {
+            physics::State<dim> UL, UR, F, Fsum;
+            Fsum.fill(0.);
+            const double *vl = fin + (std::size_t(sl) * 2 + 1) * npts * NC;
+            const double *vr = fin + (std::size_t(sr) * 2 + 0) * npts * NC;
+            for (unsigned int q = 0; q < npts; ++q)
+              {
+                std::copy(vl + q * NC, vl + (q + 1) * NC, UL.begin());
+                std::copy(vr + q * NC, vr + (q + 1) * NC, UR.begin());
+                numflux(UL, UR, d, F, stats.flux);
+                for (unsigned int c = 0; c < NC; ++c)
+                  Fsum[c] += wq * F[c];
+              }
+            if (sl < n_owned)
+              for (unsigned int c = 0; c < NC; ++c)
+                rhs[std::size_t(sl) * NC + c] -= ih * Fsum[c];
+            if (sr < n_owned)
+              for (unsigned int c = 0; c < NC; ++c)
+                rhs[std::size_t(sr) * NC + c] += ih * Fsum[c];
+          }
+      }
+  }
+
+  template <int dim, class Description>
+  void ConvectionOperator<dim, Description>::gather(const Vector &U, std::vector<double> &Wv) const
+  {
+    U.update_ghost_values();
+    const std::size_t nloc = std::size_t(patch.n_owned() + patch.n_mpi_ghosts()) * NC;
+    AssertThrow(U.locally_owned_size() + U.get_partitioner()->n_ghost_indices() == nloc,
+                ExcMessage("state vector does not match the patch"));
+    Wv.resize(std::size_t(patch.n_slots()) * NC);
+    if (nloc > 0)
+      std::memcpy(Wv.data(), U.begin(), nloc * sizeof(double)); // ghosts follow the owned entries
+    for (const auto &g : patch.boundary_ghosts())
+      for (unsigned int c = 0; c < NC; ++c)
+        {
+          double v = Wv[std::size_t(g.source) * NC + c];
+          if (c >= 1 && c <= dim && (g.flip_mask >> (c - 1) & 1u))
+            v = -v;
+          Wv[std::size_t(g.slot) * NC + c] = v;
+        }
+  }
+
+  template <int dim, class Description>
+  double ConvectionOperator<dim, Description>::max_rate(const Vector &U) const
+  {
+    double m = 0;
+    for (unsigned int s = 0; s < patch.n_owned(); ++s)
+      {
+        physics::State<dim> S;
+        for (unsigned int c = 0; c < NC; ++c)
+          S[c] = U.local_element(std::size_t(s) * NC + c);
+        double rate = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          rate += desc.max_wave_speed(S, d) * inv_h[d];
+        m = std::max(m, rate);
+      }
+    return Utilities::MPI::max(m, patch.communicator());
+  }
+
+  template <int dim, class Description>
+  void ConvectionOperator<dim, Description>::ssp_rk3_step(Vector &U, const double dt) const
+  {
+    const std::size_t n = std::size_t(patch.n_owned()) * NC;
+    U0.resize(n);
+    rhs0.resize(n);
+    double *u = n ? &U.local_element(0) : nullptr;
+    std::copy(u, u + n, U0.begin());
+    // eq. 4.10
+    gather(U, W);
+    apply(W.data(), rhs0.data());
+    for (std::size_t i = 0; i < n; ++i)
+      u[i] = U0[i] + dt * rhs0[i];
+    gather(U, W);
+    apply(W.data(), rhs0.data());
+    for (std::size_t i = 0; i < n; ++i)
+      u[i] = 0.75 * U0[i] + 0.25 * (u[i] + dt * rhs0[i]);
+    gather(U, W);
+    apply(W.data(), rhs0.data());
+    for (std::size_t i = 0; i < n; ++i)
+      u[i] = (1. / 3.) * U0[i] + (2. / 3.) * (u[i] + dt * rhs0[i]);
+  }
+
+  template <int dim, class Description>
+  bool ConvectionOperator<dim, Description>::admissible(const Vector &U, std::string *what) const
+  {
+    int bad = -1;
+    for (unsigned int s = 0; s < patch.n_owned() && bad < 0; ++s)
+      {
+        physics::State<dim> S;
+        for (unsigned int c = 0; c < NC; ++c)
+          S[c] = U.local_element(std::size_t(s) * NC + c);
+        if (!desc.admissible(S))
+          bad = s;
+      }
+    const bool ok = Utilities::MPI::min(bad < 0 ? 1 : 0, patch.communicator()) == 1;
+    if (!ok && what != nullptr && bad >= 0)
+      {
+        std::ostringstream os;
+        os << "cell at " << patch.center(bad) << " (scaled state";
+        for (unsigned int c = 0; c < NC; ++c)
+          os << ' ' << U.local_element(std::size_t(bad) * NC + c);
+        os << ")";
+        *what = os.str();
+      }
+    return ok;
+  }
+
+  template <int dim, class Description>
+  ConvectionStatistics ConvectionOperator<dim, Description>::global_statistics() const
+  {
+    ConvectionStatistics g;
+    const MPI_Comm       comm = patch.communicator();
+    g.flux.points    = Utilities::MPI::sum(stats.flux.points, comm);
+    g.flux.stages    = Utilities::MPI::sum(stats.flux.stages, comm);
+    g.flux.fallbacks = Utilities::MPI::sum(stats.flux.fallbacks, comm);
+    g.limited_cells  = Utilities::MPI::sum(stats.limited_cells, comm);
+    g.cell_updates   = Utilities::MPI::sum(stats.cell_updates, comm);
+    g.rhs_evaluations = stats.rhs_evaluations;
+    return g;
+  }
+
+  template class ConvectionOperator<1, physics::IdealGas<1>>;
+  template class ConvectionOperator<2, physics::IdealGas<2>>;
+  template class ConvectionOperator<3, physics::IdealGas<3>>;
+} // namespace granhydro::convection

@@ -1,0 +1,321 @@
+#include <granhydro/driver/simulation.h>
+
+#include <deal.II/base/function_parser.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/timer.h>
+
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace granhydro
+{
+  using namespace dealii;
+
+  template <int dim>
+  Simulation<dim>::Simulation(const Scene &scene, const MPI_Comm comm, std::ostream &log)
+    : scene(scene)
+    , comm(comm)
+    , pcout(log, Utilities::MPI::this_mpi_process(comm) == 0 && scene.verbose)
+    , units_(scene.units())
+  {
+    AssertThrow(scene.dimension == dim, ExcMessage("scene dimension mismatch"));
+    desc.gamma = scene.adiabatic_index;
+  }
+
+  template <int dim>
+  Simulation<dim>::~Simulation() = default;
+
+  template <int dim>
+  void Simulation<dim>::print_header() const
+  {
+    const char *ax = "xyz";
+    pcout << "granhydro: scene " << scene.source << "\n"
+          << "  " << dim << "D, " << patch_->n_global_cells() << " cells (";
+    for (unsigned int d = 0; d < dim; ++d)
+      pcout << (d ? " x " : "") << scene.cells[d];
+    pcout << "), " << Utilities::MPI::n_mpi_processes(comm) << " MPI rank(s)\n"
+          << "  model: " << scene.model << " (gamma_a = " << desc.gamma << ")\n"
+          << "  active effects: convection (always; the ideal-gas model has no transport,"
+             " cooling or body force)\n"
+          << "  numerics: " << to_string(scene.reconstruction) << " reconstruction, "
+          << to_string(scene.face_quadrature) << " face quadrature, " << to_string(scene.flux)
+          << " flux";
+    if (scene.flux == FluxType::musta)
+      pcout << " (<= " << scene.musta_max_stages << " stages, tol " << scene.musta_tolerance << ")";
+    pcout << ", SSP-RK3, CFL " << scene.cfl << "\n  boundaries:";
+    for (unsigned int d = 0; d < dim; ++d)
+      pcout << ' ' << ax[d] << "-/+ = " << to_string(scene.boundary[2 * d]) << '/'
+            << to_string(scene.boundary[2 * d + 1]);
+    pcout << "\n  scaled units: length " << units_.length << " m, mass " << units_.mass
+          << " kg, velocity " << units_.velocity << " m/s, time " << units_.time() << " s\n";
+  }
+
+  template <int dim>
+  void Simulation<dim>::setup()
+  {
+    const unsigned int r =
+      convection::ConvectionOperator<dim, physics::IdealGas<dim>>::stencil_half_width(scene.reconstruction);
+    patch_ = std::make_unique<CartesianPatch<dim>>(comm);
+    patch_->build(scene, r + 1);
+    conv = std::make_unique<convection::ConvectionOperator<dim, physics::IdealGas<dim>>>(*patch_, desc, scene);
+    conv->setup();
+    U.reinit(patch_->partitioner());
+    print_header();
+
+    // initial state from the scene's expressions (SI), averaged over cells
+    std::map<std::string, double> constants{{"pi", M_PI}};
+    for (const auto &c : Utilities::split_string_list(scene.initial_constants, ','))
+      {
+        const auto kv     = Utilities::split_string_list(c, '=');
+        constants[kv[0]] = std::stod(kv[1]);
+      }
+    const std::string vars = dim == 1 ? "x" : (dim == 2 ? "x,y" : "x,y,z");
+    FunctionParser<dim> phi(1), T(1);
+    phi.initialize(vars, scene.initial_packing_fraction, constants);
+    T.initialize(vars, scene.initial_temperature, constants);
+    auto vexpr = Utilities::split_string_list(scene.initial_velocity, ';');
+    vexpr.resize(dim);
+    FunctionParser<dim> vel(dim);
+    vel.initialize(vars, vexpr, constants);
+    const double m = scene.grain_mass(), sigma = scene.grain_diameter;
+    bool         bad_phi = false, bad_T = false;
+    set_initial_state(
+      [&](const Point<dim> &x) {
+        const double p = phi.value(x), t = T.value(x);
+        bad_phi        = bad_phi || !(p > 0);
+        bad_T          = bad_T || !(t > 0);
+        const double n = 6. * p / (M_PI * sigma * sigma * sigma);
+        double       u[3];
+        for (unsigned int d = 0; d < dim; ++d)
+          u[d] = vel.value(x, d);
+        State Us;
+        Us[0] = n;
+        double ke = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            Us[1 + d] = m * n * u[d];
+            ke += 0.5 * m * n * u[d] * u[d];
+          }
+        Us[dim + 1] = ke + n * t / (desc.gamma - 1.);
+        // this Us is in SI with a *mass* momentum; convert to number momentum below
+        for (unsigned int d = 0; d < dim; ++d)
+          Us[1 + d] /= m;
+        return Us;
+      },
+      scene.initial_quadrature);
+    if (Utilities::MPI::logical_or(bad_phi, comm))
+      throw SceneError("in " + scene.source + ": parameter 'Initial state/Packing fraction' "
+                       "must be positive everywhere in the domain");
+    if (Utilities::MPI::logical_or(bad_T, comm))
+      throw SceneError("in " + scene.source + ": parameter 'Initial state/Temperature' must be "
+                       "positive everywhere in the domain");
+    output = std::make_unique<io::Output<dim>>(scene, *patch_, desc);
+  }
+
+  template <int dim>
+  void Simulation<dim>::set_initial_state(const std::function<State(const Point<dim> &)> &f,
+                                          const unsigned int nq)
+  {
+    // SI -> scaled: n [1/m^3] * L^3; number momentum n u [1/(m^2 s)] * L^3 / V; nE [J/m^3] / p0
+    const double nscale = 1. / units_.number_density(), mscale = nscale / units_.velocity,
+                 escale = 1. / units_.pressure();
+    const QGauss<1> q1(nq);
+    for (unsigned int s = 0; s < patch_->n_owned(); ++s)
+      {
+        State avg;
+        avg.fill(0.);
+        const auto &ijk = patch_->lattice(s);
+        const unsigned int nq2 = dim > 1 ? nq : 1, nq3 = dim > 2 ? nq : 1;
+        for (unsigned int a = 0; a < nq; ++a)
+          for (unsigned int b = 0; b < nq2; ++b)
+            for (unsigned int c = 0; c < nq3; ++c)
+              {
+                Point<dim>         x;
+                const unsigned int id[3] = {a, b, c};
+                double             w     = 1;
+                for (unsigned int d = 0; d < dim; ++d)
+                  {
+                    x[d] = patch_->lower(d) + (ijk[d] + q1.point(id[d])[0]) * patch_->cell_size(d);
+                    w *= q1.weight(id[d]);
+                  }
+                const State v = f(x);
+                for (unsigned int k = 0; k < dim + 2; ++k)
+                  avg[k] += w * v[k];
+              }
+        U.local_element(std::size_t(s) * (dim + 2)) = avg[0] * nscale;
+        for (unsigned int d = 0; d < dim; ++d)
+          U.local_element(std::size_t(s) * (dim + 2) + 1 + d) = avg[1 + d] * mscale;
+        U.local_element(std::size_t(s) * (dim + 2) + dim + 1) = avg[dim + 1] * escale;
+      }
+  }
+
+  template <int dim>
+  typename Simulation<dim>::State Simulation<dim>::state_si(const unsigned int s) const
+  {
+    State S;
+    S[0] = U.local_element(std::size_t(s) * (dim + 2)) * units_.number_density();
+    for (unsigned int d = 0; d < dim; ++d)
+      S[1 + d] = U.local_element(std::size_t(s) * (dim + 2) + 1 + d) * units_.number_density() *
+                 units_.velocity;
+    S[dim + 1] = U.local_element(std::size_t(s) * (dim + 2) + dim + 1) * units_.pressure();
+    return S;
+  }
+
+  template <int dim>
+  typename Simulation<dim>::State Simulation<dim>::totals() const
+  {
+    State t;
+    t.fill(0.);
+    for (unsigned int s = 0; s < patch_->n_owned(); ++s)
+      for (unsigned int c = 0; c < dim + 2; ++c)
+        t[c] += U.local_element(std::size_t(s) * (dim + 2) + c);
+    for (unsigned int c = 0; c < dim + 2; ++c)
+      t[c] = Utilities::MPI::sum(t[c], comm) * patch_->cell_volume() / std::pow(units_.length, dim);
+    return t;
+  }
+
+  namespace
+  {
+    std::string hms(double s)
+    {
+      const long          k = std::lround(std::max(0., s));
+      std::ostringstream os;
+      os << std::setfill('0') << std::setw(2) << k / 3600 << ':' << std::setw(2) << (k / 60) % 60
+         << ':' << std::setw(2) << k % 60;
+      return os.str();
+    }
+  } // namespace
+
+  template <int dim>
+  RunSummary Simulation<dim>::run()
+  {
+    using clock = std::chrono::steady_clock;
+    const auto   start = clock::now();
+    RunSummary   sum;
+    const double t0    = units_.time();
+    const double t_end = scene.end_time / t0;
+    const double dt_fixed = scene.fixed_time_step / t0;
+    const double interval = scene.output_interval / t0;
+    double       t = 0, next_output = interval > 0 ? interval : t_end;
+    double       conv_seconds = 0;
+    unsigned int step = 0;
+    auto         last_progress = start;
+    std::string  why;
+    if (!conv->admissible(U, &why))
+      throw RunError("initial state is inadmissible (n <= 0 or T <= 0): " + why);
+    output->write(U, 0., 0);
+    Vector backup(U);
+    while (t < t_end * (1 - 1e-12) && (scene.max_steps == 0 || step < scene.max_steps))
+      {
+        const double rate = conv->max_rate(U);
+        if (!(rate > 0) || !std::isfinite(rate))
+          throw RunError("no finite wave speed at t = " + std::to_string(t * t0) + " s");
+        double dt = scene.cfl / rate;
+        if (dt_fixed > 0)
+          dt = std::min(dt, dt_fixed);
+        dt = std::min(dt, t_end - t);
+        dt = std::min(dt, next_output - t);
+        backup          = U;
+        unsigned int tries = 0;
+        while (true)
+          {
+            const auto c0 = clock::now();
+            conv->ssp_rk3_step(U, dt);
+            conv_seconds += std::chrono::duration<double>(clock::now() - c0).count();
+            if (conv->admissible(U, &why))
+              break;
+            ++sum.rejected_steps;
+            if (++tries > scene.max_step_retries)
+              {
+                std::ostringstream os;
+                os << "step " << step << " at t = " << t * t0 << " s stays inadmissible (n <= 0 or "
+                   << "T <= 0) after " << scene.max_step_retries
+                   << " retries with halved time step (last dt = " << dt * t0 << " s)";
+                if (!why.empty())
+                  os << "; first bad " << why;
+                os << ". Lower 'Numerics/CFL number' or use a more diffusive reconstruction.";
+                throw RunError(os.str());
+              }
+            pcout << "  step " << step << ": inadmissible state, retrying with dt = " << dt * t0 / 2
+                  << " s\n";
+            U  = backup;
+            dt = dt / 2;
+          }
+        t += dt;
+        ++step;
+        if (t >= next_output * (1 - 1e-12))
+          {
+            if (t < t_end * (1 - 1e-12))
+              output->write(U, t * t0, step);
+            next_output = interval > 0 ? std::min(next_output + interval, t_end) : t_end;
+          }
+        const auto now = clock::now();
+        if (std::chrono::duration<double>(now - last_progress).count() >= scene.progress_interval)
+          {
+            last_progress       = now;
+            const double wall   = std::chrono::duration<double>(now - start).count();
+            const double frac   = t / t_end;
+            pcout << "  t = " << std::scientific << std::setprecision(4) << t * t0 << " s ("
+                  << std::fixed << std::setprecision(1) << 100 * frac << " %)  dt = "
+                  << std::scientific << std::setprecision(3) << dt * t0 << " s  step " << step
+                  << "  " << std::fixed << std::setprecision(1) << step / wall << " steps/s  ETA "
+                  << hms(wall * (1 - frac) / std::max(frac, 1e-12)) << std::defaultfloat
+                  << std::setprecision(6) << "\n";
+          }
+      }
+    output->write(U, t * t0, step);
+    sum.steps              = step;
+    sum.time_si            = t * t0;
+    sum.wall_seconds       = std::chrono::duration<double>(clock::now() - start).count();
+    sum.convection_seconds = Utilities::MPI::max(conv_seconds, comm);
+    sum.convection         = conv->global_statistics();
+
+    const auto  &cs = sum.convection;
+    const double nr = Utilities::MPI::n_mpi_processes(comm);
+    pcout << "run summary: " << sum.steps << " steps to t = " << sum.time_si << " s, "
+          << sum.rejected_steps << " rejected (retried with half dt)\n"
+          << "  wall " << sum.wall_seconds << " s, convection " << sum.convection_seconds << " s, "
+          << cs.cell_updates / std::max(sum.convection_seconds, 1e-30) / nr
+          << " cell-updates/s per RK stage per core\n"
+          << "  flux points " << cs.flux.points;
+    if (scene.flux == FluxType::musta)
+      pcout << ", MUSTA stages/point " << double(cs.flux.stages) / std::max<double>(cs.flux.points, 1)
+            << ", MUSTA fallbacks to Rusanov " << cs.flux.fallbacks;
+    pcout << "\n  positivity fallbacks to first order (cell x direction x stage): "
+          << cs.limited_cells << "\n";
+    if (scene.write_vtu || scene.write_profiles)
+      pcout << "  output in " << scene.output_directory << "/ ("
+            << (scene.write_vtu ? scene.base_name + ".pvd for ParaView" : std::string()) 
+            << (scene.write_profiles ? ", profiles.csv" : "") << ")\n";
+    return sum;
+  }
+
+  template <int dim>
+  int run_dim(const Scene &scene, const MPI_Comm comm, std::ostream &log)
+  {
+    Simulation<dim> sim(scene, comm, log);
+    sim.setup();
+    sim.run();
+    return 0;
+  }
+
+  int run_scene(const Scene &scene, const MPI_Comm comm, std::ostream &log)
+  {
+    switch (scene.dimension)
+      {
+        case 1:
+          return run_dim<1>(scene, comm, log);
+        case 2:
+          return run_dim<2>(scene, comm, log);
+        default:
+          return run_dim<3>(scene, comm, log);
+      }
+  }
+
+  template class Simulation<1>;
+  template class Simulation<2>;
+  template class Simulation<3>;
+} // namespace granhydro

@@ -1,0 +1,193 @@
+#include <granhydro/io/output.h>
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/data_postprocessor.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+
+namespace granhydro::io
+{
+  using namespace dealii;
+
+  namespace
+  {
+    /// derived SI fields from the DG0 conserved variables (scaled units)
+    template <int dim>
+    class Fields : public DataPostprocessor<dim>
+    {
+    public:
+      Fields(const Units &u, const physics::IdealGas<dim> &desc)
+        : units(u)
+        , desc(desc)
+      {}
+
+      void evaluate_vector_field(const DataPostprocessorInputs::Vector<dim> &in,
+                                 std::vector<Vector<double>> &out) const override
+      {
+        for (unsigned int q = 0; q < in.solution_values.size(); ++q)
+          {
+            physics::State<dim> U;
+            for (unsigned int c = 0; c < dim + 2; ++c)
+              U[c] = in.solution_values[q][c];
+            const double n = U[0], p = desc.pressure(U);
+            unsigned int k = 0;
+            out[q][k++] = n * M_PI / 6.; // phi (sigma = 1 in scaled units)
+            out[q][k++] = n * units.number_density();
+            out[q][k++] = n * units.number_density() * units.mass;
+            for (unsigned int d = 0; d < dim; ++d)
+              out[q][k++] = U[1 + d] / n * units.velocity;
+            out[q][k++] = p / n * units.energy();
+            out[q][k++] = p * units.pressure();
+          }
+      }
+
+      std::vector<std::string> get_names() const override
+      {
+        std::vector<std::string> names{"packing_fraction", "number_density_1/m3",
+                                       "mass_density_kg/m3"};
+        for (unsigned int d = 0; d < dim; ++d)
+          names.push_back("velocity_m/s");
+        names.push_back("temperature_J");
+        names.push_back("pressure_Pa");
+        return names;
+      }
+
+      std::vector<DataComponentInterpretation::DataComponentInterpretation>
+      get_data_component_interpretation() const override
+      {
+        std::vector<DataComponentInterpretation::DataComponentInterpretation> v(
+          3, DataComponentInterpretation::component_is_scalar);
+        for (unsigned int d = 0; d < dim; ++d)
+          v.push_back(DataComponentInterpretation::component_is_part_of_vector);
+        v.push_back(DataComponentInterpretation::component_is_scalar);
+        v.push_back(DataComponentInterpretation::component_is_scalar);
+        return v;
+      }
+
+      UpdateFlags get_needed_update_flags() const override { return update_values; }
+
+    private:
+      Units                          units;
+      const physics::IdealGas<dim> &desc;
+    };
+  } // namespace
+
+  template <int dim>
+  Output<dim>::Output(const Scene &scene, const CartesianPatch<dim> &patch,
+                      const physics::IdealGas<dim> &desc)
+    : scene(scene)
+    , patch(patch)
+    , desc(desc)
+    , units(scene.units())
+  {
+    std::string err;
+    if (Utilities::MPI::this_mpi_process(patch.communicator()) == 0 &&
+        (scene.write_vtu || scene.write_profiles))
+      {
+        std::error_code ec;
+        std::filesystem::create_directories(scene.output_directory, ec);
+        if (ec || !std::filesystem::is_directory(scene.output_directory))
+          err = "parameter 'Output/Directory': cannot create directory '" +
+                scene.output_directory + "'" + (ec ? ": " + ec.message() : std::string());
+      }
+    err = Utilities::MPI::broadcast(patch.communicator(), err, 0);
+    if (!err.empty())
+      throw SceneError(err);
+  }
+
+  template <int dim>
+  void Output<dim>::write(const Vector &U, const double time_si, const unsigned int step)
+  {
+    if (scene.write_vtu)
+      write_vtu(U, time_si, step);
+    if (scene.write_profiles)
+      write_profiles(U, time_si);
+    ++counter;
+  }
+
+  template <int dim>
+  void Output<dim>::write_vtu(const Vector &U, const double time_si, const unsigned int step)
+  {
+    Fields<dim>  fields(units, desc);
+    DataOut<dim> data_out;
+    data_out.attach_dof_handler(patch.dof_handler());
+    U.update_ghost_values();
+    data_out.add_data_vector(U, fields);
+    dealii::Vector<float> rank(patch.triangulation().n_active_cells());
+    const float           me = Utilities::MPI::this_mpi_process(patch.communicator());
+    for (const unsigned int i : patch.owned_active_cell_index())
+      rank[i] = me;
+    data_out.add_data_vector(rank, "mpi_rank");
+    data_out.build_patches();
+    DataOutBase::VtkFlags flags(time_si, step);
+    data_out.set_flags(flags);
+    const std::string name = data_out.write_vtu_with_pvtu_record(
+      scene.output_directory + "/", scene.base_name, counter, patch.communicator(), 4, 0);
+    if (Utilities::MPI::this_mpi_process(patch.communicator()) == 0)
+      {
+        pvd_records.emplace_back(time_si, name);
+        std::ofstream pvd(scene.output_directory + "/" + scene.base_name + ".pvd");
+        DataOutBase::write_pvd_record(pvd, pvd_records);
+      }
+  }
+
+  template <int dim>
+  void Output<dim>::write_profiles(const Vector &U, const double time_si)
+  {
+    const unsigned int pd   = scene.profile_direction < 0 ? dim - 1 : scene.profile_direction;
+    const unsigned int nl   = patch.cells(pd);
+    constexpr unsigned NC   = dim + 2;
+    const unsigned int ncol = NC + 2; // conserved, phi, T
+    std::vector<double> sum(std::size_t(nl) * ncol, 0.), count(nl, 0.);
+    for (unsigned int s = 0; s < patch.n_owned(); ++s)
+      {
+        physics::State<dim> S;
+        for (unsigned int c = 0; c < NC; ++c)
+          S[c] = U.local_element(std::size_t(s) * NC + c);
+        const unsigned int l = patch.lattice(s)[pd];
+        for (unsigned int c = 0; c < NC; ++c)
+          sum[l * ncol + c] += S[c];
+        sum[l * ncol + NC]     += S[0] * M_PI / 6.;
+        sum[l * ncol + NC + 1] += desc.temperature(S);
+        count[l] += 1;
+      }
+    Utilities::MPI::sum(sum, patch.communicator(), sum);
+    Utilities::MPI::sum(count, patch.communicator(), count);
+    if (Utilities::MPI::this_mpi_process(patch.communicator()) != 0)
+      return;
+    const std::string fname = scene.output_directory + "/profiles.csv";
+    std::ofstream out(fname, profiles_started ? std::ios::app : std::ios::trunc);
+    const char *ax = "xyz";
+    if (!profiles_started)
+      {
+        out << "# averages over the directions other than " << ax[pd]
+            << " (SI units); one block per output time\n";
+        out << "time_s," << ax[pd] << "_m,n_1/m3";
+        for (unsigned int d = 0; d < dim; ++d)
+          out << ",n*u_" << ax[d] << "_1/(m2 s)";
+        out << ",n*E_J/m3,packing_fraction,temperature_J\n";
+        profiles_started = true;
+      }
+    const double nu = units.number_density();
+    out << std::setprecision(10);
+    for (unsigned int l = 0; l < nl; ++l)
+      {
+        const double *a = &sum[l * ncol];
+        const double  k = count[l];
+        out << time_si << ',' << patch.lower(pd) + (l + 0.5) * patch.cell_size(pd) << ','
+            << a[0] / k * nu;
+        for (unsigned int d = 0; d < dim; ++d)
+          out << ',' << a[1 + d] / k * nu * units.velocity;
+        out << ',' << a[NC - 1] / k * units.pressure() << ',' << a[NC] / k << ','
+            << a[NC + 1] / k * units.energy() << '\n';
+      }
+  }
+
+  template class Output<1>;
+  template class Output<2>;
+  template class Output<3>;
+} // namespace granhydro::io

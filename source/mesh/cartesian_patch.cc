@@ -1,0 +1,337 @@
+#include <granhydro/mesh/cartesian_patch.h>
+
+#include <deal.II/distributed/shared_tria.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/fe/fe_dgq.h>
+#include <deal.II/grid/grid_generator.h>
+#include <deal.II/grid/grid_tools.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+namespace granhydro
+{
+  using namespace dealii;
+
+  template <int dim>
+  CartesianPatch<dim>::CartesianPatch(const MPI_Comm comm)
+    : comm(comm)
+  {}
+
+  template <int dim>
+  CartesianPatch<dim>::~CartesianPatch()
+  {
+    dofh.reset();
+    tria.reset();
+  }
+
+  template <int dim>
+  double CartesianPatch<dim>::cell_volume() const
+  {
+    double v = 1;
+    for (unsigned int d = 0; d < dim; ++d)
+      v *= h_[d];
+    return v;
+  }
+
+  template <int dim>
+  Point<dim> CartesianPatch<dim>::center(const unsigned int s) const
+  {
+    Point<dim> p;
+    for (unsigned int d = 0; d < dim; ++d)
+      p[d] = lo_[d] + (lattice_[s][d] + 0.5) * h_[d];
+    return p;
+  }
+
+  namespace
+  {
+    template <int dim>
+    std::unique_ptr<parallel::TriangulationBase<dim>> make_triangulation(const MPI_Comm comm)
+    {
+      if constexpr (dim == 1)
+        return std::make_unique<parallel::shared::Triangulation<1>>(comm);
+      else
+        return std::make_unique<parallel::distributed::Triangulation<dim>>(comm);
+    }
+  } // namespace
+
+  template <int dim>
+  void CartesianPatch<dim>::build(const Scene &scene, const unsigned int ghost_width)
+  {
+    G = ghost_width;
+    for (unsigned int d = 0; d < 3; ++d)
+      {
+        N_[d]        = d < dim ? scene.cells[d] : 1;
+        lo_[d]       = d < dim ? scene.lower[d] : 0;
+        h_[d]        = d < dim ? (scene.upper[d] - scene.lower[d]) / N_[d] : 1;
+        periodic_[d] = d < dim ? scene.boundary[2 * d] == BoundaryType::periodic : true;
+      }
+    n_global_ = 1ull * N_[0] * N_[1] * N_[2];
+
+    // ---- mesh: coarse box refined globally L times (p4est) -------------------
+    unsigned int L = 0;
+    if (dim > 1)
+      while (L < 8)
+        {
+          bool ok = true;
+          for (unsigned int d = 0; d < dim; ++d)
+            ok = ok && (N_[d] % (1u << (L + 1)) == 0);
+          if (!ok)
+            break;
+          ++L;
+        }
+    std::vector<unsigned int> rep(dim);
+    Point<dim> p1, p2;
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        rep[d] = N_[d] >> L;
+        p1[d]  = scene.lower[d];
+        p2[d]  = scene.upper[d];
+      }
+    dofh.reset();
+    tria = make_triangulation<dim>(comm);
+    GridGenerator::subdivided_hyper_rectangle(*tria, rep, p1, p2, /*colorize=*/true);
+    if constexpr (dim > 1)
+      {
+        auto &ptria = dynamic_cast<parallel::distributed::Triangulation<dim> &>(*tria);
+        std::vector<GridTools::PeriodicFacePair<typename parallel::distributed::Triangulation<dim>::cell_iterator>> pairs;
+        for (unsigned int d = 0; d < dim; ++d)
+          if (periodic_[d])
+            GridTools::collect_periodic_faces(ptria, 2 * d, 2 * d + 1, d, pairs);
+        if (!pairs.empty())
+          ptria.add_periodicity(pairs);
+      }
+    tria->refine_global(L);
+
+    fe   = std::make_unique<FESystem<dim>>(FE_DGQ<dim>(0), n_components);
+    dofh = std::make_unique<DoFHandler<dim>>(*tria);
+    dofh->distribute_dofs(*fe);
+    for (unsigned int c = 0; c < n_components; ++c)
+      AssertThrow(fe->system_to_component_index(c).first == c, ExcInternalError());
+    const IndexSet owned_dofs = dofh->locally_owned_dofs();
+    AssertThrow(owned_dofs.is_contiguous(), ExcMessage("owned DoFs must be contiguous"));
+
+    // ---- owned cells ---------------------------------------------------------
+    struct Owned
+    {
+      types::global_dof_index first;
+      long long               key;
+      unsigned int            active;
+      std::array<int, 3>      ijk;
+    };
+    std::vector<Owned> owned;
+    std::vector<types::global_dof_index> dofs(n_components);
+    for (const auto &cell : dofh->active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell->get_dof_indices(dofs);
+          for (unsigned int c = 1; c < n_components; ++c)
+            AssertThrow(dofs[c] == dofs[0] + c, ExcMessage("DG0 DoFs of a cell must be consecutive"));
+          const Point<dim> x = cell->center();
+          std::array<int, 3> ijk{{0, 0, 0}};
+          for (unsigned int d = 0; d < dim; ++d)
+            ijk[d] = static_cast<int>(std::floor((x[d] - lo_[d]) / h_[d]));
+          const long long key = ijk[0] + 1ll * N_[0] * (ijk[1] + 1ll * N_[1] * ijk[2]);
+          owned.push_back({dofs[0], key, cell->active_cell_index(), ijk});
+        }
+    std::sort(owned.begin(), owned.end(),
+              [](const Owned &a, const Owned &b) { return a.first < b.first; });
+    n_owned_ = owned.size();
+
+    // ---- replicated lattice -> first DoF map ---------------------------------
+    std::vector<long long> mine(2 * n_owned_);
+    for (unsigned int i = 0; i < n_owned_; ++i)
+      {
+        mine[2 * i]     = owned[i].key;
+        mine[2 * i + 1] = owned[i].first;
+      }
+    const int nranks = Utilities::MPI::n_mpi_processes(comm);
+    std::vector<int> counts(nranks), displs(nranks);
+    int mycount = mine.size();
+    MPI_Allgather(&mycount, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+    long long total = 0;
+    for (int r = 0; r < nranks; ++r)
+      {
+        displs[r] = total;
+        total += counts[r];
+      }
+    AssertThrow(total == 2 * (long long)n_global_, ExcMessage("mesh is not the expected lattice"));
+    std::vector<long long> all(total);
+    MPI_Allgatherv(mine.data(), mycount, MPI_LONG_LONG, all.data(), counts.data(), displs.data(),
+                   MPI_LONG_LONG, comm);
+    std::vector<long long> first_dof_of(n_global_, -1);
+    for (long long i = 0; i < total; i += 2)
+      first_dof_of[all[i]] = all[i + 1];
+    all.clear();
+    all.shrink_to_fit();
+
+    // ---- the rank's box: owned bounding box + G, dilated owned mask -----------
+    std::array<int, 3> blo{{0, 0, 0}}, bn{{1, 1, 1}};
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        int mn = 1 << 30, mx = -(1 << 30);
+        for (const auto &o : owned)
+          {
+            mn = std::min(mn, o.ijk[d]);
+            mx = std::max(mx, o.ijk[d]);
+          }
+        if (owned.empty())
+          mn = mx = 0;
+        blo[d] = mn - int(G);
+        bn[d]  = mx - mn + 1 + 2 * int(G);
+      }
+    const std::size_t nbox = std::size_t(bn[0]) * bn[1] * bn[2];
+    auto box_index = [&](int i, int j, int k) {
+      return std::size_t(i - blo[0]) + std::size_t(bn[0]) * (std::size_t(j - blo[1]) + std::size_t(bn[1]) * (k - blo[2]));
+    };
+    std::vector<char> mask(nbox, 0);
+    for (const auto &o : owned)
+      mask[box_index(o.ijk[0], o.ijk[1], o.ijk[2])] = 1;
+    // separable Chebyshev dilation by G
+    const std::array<std::size_t, 3> stride{{1, std::size_t(bn[0]), std::size_t(bn[0]) * bn[1]}};
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        std::vector<char> out(nbox, 0);
+        for (std::size_t p = 0; p < nbox; ++p)
+          if (mask[p])
+            {
+              const int c = (p / stride[d]) % bn[d];
+              for (int o = -int(G); o <= int(G); ++o)
+                if (c + o >= 0 && c + o < bn[d])
+                  out[p + std::ptrdiff_t(o) * std::ptrdiff_t(stride[d])] = 1;
+            }
+        mask.swap(out);
+      }
+
+    // ---- slots ----------------------------------------------------------------
+    lattice_.clear();
+    active_index_.clear();
+    std::map<long long, unsigned int> slot_of_key; // real cells: key >= 0; ghosts: key < 0
+    for (unsigned int i = 0; i < n_owned_; ++i)
+      {
+        slot_of_key[owned[i].key] = i;
+        lattice_.push_back(owned[i].ijk);
+        active_index_.push_back(owned[i].active);
+      }
+    const long long ext[3] = {N_[0] + 2 * G, N_[1] + 2 * G, N_[2] + 2 * G};
+    auto physical = [&](std::array<int, 3> e, bool &is_ghost) {
+      is_ghost = false;
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          if (periodic_[d])
+            e[d] = ((e[d] % int(N_[d])) + int(N_[d])) % int(N_[d]);
+          else if (e[d] < 0 || e[d] >= int(N_[d]))
+            is_ghost = true;
+        }
+      if (!is_ghost)
+        return std::make_pair(e, (long long)(e[0] + 1ll * N_[0] * (e[1] + 1ll * N_[1] * e[2])));
+      const long long gk = (e[0] + G) + ext[0] * ((e[1] + G) + ext[1] * (e[2] + G));
+      return std::make_pair(e, -1 - gk);
+    };
+    std::vector<long long> box_key(nbox, 0);
+    std::vector<std::array<int, 3>> mpi_ghost_cells, bnd_cells;
+    std::vector<std::pair<long long, long long>> mpi_ghosts; // (first dof, key)
+    std::map<long long, std::array<int, 3>> bnd_ghosts;     // key -> extended coords
+    for (int k = blo[2]; k < blo[2] + bn[2]; ++k)
+      for (int j = blo[1]; j < blo[1] + bn[1]; ++j)
+        for (int i = blo[0]; i < blo[0] + bn[0]; ++i)
+          {
+            const std::size_t p = box_index(i, j, k);
+            if (!mask[p])
+              continue;
+            bool g;
+            const auto [e, key] = physical({{i, j, k}}, g);
+            box_key[p]          = key;
+            if (slot_of_key.count(key))
+              continue;
+            if (g)
+              bnd_ghosts[key] = e;
+            else
+              {
+                mpi_ghosts.emplace_back(first_dof_of[key], key);
+                slot_of_key[key] = ~0u; // placeholder
+              }
+          }
+    std::sort(mpi_ghosts.begin(), mpi_ghosts.end());
+    IndexSet ghost_dofs(dofh->n_dofs());
+    for (const auto &[first, key] : mpi_ghosts)
+      {
+        slot_of_key[key] = lattice_.size();
+        lattice_.push_back({{int(key % N_[0]), int((key / N_[0]) % N_[1]), int(key / (1ll * N_[0] * N_[1]))}});
+        ghost_dofs.add_range(first, first + n_components);
+      }
+    n_mpi_ghost_ = mpi_ghosts.size();
+    for (const auto &[key, e] : bnd_ghosts)
+      {
+        slot_of_key[key] = lattice_.size();
+        lattice_.push_back(e);
+      }
+    ghost_dofs.compress();
+    part = std::make_shared<Utilities::MPI::Partitioner>(owned_dofs, ghost_dofs, comm);
+
+    // ---- boundary ghosts: mirror (slip) or copy (outflow) sources -------------
+    bghosts_.clear();
+    for (const auto &[key, e] : bnd_ghosts)
+      {
+        std::array<int, 3> src = e;
+        unsigned int flip = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            if (periodic_[d])
+              {
+                src[d] = ((src[d] % int(N_[d])) + int(N_[d])) % int(N_[d]);
+                continue;
+              }
+            const int n = N_[d];
+            if (e[d] < 0 || e[d] >= n)
+              {
+                const BoundaryType t = scene.boundary[2 * d + (e[d] < 0 ? 0 : 1)];
+                if (t == BoundaryType::slip_wall)
+                  {
+                    src[d] = e[d] < 0 ? -1 - e[d] : 2 * n - 1 - e[d];
+                    flip |= 1u << d;
+                  }
+                else
+                  src[d] = e[d] < 0 ? 0 : n - 1;
+                AssertThrow(src[d] >= 0 && src[d] < n, ExcMessage("too few cells for the walls"));
+              }
+          }
+        const long long skey = src[0] + 1ll * N_[0] * (src[1] + 1ll * N_[1] * src[2]);
+        const auto it = slot_of_key.find(skey);
+        AssertThrow(it != slot_of_key.end(), ExcMessage("boundary ghost source not in patch"));
+        bghosts_.push_back({slot_of_key[key], it->second, flip});
+      }
+
+    // ---- neighbour table -------------------------------------------------------
+    const unsigned int W = 2 * G + 1;
+    nb_.assign(std::size_t(lattice_.size()) * dim * W, -1);
+    for (std::size_t p = 0; p < nbox; ++p)
+      {
+        if (!mask[p])
+          continue;
+        const unsigned int s = slot_of_key[box_key[p]];
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            const int c = (p / stride[d]) % bn[d];
+            for (int o = -int(G); o <= int(G); ++o)
+              {
+                if (c + o < 0 || c + o >= bn[d])
+                  continue;
+                const std::size_t q = p + std::ptrdiff_t(o) * std::ptrdiff_t(stride[d]);
+                if (!mask[q])
+                  continue;
+                const int t  = slot_of_key[box_key[q]];
+                int      &e2 = nb_[(std::size_t(s) * dim + d) * W + (o + int(G))];
+                AssertThrow(e2 < 0 || e2 == t, ExcMessage("inconsistent neighbour table"));
+                e2 = t;
+              }
+          }
+      }
+  }
+
+  template class CartesianPatch<1>;
+  template class CartesianPatch<2>;
+  template class CartesianPatch<3>;
+} // namespace granhydro

@@ -1,0 +1,476 @@
+#include <granhydro/scene/scene.h>
+
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/function_parser.h>
+#include <deal.II/base/utilities.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace granhydro
+{
+  using dealii::ParameterHandler;
+  namespace Patterns = dealii::Patterns;
+
+  namespace
+  {
+    const char *side_names[6] = {"x-", "x+", "y-", "y+", "z-", "z+"};
+
+    /// deal.II exception texts carry a stack trace; keep the human part
+    std::string human_message(const std::string &what)
+    {
+      std::string       msg = what;
+      const std::string key = "Additional information:";
+      const auto        pos = msg.find(key);
+      if (pos != std::string::npos)
+        msg = msg.substr(pos + key.size());
+      const auto st = msg.find("Stacktrace:");
+      if (st != std::string::npos)
+        msg = msg.substr(0, st);
+      // collapse whitespace runs
+      std::string out;
+      bool        space = false;
+      for (const char c : msg)
+        {
+          if (c == ' ' || c == '\n' || c == '\t')
+            space = true;
+          else
+            {
+              if (space && !out.empty())
+                out += ' ';
+              out += c;
+              space = false;
+            }
+        }
+      return out;
+    }
+
+    template <typename T, std::size_t N>
+    std::array<T, N> parse_list(const std::string &text,
+                                const std::string &name,
+                                const unsigned int dim,
+                                const T             fill)
+    {
+      const auto parts = dealii::Utilities::split_string_list(text, ',');
+      if (parts.size() != dim && parts.size() != 3)
+        throw SceneError("parameter '" + name + "' = '" + text + "': expected " +
+                         std::to_string(dim) +
+                         " comma-separated values (one per dimension) or 3");
+      std::array<T, N> a;
+      a.fill(fill);
+      for (unsigned int i = 0; i < parts.size() && i < N; ++i)
+        {
+          std::istringstream is(parts[i]);
+          T                  v;
+          if (!(is >> v) || !(is >> std::ws).eof())
+            throw SceneError("parameter '" + name + "': cannot read '" + parts[i] +
+                             "' as a number");
+          a[i] = v;
+        }
+      return a;
+    }
+  } // namespace
+
+  std::string to_string(ReconstructionType t)
+  {
+    switch (t)
+      {
+        case ReconstructionType::first_order:
+          return "first order";
+        case ReconstructionType::muscl:
+          return "muscl";
+        case ReconstructionType::weno3:
+          return "weno3";
+        default:
+          return "weno5";
+      }
+  }
+  std::string to_string(FluxType t)
+  {
+    return t == FluxType::musta ? "musta" : (t == FluxType::rusanov ? "rusanov" : "hll");
+  }
+  std::string to_string(FaceQuadrature q)
+  {
+    return q == FaceQuadrature::gauss ? "gauss" : "midpoint";
+  }
+  std::string to_string(BoundaryType b)
+  {
+    return b == BoundaryType::periodic ? "periodic" :
+                                         (b == BoundaryType::slip_wall ? "slip wall" : "outflow");
+  }
+
+  double Scene::grain_mass() const
+  {
+    return material_density * M_PI * std::pow(grain_diameter, 3) / 6.;
+  }
+
+  Units Scene::units() const
+  {
+    Units u;
+    u.length   = grain_diameter;
+    u.mass     = grain_mass();
+    u.velocity = reference_velocity > 0 ? reference_velocity : std::sqrt(9.81 * grain_diameter);
+    return u;
+  }
+
+  void declare_scene_parameters(ParameterHandler &prm)
+  {
+    prm.declare_entry("Dimension", "2", Patterns::Integer(1, 3),
+                      "Number of resolved space dimensions (1, 2 or 3). Unresolved "
+                      "directions are homogeneous.");
+    prm.enter_subsection("Domain");
+    {
+      prm.declare_entry("Lower corner", "0, 0, 0", Patterns::Anything(),
+                        "Lower corner of the box [m], one value per dimension (extra ignored).");
+      prm.declare_entry("Upper corner", "0.1, 0.1, 0.1", Patterns::Anything(),
+                        "Upper corner of the box [m].");
+      prm.declare_entry("Cells", "100, 100, 1", Patterns::Anything(),
+                        "Number of cells per direction (uniform Cartesian mesh).");
+      for (const char *s : side_names)
+        prm.declare_entry(std::string("Boundary ") + s, "slip wall",
+                          Patterns::Selection("periodic|slip wall|outflow"),
+                          std::string("Boundary condition on the ") + s +
+                            " side: periodic (both sides of a direction), slip wall "
+                            "(reflecting, mirror ghost state), outflow (transmissive, "
+                            "zero-gradient ghost state).");
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Material");
+    {
+      prm.declare_entry("Model", "ideal gas", Patterns::Selection("ideal gas"),
+                        "Constitutive model. 'ideal gas': verification model (p = n T, "
+                        "no transport), the dilute elastic limit of granular gases.");
+      prm.declare_entry("Grain diameter", "1e-3", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Grain diameter sigma [m].");
+      prm.declare_entry("Material density", "2600", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Material density rho_s [kg/m^3]; grain mass m = rho_s pi sigma^3 / 6.");
+      prm.declare_entry("Adiabatic index", "1.6666666666666667", Patterns::Double(1, 3),
+                        "Adiabatic index gamma_a of the ideal-gas model (5/3 = dilute "
+                        "elastic grains, internal energy 3T/2 per grain).");
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Initial state");
+    {
+      prm.declare_entry("Packing fraction", "0.01", Patterns::Anything(),
+                        "Expression in x, y, z [m] (and t = 0, pi, constants) for the "
+                        "packing fraction phi = n pi sigma^3 / 6 (> 0).");
+      prm.declare_entry("Velocity", "0; 0; 0", Patterns::Anything(),
+                        "Expressions for the velocity components [m/s], separated by ';' "
+                        "(one per dimension or 3).");
+      prm.declare_entry("Temperature", "1e-8", Patterns::Anything(),
+                        "Expression for the granular temperature T [J] (energy units, > 0).");
+      prm.declare_entry("Constants", "", Patterns::Anything(),
+                        "Constants for the expressions, 'name=value, name=value'.");
+      prm.declare_entry("Quadrature points", "3", Patterns::Integer(1, 8),
+                        "Gauss points per direction used to average the initial state "
+                        "over each cell (finite-volume cell averages).");
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Numerics");
+    {
+      prm.declare_entry("Reconstruction", "weno5",
+                        Patterns::Selection("first order|muscl|weno3|weno5"),
+                        "Reconstruction of the conservative variables to face points: "
+                        "weno5 (paper section 4, Jiang-Shu weights), weno3, muscl (MC "
+                        "limiter), first order.");
+      prm.declare_entry("Face quadrature", "gauss", Patterns::Selection("gauss|midpoint"),
+                        "gauss: 2 Gauss points per face direction (paper eq. 4.6, "
+                        "Titarev-Toro), midpoint: one point per face (face average used "
+                        "as point value, second order on nonlinear fluxes).");
+      prm.declare_entry("Flux", "musta", Patterns::Selection("musta|rusanov|hll"),
+                        "Numerical flux: musta (multi-stage FORCE, paper eqs. 4.7-4.9 with "
+                        "dx/dt in the dissipation term, physics.md P12), rusanov, hll.");
+      prm.declare_entry("MUSTA maximum stages", "4", Patterns::Integer(1, 20),
+                        "Cap on the number of FORCE stages of the MUSTA flux (1 = FORCE).");
+      prm.declare_entry("MUSTA tolerance", "0.01", Patterns::Double(0, 1),
+                        "Stopping rule: stop when the relative change of the FORCE flux "
+                        "between stages is below this (paper: 1 %).");
+      prm.declare_entry("MUSTA local CFL", "0.9", Patterns::Double(0, 1),
+                        "Local Courant number of the MUSTA predictor stages (Titarev-Toro).");
+      prm.declare_entry("CFL number", "0.4", Patterns::Double(0, 1),
+                        "Courant number: dt = CFL / max_cells sum_d (|u_d| + c)/dx_d.");
+      prm.declare_entry("Fixed time step", "0", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Fixed time step [s]; 0 = from the CFL number. A fixed step is "
+                        "still reduced if it would exceed the CFL limit.");
+      prm.declare_entry("Reference velocity", "0", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Velocity unit of the internal scaled units [m/s]; 0 = sqrt(g sigma), "
+                        "g = 9.81 m/s^2.");
+      prm.declare_entry("Maximum step retries", "6", Patterns::Integer(0, 30),
+                        "A step whose result is inadmissible (n <= 0 or T <= 0) is retried "
+                        "with half the time step at most this many times, then the run stops.");
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Time");
+    {
+      prm.declare_entry("End time", "0.2", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Simulated end time [s].");
+      prm.declare_entry("Maximum steps", "0", Patterns::Integer(0),
+                        "Stop after this many steps (0 = no limit).");
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Output");
+    {
+      prm.declare_entry("Directory", "output", Patterns::Anything(),
+                        "Directory for VTU/PVTU/PVD and CSV files (created if missing).");
+      prm.declare_entry("Base name", "solution", Patterns::FileName(),
+                        "Base name of output files.");
+      prm.declare_entry("Interval", "0", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Simulated time between outputs [s]; 0 = initial and final state only.");
+      prm.declare_entry("Write VTU", "true", Patterns::Bool(), "Write VTU/PVTU + PVD for ParaView.");
+      prm.declare_entry("Write profiles", "true", Patterns::Bool(),
+                        "Write profiles.csv: averages over the directions other than the "
+                        "profile direction.");
+      prm.declare_entry("Profile direction", "auto", Patterns::Selection("auto|x|y|z"),
+                        "Direction of the profiles; auto = the last resolved direction.");
+      prm.declare_entry("Progress interval", "5", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Wall-clock seconds between progress lines (0 = every step).");
+      prm.declare_entry("Verbose", "true", Patterns::Bool(), "Print the run log.");
+    }
+    prm.leave_subsection();
+  }
+
+  std::string default_scene_text()
+  {
+    return R"(# granhydro default scene: a cylindrical blast in a dilute elastic granular
+# gas (ideal-gas limit), 2D, 100 x 100 cells, slip walls. Runs in seconds.
+set Dimension = 2
+subsection Domain
+  set Lower corner = 0, 0
+  set Upper corner = 0.1, 0.1
+  set Cells = 100, 100
+  set Boundary x- = slip wall
+  set Boundary x+ = slip wall
+  set Boundary y- = slip wall
+  set Boundary y+ = slip wall
+end
+subsection Material
+  set Model = ideal gas
+  set Grain diameter = 1e-3
+  set Material density = 2600
+end
+subsection Initial state
+  set Packing fraction = if((x-0.05)^2 + (y-0.05)^2 < 0.02^2, 0.02, 0.01)
+  set Velocity = 0; 0
+  set Temperature = if((x-0.05)^2 + (y-0.05)^2 < 0.02^2, 1e-7, 1e-8)
+end
+subsection Time
+  set End time = 0.15
+end
+subsection Output
+  set Directory = output
+  set Interval = 0.03
+end
+)";
+  }
+
+  Scene parse_scene(const std::string &text, const std::string &source_name)
+  {
+    ParameterHandler prm;
+    declare_scene_parameters(prm);
+    try
+      {
+        prm.parse_input_from_string(text, source_name, /*skip_undefined=*/false);
+      }
+    catch (const dealii::ExceptionBase &e)
+      {
+        throw SceneError("in " + source_name + ": " + human_message(e.what()));
+      }
+    catch (const std::exception &e)
+      {
+        throw SceneError("in " + source_name + ": " + human_message(e.what()));
+      }
+
+    Scene s;
+    s.source    = source_name;
+    s.dimension = prm.get_integer("Dimension");
+    const unsigned int dim = s.dimension;
+
+    prm.enter_subsection("Domain");
+    s.lower = parse_list<double, 3>(prm.get("Lower corner"), "Domain/Lower corner", dim, 0.);
+    s.upper = parse_list<double, 3>(prm.get("Upper corner"), "Domain/Upper corner", dim, 1.);
+    {
+      const auto c = parse_list<double, 3>(prm.get("Cells"), "Domain/Cells", dim, 1.);
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          if (d < dim && (c[d] < 1 || c[d] != std::floor(c[d]) || c[d] > 1e6))
+            throw SceneError("parameter 'Domain/Cells': entry " + std::to_string(d + 1) +
+                             " must be a whole number between 1 and 1e6");
+          s.cells[d] = d < dim ? static_cast<unsigned int>(c[d]) : 1;
+        }
+    }
+    for (unsigned int i = 0; i < 6; ++i)
+      {
+        const std::string v = prm.get(std::string("Boundary ") + side_names[i]);
+        s.boundary[i] = v == "periodic" ? BoundaryType::periodic :
+                        (v == "slip wall" ? BoundaryType::slip_wall : BoundaryType::outflow);
+      }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Material");
+    s.model            = prm.get("Model");
+    s.grain_diameter   = prm.get_double("Grain diameter");
+    s.material_density = prm.get_double("Material density");
+    s.adiabatic_index  = prm.get_double("Adiabatic index");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Initial state");
+    s.initial_packing_fraction = prm.get("Packing fraction");
+    s.initial_velocity         = prm.get("Velocity");
+    s.initial_temperature      = prm.get("Temperature");
+    s.initial_constants        = prm.get("Constants");
+    s.initial_quadrature       = prm.get_integer("Quadrature points");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Numerics");
+    {
+      const std::string r = prm.get("Reconstruction");
+      s.reconstruction    = r == "first order" ? ReconstructionType::first_order :
+                            r == "muscl"       ? ReconstructionType::muscl :
+                            r == "weno3"       ? ReconstructionType::weno3 :
+                                                 ReconstructionType::weno5;
+      s.face_quadrature =
+        prm.get("Face quadrature") == "gauss" ? FaceQuadrature::gauss : FaceQuadrature::midpoint;
+      const std::string f = prm.get("Flux");
+      s.flux = f == "musta" ? FluxType::musta : (f == "rusanov" ? FluxType::rusanov : FluxType::hll);
+      s.musta_max_stages   = prm.get_integer("MUSTA maximum stages");
+      s.musta_tolerance    = prm.get_double("MUSTA tolerance");
+      s.musta_local_cfl    = prm.get_double("MUSTA local CFL");
+      s.cfl                = prm.get_double("CFL number");
+      s.fixed_time_step    = prm.get_double("Fixed time step");
+      s.reference_velocity = prm.get_double("Reference velocity");
+      s.max_step_retries   = prm.get_integer("Maximum step retries");
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Time");
+    s.end_time  = prm.get_double("End time");
+    s.max_steps = prm.get_integer("Maximum steps");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Output");
+    s.output_directory = prm.get("Directory");
+    s.base_name        = prm.get("Base name");
+    s.output_interval  = prm.get_double("Interval");
+    s.write_vtu        = prm.get_bool("Write VTU");
+    s.write_profiles   = prm.get_bool("Write profiles");
+    {
+      const std::string p = prm.get("Profile direction");
+      s.profile_direction = p == "auto" ? -1 : (p == "x" ? 0 : (p == "y" ? 1 : 2));
+    }
+    s.progress_interval = prm.get_double("Progress interval");
+    s.verbose           = prm.get_bool("Verbose");
+    prm.leave_subsection();
+
+    validate(s);
+    return s;
+  }
+
+  Scene read_scene(const std::string &filename)
+  {
+    if (filename.empty())
+      return parse_scene(default_scene_text(), "<default scene>");
+    std::ifstream in(filename);
+    if (!in)
+      throw SceneError("cannot open scene file '" + filename + "'");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return parse_scene(ss.str(), filename);
+  }
+
+  void validate(const Scene &s)
+  {
+    const unsigned int dim = s.dimension;
+    auto fail = [&](const std::string &param, const std::string &msg) {
+      throw SceneError("in " + s.source + ": parameter '" + param + "': " + msg);
+    };
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        if (!(s.upper[d] > s.lower[d]))
+          fail("Domain/Upper corner", "must exceed 'Domain/Lower corner' in direction " +
+                                        std::string(1, "xyz"[d]));
+        const bool plo = s.boundary[2 * d] == BoundaryType::periodic;
+        const bool phi = s.boundary[2 * d + 1] == BoundaryType::periodic;
+        if (plo != phi)
+          fail(std::string("Domain/Boundary ") + side_names[2 * d + (plo ? 1 : 0)],
+               "periodic boundaries come in pairs: set both '" + std::string(side_names[2 * d]) +
+                 "' and '" + side_names[2 * d + 1] + "' to periodic");
+        const unsigned int need =
+          s.reconstruction == ReconstructionType::weno5 ? 3 :
+          (s.reconstruction == ReconstructionType::first_order ? 1 : 2);
+        if (!plo && s.cells[d] < need)
+          fail("Domain/Cells", "direction " + std::string(1, "xyz"[d]) +
+                                 " has walls and needs at least " + std::to_string(need) +
+                                 " cells for reconstruction '" + to_string(s.reconstruction) + "'");
+      }
+    double total = 1;
+    for (unsigned int d = 0; d < dim; ++d)
+      total *= s.cells[d];
+    if (total > 5e7)
+      fail("Domain/Cells", "more than 5e7 cells in total");
+    if (s.end_time <= 0)
+      fail("Time/End time", "must be positive");
+    if (s.cfl <= 0 || s.cfl > 1)
+      fail("Numerics/CFL number", "must lie in (0, 1] (SSP-RK3 stability)");
+    if (s.musta_local_cfl <= 0 || s.musta_local_cfl > 1)
+      fail("Numerics/MUSTA local CFL", "must lie in (0, 1]");
+    if (s.musta_tolerance <= 0)
+      fail("Numerics/MUSTA tolerance", "must be positive");
+    if (s.grain_diameter <= 0)
+      fail("Material/Grain diameter", "must be positive");
+    if (s.material_density <= 0)
+      fail("Material/Material density", "must be positive");
+    if (s.adiabatic_index <= 1)
+      fail("Material/Adiabatic index", "must exceed 1");
+    if (s.output_directory.empty())
+      fail("Output/Directory", "must not be empty");
+    if (s.profile_direction >= static_cast<int>(dim))
+      fail("Output/Profile direction", "names a direction the " + std::to_string(dim) +
+                                         "D scene does not resolve");
+    const auto vel = dealii::Utilities::split_string_list(s.initial_velocity, ';');
+    if (vel.size() != dim && vel.size() != 3)
+      fail("Initial state/Velocity", "expected " + std::to_string(dim) +
+                                       " (or 3) expressions separated by ';', got " +
+                                       std::to_string(vel.size()));
+    // expressions: let muParser check the syntax now, before any work
+    auto check_expr = [&](const std::string &param, const std::string &expr) {
+      try
+        {
+          dealii::FunctionParser<3> f(1);
+          std::map<std::string, double> constants{{"pi", M_PI}};
+          for (const auto &c : dealii::Utilities::split_string_list(s.initial_constants, ','))
+            {
+              const auto kv = dealii::Utilities::split_string_list(c, '=');
+              if (kv.size() != 2)
+                fail("Initial state/Constants", "expected 'name=value' pairs, got '" + c + "'");
+              double             v;
+              std::istringstream is(kv[1]);
+              if (!(is >> v))
+                fail("Initial state/Constants", "cannot read the value of '" + kv[0] + "'");
+              constants[kv[0]] = v;
+            }
+          f.initialize("x,y,z", expr, constants);
+          const double v = f.value(dealii::Point<3>(s.lower[0], s.lower[1], s.lower[2]));
+          if (!std::isfinite(v))
+            fail(param, "expression '" + expr + "' is not finite at the lower corner");
+        }
+      catch (const SceneError &)
+        {
+          throw;
+        }
+      catch (const std::exception &e)
+        {
+          fail(param, "cannot parse expression '" + expr + "': " + human_message(e.what()));
+        }
+    };
+    check_expr("Initial state/Packing fraction", s.initial_packing_fraction);
+    check_expr("Initial state/Temperature", s.initial_temperature);
+    for (const auto &v : vel)
+      check_expr("Initial state/Velocity", v);
+  }
+} // namespace granhydro
