@@ -34,7 +34,7 @@ int main(int argc, char **argv)
             {
               dealii::ParameterHandler prm;
               granhydro::declare_scene_parameters(prm);
-              prm.parse_input_from_string(granhydro::default_scene_text(), "default");
+              prm.parse_input_from_string(granhydro::default_scene_text());
               prm.print_parameters(std::cout, dealii::ParameterHandler::PRM);
             }
           return 0;

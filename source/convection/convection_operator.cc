@@ -131,7 +131,6 @@ namespace granhydro::convection
     constexpr int      r = Recon::r;
     constexpr int      w = 2 * r + 1;
     const unsigned int n_owned = patch.n_owned();
-    std::fill(rhs, rhs + std::size_t(n_owned) * NC, 0.);
     ++stats.rhs_evaluations;
     stats.cell_updates += n_owned;
     const unsigned int npts = gauss ? (1u << (dim - 1)) : 1;
@@ -219,12 +218,16 @@ namespace granhydro::convection
                     ++stats.limited_cells;
                 }
             }
-        // fluxes
-        const double ih = inv_h[d];
+        // fluxes, stored at the + face of the low-side slot; each owned cell then
+        // takes the difference in a fixed order, so the result does not depend
+        // on the numbering (1 rank and N ranks agree bit for bit)
+        std::vector<double> &Fpd = Fp[d];
+        Fpd.resize(std::size_t(patch.n_slots()) * NC);
         for (const auto &[sl, sr] : faces[d])
           {
-            physics::State<dim> UL, UR, F, Fsum;
-            Fsum.fill(0.);
+            physics::State<dim> UL, UR, F;
+            double *Fsum = &Fpd[std::size_t(sl) * NC];
+            std::fill(Fsum, Fsum + NC, 0.);
             const double *vl = fin + (std::size_t(sl) * 2 + 1) * npts * NC;
             const double *vr = fin + (std::size_t(sr) * 2 + 0) * npts * NC;
             for (unsigned int q = 0; q < npts; ++q)
@@ -235,14 +238,88 @@ namespace granhydro::convection
                 for (unsigned int c = 0; c < NC; ++c)
                   Fsum[c] += wq * F[c];
               }
-            if (sl < n_owned)
-              for (unsigned int c = 0; c < NC; ++c)
-                rhs[std::size_t(sl) * NC + c] -= ih * Fsum[c];
-            if (sr < n_owned)
-              for (unsigned int c = 0; c < NC; ++c)
-                rhs[std::size_t(sr) * NC + c] += ih * Fsum[c];
           }
       }
+    assemble_rhs(rhs);
+  }
+
+  template <int dim, class Description>
+  void ConvectionOperator<dim, Description>::assemble_rhs(double *rhs) const
+  {
+    const unsigned int n_owned = patch.n_owned();
+    std::fill(rhs, rhs + std::size_t(n_owned) * NC, 0.);
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        const double ih = inv_h[d];
+        for (unsigned int s = 0; s < n_owned; ++s)
+          {
+            const double *fw = &Fp[d][std::size_t(patch.neighbor(s, d, -1)) * NC];
+            const double *fe = &Fp[d][std::size_t(s) * NC];
+            for (unsigned int c = 0; c < NC; ++c)
+              rhs[std::size_t(s) * NC + c] += ih * (fw[c] - fe[c]);
+          }
+      }
+  }
+
+  template <int dim, class Description>
+  bool ConvectionOperator<dim, Description>::stage_update(Vector &U, const double a,
+                                                          const double b, const double dt) const
+  {
+    // candidate u_new = a U0 + b (u + dt L(u)); cells whose candidate is inadmissible
+    // get first-order Rusanov fluxes (cell averages of this stage) on all their faces,
+    // which is positivity preserving for CFL <= 1/2 (Perthame-Shu); their neighbours
+    // see the changed face flux and are re-checked. Flags are exchanged between
+    // ranks, so shared faces are recomputed identically on both sides.
+    const unsigned int n_owned = patch.n_owned();
+    const std::size_t  n       = std::size_t(n_owned) * NC;
+    double            *u       = n ? &U.local_element(0) : nullptr;
+    apply(W.data(), rhs0.data());
+    cand.resize(n);
+    flags.reinit(patch.partitioner());
+    std::vector<char> low(patch.n_slots(), 0);
+    for (unsigned int iter = 0;; ++iter)
+      {
+        for (std::size_t i = 0; i < n; ++i)
+          cand[i] = a * U0[i] + b * (u[i] + dt * rhs0[i]);
+        unsigned int new_flags = 0;
+        for (unsigned int s = 0; s < n_owned; ++s)
+          {
+            physics::State<dim> S;
+            std::copy(&cand[std::size_t(s) * NC], &cand[std::size_t(s + 1) * NC], S.begin());
+            const bool bad = !desc.admissible(S);
+            flags.local_element(std::size_t(s) * NC) = bad || low[s] ? 1. : 0.;
+            if (bad && !low[s])
+              ++new_flags;
+            if (bad && low[s])
+              new_flags += 1u << 20; // already first order: give up, the step is rejected
+          }
+        const unsigned int global = Utilities::MPI::sum(new_flags, patch.communicator());
+        if (global == 0)
+          break;
+        if (global >= (1u << 20) || iter > 8)
+          return false;
+        flags.update_ghost_values();
+        for (unsigned int s = 0; s < n_owned + patch.n_mpi_ghosts(); ++s)
+          if (flags.local_element(std::size_t(s) * NC) > 0 && !low[s])
+            {
+              low[s] = 1;
+              if (s < n_owned)
+                ++stats.fallback_cells;
+            }
+        for (unsigned int d = 0; d < dim; ++d)
+          for (const auto &[sl, sr] : faces[d])
+            if (low[sl] || low[sr])
+              {
+                physics::State<dim> UL, UR, F;
+                std::copy(&W[std::size_t(sl) * NC], &W[std::size_t(sl + 1) * NC], UL.begin());
+                std::copy(&W[std::size_t(sr) * NC], &W[std::size_t(sr + 1) * NC], UR.begin());
+                numflux.rusanov(UL, UR, d, F);
+                std::copy(F.begin(), F.end(), &Fp[d][std::size_t(sl) * NC]);
+              }
+        assemble_rhs(rhs0.data());
+      }
+    std::copy(cand.begin(), cand.end(), u);
+    return true;
   }
 
   template <int dim, class Description>
@@ -283,26 +360,25 @@ namespace granhydro::convection
   }
 
   template <int dim, class Description>
-  void ConvectionOperator<dim, Description>::ssp_rk3_step(Vector &U, const double dt) const
+  bool ConvectionOperator<dim, Description>::ssp_rk3_step(Vector &U, const double dt) const
   {
     const std::size_t n = std::size_t(patch.n_owned()) * NC;
     U0.resize(n);
     rhs0.resize(n);
     double *u = n ? &U.local_element(0) : nullptr;
     std::copy(u, u + n, U0.begin());
-    // eq. 4.10
+    (void)rhs0;
+    // eq. 4.10, each stage a convex combination of forward Euler steps
     gather(U, W);
-    apply(W.data(), rhs0.data());
-    for (std::size_t i = 0; i < n; ++i)
-      u[i] = U0[i] + dt * rhs0[i];
+    if (!stage_update(U, 0., 1., dt))
+      return false;
     gather(U, W);
-    apply(W.data(), rhs0.data());
-    for (std::size_t i = 0; i < n; ++i)
-      u[i] = 0.75 * U0[i] + 0.25 * (u[i] + dt * rhs0[i]);
+    if (!stage_update(U, 0.75, 0.25, dt))
+      return false;
     gather(U, W);
-    apply(W.data(), rhs0.data());
-    for (std::size_t i = 0; i < n; ++i)
-      u[i] = (1. / 3.) * U0[i] + (2. / 3.) * (u[i] + dt * rhs0[i]);
+    if (!stage_update(U, 1. / 3., 2. / 3., dt))
+      return false;
+    return true;
   }
 
   template <int dim, class Description>
@@ -339,6 +415,7 @@ namespace granhydro::convection
     g.flux.stages    = Utilities::MPI::sum(stats.flux.stages, comm);
     g.flux.fallbacks = Utilities::MPI::sum(stats.flux.fallbacks, comm);
     g.limited_cells  = Utilities::MPI::sum(stats.limited_cells, comm);
+    g.fallback_cells = Utilities::MPI::sum(stats.fallback_cells, comm);
     g.cell_updates   = Utilities::MPI::sum(stats.cell_updates, comm);
     g.rhs_evaluations = stats.rhs_evaluations;
     return g;

@@ -223,9 +223,9 @@ namespace granhydro
         while (true)
           {
             const auto c0 = clock::now();
-            conv->ssp_rk3_step(U, dt);
+            const bool ok = conv->ssp_rk3_step(U, dt);
             conv_seconds += std::chrono::duration<double>(clock::now() - c0).count();
-            if (conv->admissible(U, &why))
+            if (ok && conv->admissible(U, &why))
               break;
             ++sum.rejected_steps;
             if (++tries > scene.max_step_retries)
@@ -284,8 +284,9 @@ namespace granhydro
     if (scene.flux == FluxType::musta)
       pcout << ", MUSTA stages/point " << double(cs.flux.stages) / std::max<double>(cs.flux.points, 1)
             << ", MUSTA fallbacks to Rusanov " << cs.flux.fallbacks;
-    pcout << "\n  positivity fallbacks to first order (cell x direction x stage): "
-          << cs.limited_cells << "\n";
+    pcout << "\n  positivity: reconstructions reset to the cell average (cell x direction x stage) "
+          << cs.limited_cells << ", cell updates redone first order (a posteriori) "
+          << cs.fallback_cells << "\n";
     if (scene.write_vtu || scene.write_profiles)
       pcout << "  output in " << scene.output_directory << "/ ("
             << (scene.write_vtu ? scene.base_name + ".pvd for ParaView" : std::string()) 

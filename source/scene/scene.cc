@@ -269,13 +269,15 @@ end
 )";
   }
 
+  Scene scene_from(ParameterHandler &prm, const std::string &source_name);
+
   Scene parse_scene(const std::string &text, const std::string &source_name)
   {
     ParameterHandler prm;
     declare_scene_parameters(prm);
     try
       {
-        prm.parse_input_from_string(text, source_name, /*skip_undefined=*/false);
+        prm.parse_input_from_string(text, /*last_line=*/"", /*skip_undefined=*/false);
       }
     catch (const dealii::ExceptionBase &e)
       {
@@ -286,6 +288,21 @@ end
         throw SceneError("in " + source_name + ": " + human_message(e.what()));
       }
 
+    try
+      {
+        return scene_from(prm, source_name);
+      }
+    catch (const SceneError &e)
+      {
+        const std::string m = e.what();
+        if (m.rfind("in ", 0) == 0)
+          throw;
+        throw SceneError("in " + source_name + ": " + m);
+      }
+  }
+
+  Scene scene_from(ParameterHandler &prm, const std::string &source_name)
+  {
     Scene s;
     s.source    = source_name;
     s.dimension = prm.get_integer("Dimension");
@@ -439,9 +456,16 @@ end
                                        std::to_string(vel.size()));
     // expressions: let muParser check the syntax now, before any work
     auto check_expr = [&](const std::string &param, const std::string &expr) {
+      // muParser prints its own diagnostics to std::cerr; keep them out of the message
+      std::ostringstream quiet;
+      auto *old_buf = std::cerr.rdbuf(quiet.rdbuf());
+      struct Restore
+      {
+        std::streambuf *b;
+        ~Restore() { std::cerr.rdbuf(b); }
+      } restore{old_buf};
       try
         {
-          dealii::FunctionParser<3> f(1);
           std::map<std::string, double> constants{{"pi", M_PI}};
           for (const auto &c : dealii::Utilities::split_string_list(s.initial_constants, ','))
             {
@@ -450,12 +474,31 @@ end
                 fail("Initial state/Constants", "expected 'name=value' pairs, got '" + c + "'");
               double             v;
               std::istringstream is(kv[1]);
-              if (!(is >> v))
-                fail("Initial state/Constants", "cannot read the value of '" + kv[0] + "'");
+              if (!(is >> v) || !(is >> std::ws).eof())
+                fail("Initial state/Constants", "cannot read the value of '" + kv[0] + "' ('" +
+                                                  kv[1] + "' is not a number)");
               constants[kv[0]] = v;
             }
-          f.initialize("x,y,z", expr, constants);
-          const double v = f.value(dealii::Point<3>(s.lower[0], s.lower[1], s.lower[2]));
+          // the variables the run will offer: x (1D), x,y (2D), x,y,z (3D)
+          double v = 0;
+          if (dim == 1)
+            {
+              dealii::FunctionParser<1> f(1);
+              f.initialize("x", expr, constants);
+              v = f.value(dealii::Point<1>(s.lower[0]));
+            }
+          else if (dim == 2)
+            {
+              dealii::FunctionParser<2> f(1);
+              f.initialize("x,y", expr, constants);
+              v = f.value(dealii::Point<2>(s.lower[0], s.lower[1]));
+            }
+          else
+            {
+              dealii::FunctionParser<3> f(1);
+              f.initialize("x,y,z", expr, constants);
+              v = f.value(dealii::Point<3>(s.lower[0], s.lower[1], s.lower[2]));
+            }
           if (!std::isfinite(v))
             fail(param, "expression '" + expr + "' is not finite at the lower corner");
         }
@@ -465,7 +508,9 @@ end
         }
       catch (const std::exception &e)
         {
-          fail(param, "cannot parse expression '" + expr + "': " + human_message(e.what()));
+          fail(param, "cannot parse expression '" + expr + "' (variables: " +
+                        std::string(dim == 1 ? "x" : (dim == 2 ? "x, y" : "x, y, z")) +
+                        "): " + human_message(e.what()));
         }
     };
     check_expr("Initial state/Packing fraction", s.initial_packing_fraction);

@@ -31,7 +31,11 @@ namespace granhydro::convection
   struct ConvectionStatistics
   {
     FluxStatistics     flux;
-    unsigned long long limited_cells = 0, cell_updates = 0, rhs_evaluations = 0;
+    /// cells x directions x stages whose reconstruction fell back to the cell average
+    unsigned long long limited_cells = 0;
+    /// cells x stages whose update was redone with first-order Rusanov fluxes (a posteriori)
+    unsigned long long fallback_cells = 0;
+    unsigned long long cell_updates = 0, rhs_evaluations = 0;
   };
 
   template <int dim, class Description>
@@ -58,8 +62,10 @@ namespace granhydro::convection
     /// max over owned cells of sum_d (|u_d| + c)/dx_d (global MPI max)
     double max_rate(const Vector &U) const;
 
-    /// one SSP-RK3 step (eq. 4.10) of size dt; U must be built on patch.partitioner()
-    void ssp_rk3_step(Vector &U, const double dt) const;
+    /// one SSP-RK3 step (eq. 4.10) of size dt; U must be built on patch.partitioner().
+    /// Returns false (U then undefined) if a stage stays inadmissible even with
+    /// first-order fluxes: the caller retries with a smaller dt.
+    bool ssp_rk3_step(Vector &U, const double dt) const;
 
     /// true if every owned cell is admissible (global); on failure, where/what
     bool admissible(const Vector &U, std::string *what = nullptr) const;
@@ -70,6 +76,8 @@ namespace granhydro::convection
   private:
     template <class Recon>
     void apply_impl(const Recon &rec, const double *W, double *rhs) const;
+    void assemble_rhs(double *rhs) const;
+    bool stage_update(Vector &U, const double a, const double b, const double dt) const;
 
     const CartesianPatch<dim> &patch;
     const Description         &desc;
@@ -87,6 +95,9 @@ namespace granhydro::convection
     std::vector<std::pair<unsigned int, unsigned int>> faces[dim];
 
     mutable std::vector<double> A, B, C; // stage arrays (one direction at a time)
+    mutable std::vector<double> Fp[dim];  // flux at the + face of each slot, per direction
+    mutable std::vector<double> cand;
+    mutable Vector              flags;
     mutable std::vector<double> W, rhs0, U0;
     mutable ConvectionStatistics stats;
   };
