@@ -2,6 +2,7 @@
  * granhydro: granular hydrodynamics in 1, 2 and 3 dimensions.
  *   granhydro [scene.prm]        run a scene (the embedded default without a file)
  *   granhydro --print-parameters write a documented default scene to stdout
+ *   granhydro --check scene.prm  validate a scene without running it
  * Exit codes: 0 success, 2 bad input (scene or command line), 3 run failure.
  */
 #include <granhydro/driver/simulation.h>
@@ -17,6 +18,7 @@ int main(int argc, char **argv)
   const MPI_Comm comm  = MPI_COMM_WORLD;
   const bool     root  = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
   std::string    file;
+  bool           check_only = false;
   for (int i = 1; i < argc; ++i)
     {
       const std::string a = argv[i];
@@ -25,6 +27,7 @@ int main(int argc, char **argv)
           if (root)
             std::cout << "usage: granhydro [scene.prm]\n"
                          "       granhydro --print-parameters   (documented default scene)\n"
+                         "       granhydro --check scene.prm   (validate the scene, run nothing)\n"
                          "Without a scene file the embedded default scene runs.\n";
           return 0;
         }
@@ -39,11 +42,16 @@ int main(int argc, char **argv)
             }
           return 0;
         }
+      if (a == "--check")
+        {
+          check_only = true;
+          continue;
+        }
       if (!a.empty() && a[0] == '-')
         {
           if (root)
             std::cerr << "granhydro: error: unknown option '" << a
-                      << "' (allowed: --help, --print-parameters, a scene file)\n";
+                      << "' (allowed: --help, --print-parameters, --check, a scene file)\n";
           return 2;
         }
       if (!file.empty())
@@ -58,6 +66,12 @@ int main(int argc, char **argv)
   try
     {
       const granhydro::Scene scene = granhydro::read_scene(file);
+      if (check_only)
+        {
+          if (root)
+            std::cout << "granhydro: scene " << scene.source << " is valid\n";
+          return 0;
+        }
       return granhydro::run_scene(scene, comm, std::cout);
     }
   catch (const granhydro::SceneError &e)

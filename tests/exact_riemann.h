@@ -98,7 +98,7 @@ public:
                                  -0.9061798459386640, 0.9061798459386640};
     static const double wg[5] = {0.5688888888888889, 0.4786286704993665, 0.4786286704993665,
                                  0.2369268850561891, 0.2369268850561891};
-    std::array<double, 3> sum{0.0, 0.0, 0.0};
+    std::array<double, 3> sum{{0.0, 0.0, 0.0}};
     for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
       if (!(pts[i + 1] > pts[i])) continue;
       bool fan = false; // is this piece inside a rarefaction fan?
@@ -233,9 +233,9 @@ private:
     const double G = g_, z = (G - 1.0) / (2.0 * G);
     std::vector<std::array<double, 2>> r;
     if (vacuum_ || p_star_ <= L_.p)
-      r.push_back({L_.u - cL_, vacuum_ ? L_.u + 2.0 * cL_ / (G - 1.0) : u_star_ - cL_ * std::pow(p_star_ / L_.p, z)});
+      r.push_back({{L_.u - cL_, vacuum_ ? L_.u + 2.0 * cL_ / (G - 1.0) : u_star_ - cL_ * std::pow(p_star_ / L_.p, z)}});
     if (vacuum_ || p_star_ <= R_.p)
-      r.push_back({vacuum_ ? R_.u - 2.0 * cR_ / (G - 1.0) : u_star_ + cR_ * std::pow(p_star_ / R_.p, z), R_.u + cR_});
+      r.push_back({{vacuum_ ? R_.u - 2.0 * cR_ / (G - 1.0) : u_star_ + cR_ * std::pow(p_star_ / R_.p, z), R_.u + cR_}});
     return r;
   }
 

@@ -2,3 +2,19 @@
 granhydro_test_executable(test_riemann test_riemann.cc)
 add_test(NAME verify.riemann COMMAND test_riemann)
 set_tests_properties(verify.riemann PROPERTIES LABELS verify TIMEOUT 600)
+
+granhydro_test_executable(test_order test_order.cc)
+add_test(NAME verify.order_1d COMMAND test_order 1d)
+add_test(NAME verify.order_2d COMMAND test_order 2d)
+add_test(NAME verify.order_3d COMMAND ${DEAL_II_MPIEXEC} -n 2 $<TARGET_FILE:test_order> 3d)
+set_tests_properties(verify.order_1d verify.order_2d PROPERTIES LABELS verify TIMEOUT 900)
+set_tests_properties(verify.order_3d PROPERTIES LABELS "verify;mpi" TIMEOUT 900 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)
+
+granhydro_test_executable(test_conservation test_conservation.cc)
+add_test(NAME verify.conservation COMMAND test_conservation)
+set_tests_properties(verify.conservation PROPERTIES LABELS verify TIMEOUT 600)
+
+granhydro_test_executable(test_mpi_equivalence test_mpi_equivalence.cc)
+add_test(NAME mpi.equivalence_2ranks COMMAND ${DEAL_II_MPIEXEC} -n 2 $<TARGET_FILE:test_mpi_equivalence>)
+add_test(NAME mpi.equivalence_3ranks COMMAND ${DEAL_II_MPIEXEC} -n 3 --oversubscribe $<TARGET_FILE:test_mpi_equivalence>)
+set_tests_properties(mpi.equivalence_2ranks mpi.equivalence_3ranks PROPERTIES LABELS mpi TIMEOUT 600 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)

@@ -84,5 +84,30 @@ namespace granhydro::convection
             if (!(d[p][s][k] > 0))
               throw std::logic_error("WENO5: non-positive linear weights");
         }
+    // centre point: linear weights (-9/80, 49/40, -9/80), split after Shi-Hu-Shu
+    const auto c5 = point_coefficients(-2, 5, 0.);
+    double     g[3];
+    for (unsigned int k = 0; k < 3; ++k)
+      {
+        const auto ck = point_coefficients(int(k) - 2, 3, 0.);
+        for (unsigned int j = 0; j < 3; ++j)
+          cc[k][j] = ck[j];
+      }
+    g[0] = c5[0] / cc[0][0];
+    g[2] = c5[4] / cc[2][2];
+    g[1] = 1 - g[0] - g[2];
+    sp = sm = 0;
+    for (unsigned int k = 0; k < 3; ++k)
+      {
+        gp[k] = 0.5 * (g[k] + 3 * std::abs(g[k]));
+        gm[k] = gp[k] - g[k];
+        sp += gp[k];
+        sm += gm[k];
+      }
+    for (unsigned int k = 0; k < 3; ++k)
+      {
+        gp[k] /= sp;
+        gm[k] = sm > 0 ? gm[k] / sm : 0;
+      }
   }
 } // namespace granhydro::convection

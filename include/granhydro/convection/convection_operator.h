@@ -9,8 +9,8 @@
  * cell (face averages), stage B along the first transverse direction to its
  * two Gauss points, stage C along the second; the face flux is the
  * Gauss-weighted sum of the numerical flux at the 2^(dim-1) points (eq. 4.6).
- * With midpoint quadrature stages B and C are skipped and the face average
- * is used as the point value (second order for nonlinear fluxes).
+ * With midpoint quadrature the transverse stages reconstruct to the face
+ * centre instead (one point per face; midpoint rule, second order).
  *
  * Positivity: if any reconstructed point value of a cell in direction d is
  * inadmissible, all of that cell's point values in direction d fall back to
@@ -77,13 +77,15 @@ namespace granhydro::convection
     template <class Recon>
     void apply_impl(const Recon &rec, const double *W, double *rhs) const;
     void assemble_rhs(double *rhs) const;
-    bool stage_update(Vector &U, const double a, const double b, const double dt) const;
+    bool stage_update(Vector &U, const double a, const double b, const double den,
+                      const double dt) const;
 
     const CartesianPatch<dim> &patch;
     const Description         &desc;
     NumericalFlux<dim, Description> numflux;
     ReconstructionType         rtype;
-    bool                       gauss;
+    bool                       transverse; // transverse reconstruction stages B (and C in 3D)
+    unsigned int               P;          // points per transverse direction: 2 Gauss, 1 centre
     double                     inv_h[dim]; // 1/dx_d in scaled units
     FirstOrder                 rec1;
     Muscl                      rec_muscl;

@@ -39,6 +39,7 @@ namespace granhydro::convection
     {
       lo = hi = v[0];
     }
+    double center(const double *v) const { return v[0]; }
   };
 
   /// MUSCL with the monotonized-central limiter: v0 + xi * slope
@@ -58,6 +59,8 @@ namespace granhydro::convection
       lo = v[1] - x * s;
       hi = v[1] + x * s;
     }
+    /// the linear reconstruction's value at the cell centre is the average
+    double center(const double *v) const { return v[1]; }
   };
 
   /// WENO3 (two 2-cell candidates), Jiang-Shu type weights
@@ -84,16 +87,41 @@ namespace granhydro::convection
       lo = out[0];
       hi = out[1];
     }
+    /// both candidates are linear with value v0 at the centre (second-order point value)
+    double center(const double *v) const { return v[1]; }
   };
 
-  /// WENO5 (three 3-cell candidates), Jiang-Shu smoothness indicators and weights
+  /// WENO5 (three 3-cell candidates), Jiang-Shu smoothness indicators and weights.
+  /// The centre point (midpoint quadrature) has negative linear weights; they are
+  /// split into two positive sets (Shi, Hu & Shu, J. Comput. Phys. 175 (2002) 108).
   struct Weno5
   {
     static constexpr int r = 2;
     Weno5();
     double c[2][2][3][3]; // [pair][side][candidate][j]
     double d[2][2][3];
+    double cc[3][3];          // centre: candidate coefficients
+    double gp[3], gm[3];      // centre: split positive weights, normalised
+    double sp = 1, sm = 0;    // centre: their sums
     double eps = 1e-6;
+    double center(const double *v) const
+    {
+      const double t0 = v[0] - 2 * v[1] + v[2], t1 = v[1] - 2 * v[2] + v[3], t2 = v[2] - 2 * v[3] + v[4];
+      const double s0 = v[0] - 4 * v[1] + 3 * v[2], s1 = v[1] - v[3], s2 = 3 * v[2] - 4 * v[3] + v[4];
+      const double b[3] = {13. / 12. * t0 * t0 + 0.25 * s0 * s0, 13. / 12. * t1 * t1 + 0.25 * s1 * s1,
+                           13. / 12. * t2 * t2 + 0.25 * s2 * s2};
+      double q[3], ap = 0, am = 0, up = 0, um = 0;
+      for (unsigned int k = 0; k < 3; ++k)
+        {
+          q[k]           = cc[k][0] * v[k] + cc[k][1] * v[k + 1] + cc[k][2] * v[k + 2];
+          const double i = 1. / ((eps + b[k]) * (eps + b[k]));
+          ap += gp[k] * i;
+          am += gm[k] * i;
+          up += gp[k] * i * q[k];
+          um += gm[k] * i * q[k];
+        }
+      return sp * up / ap - (sm > 0 ? sm * um / am : 0.);
+    }
     void pair(const double *v, const unsigned int p, double &lo, double &hi) const
     {
       const double t0 = v[0] - 2 * v[1] + v[2], t1 = v[1] - 2 * v[2] + v[3], t2 = v[2] - 2 * v[3] + v[4];
