@@ -1,4 +1,5 @@
 #include <granhydro/convection/convection_operator.h>
+#include <granhydro/physics/granular_gas.h>
 
 #include <deal.II/base/mpi.h>
 
@@ -336,21 +337,7 @@ namespace granhydro::convection
   template <int dim, class Description>
   void ConvectionOperator<dim, Description>::gather(const Vector &U, std::vector<double> &Wv) const
   {
-    U.update_ghost_values();
-    const std::size_t nloc = std::size_t(patch.n_owned() + patch.n_mpi_ghosts()) * NC;
-    AssertThrow(U.locally_owned_size() + U.get_partitioner()->n_ghost_indices() == nloc,
-                ExcMessage("state vector does not match the patch"));
-    Wv.resize(std::size_t(patch.n_slots()) * NC);
-    if (nloc > 0)
-      std::memcpy(Wv.data(), U.begin(), nloc * sizeof(double)); // ghosts follow the owned entries
-    for (const auto &g : patch.boundary_ghosts())
-      for (unsigned int c = 0; c < NC; ++c)
-        {
-          double v = Wv[std::size_t(g.source) * NC + c];
-          if (c >= 1 && c <= dim && (g.flip_mask >> (c - 1) & 1u))
-            v = -v;
-          Wv[std::size_t(g.slot) * NC + c] = v;
-        }
+    patch.gather(U, Wv);
   }
 
   template <int dim, class Description>
@@ -437,4 +424,7 @@ namespace granhydro::convection
   template class ConvectionOperator<1, physics::IdealGas<1>>;
   template class ConvectionOperator<2, physics::IdealGas<2>>;
   template class ConvectionOperator<3, physics::IdealGas<3>>;
+  template class ConvectionOperator<1, physics::GranularGas<1>>;
+  template class ConvectionOperator<2, physics::GranularGas<2>>;
+  template class ConvectionOperator<3, physics::GranularGas<3>>;
 } // namespace granhydro::convection

@@ -14,22 +14,26 @@ namespace granhydro
 {
   using namespace dealii;
 
-  template <int dim>
-  Simulation<dim>::Simulation(const Scene &scene, const MPI_Comm comm, std::ostream &log)
+  template <int dim, class Description>
+  Simulation<dim, Description>::Simulation(const Scene &scene, const MPI_Comm comm, std::ostream &log)
     : scene(scene)
     , comm(comm)
     , pcout(log, Utilities::MPI::this_mpi_process(comm) == 0 && scene.verbose)
     , units_(scene.units())
   {
     AssertThrow(scene.dimension == dim, ExcMessage("scene dimension mismatch"));
-    desc.gamma = scene.adiabatic_index;
+    if constexpr (std::is_same_v<Description, physics::IdealGas<dim>>)
+      desc.gamma = scene.adiabatic_index;
+    else
+      desc = Description(physics::GarzoDufty1999(scene.restitution, scene.phi_freezing,
+                                                 scene.phi_close_packing, scene.guard_delta));
   }
 
-  template <int dim>
-  Simulation<dim>::~Simulation() = default;
+  template <int dim, class Description>
+  Simulation<dim, Description>::~Simulation() = default;
 
-  template <int dim>
-  void Simulation<dim>::print_header() const
+  template <int dim, class Description>
+  void Simulation<dim, Description>::print_header() const
   {
     const char *ax = "xyz";
     pcout << "granhydro: scene " << scene.source << "\n"
@@ -37,9 +41,24 @@ namespace granhydro
     for (unsigned int d = 0; d < dim; ++d)
       pcout << (d ? " x " : "") << scene.cells[d];
     pcout << "), " << Utilities::MPI::n_mpi_processes(comm) << " MPI rank(s)\n"
-          << "  model: " << scene.model << " (gamma_a = " << desc.gamma << ")\n"
-          << "  active effects: convection (always; the ideal-gas model has no transport,"
-             " cooling or body force)\n"
+          << "  model: " << scene.model;
+    if constexpr (std::is_same_v<Description, physics::IdealGas<dim>>)
+      pcout << " (gamma_a = " << desc.gamma << ")\n"
+            << "  active effects: convection (always; the ideal-gas model has no transport,"
+               " cooling or body force)\n";
+    else
+      pcout << " (eps = " << scene.restitution << ", Torquato chi with phi_f = "
+            << scene.phi_freezing << ", phi_c = " << scene.phi_close_packing << ")\n"
+            << "  active effects:" << (scene.convection ? " convection," : "")
+            << (scene.diffusion_active() ? "" : " (no diffusion step)")
+            << (scene.diffusion_active() && scene.viscosity ? " viscosity," : "")
+            << (scene.diffusion_active() && scene.heat_conduction ? " heat conduction," : "")
+            << (scene.diffusion_active() && scene.cooling && scene.restitution < 1 ? " inelastic cooling," : "")
+            << (scene.diffusion_active() && (scene.gravity[0] != 0 || scene.gravity[1] != 0 || scene.gravity[2] != 0) ? " gravity," : "")
+            << "\n  diffusion step: " << (scene.diffusion_active() ? scene.integrator + ", " +
+                                             (scene.diagonal_flux ? "diagonal" : "full") + " flux, Strang splitting C(dt/2) V(dt) C(dt/2)" : "off")
+            << "\n";
+    pcout
           << "  numerics: " << to_string(scene.reconstruction) << " reconstruction, "
           << to_string(scene.face_quadrature) << " face quadrature, " << to_string(scene.flux)
           << " flux";
@@ -53,15 +72,38 @@ namespace granhydro
           << " kg, velocity " << units_.velocity << " m/s, time " << units_.time() << " s\n";
   }
 
-  template <int dim>
-  void Simulation<dim>::setup()
+  template <int dim, class Description>
+  void Simulation<dim, Description>::setup()
   {
     const unsigned int r =
-      convection::ConvectionOperator<dim, physics::IdealGas<dim>>::stencil_half_width(scene.reconstruction);
+      convection::ConvectionOperator<dim, Description>::stencil_half_width(scene.reconstruction);
     patch_ = std::make_unique<CartesianPatch<dim>>(comm);
     patch_->build(scene, r + 1);
-    conv = std::make_unique<convection::ConvectionOperator<dim, physics::IdealGas<dim>>>(*patch_, desc, scene);
+    conv = std::make_unique<convection::ConvectionOperator<dim, Description>>(*patch_, desc, scene);
     conv->setup();
+    if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
+      if (scene.diffusion_active())
+        {
+          diffusion::DiffusionSettings ds;
+          ds.viscous       = scene.viscosity;
+          ds.heat          = scene.heat_conduction;
+          ds.cooling       = scene.cooling;
+          ds.diagonal_only = scene.diagonal_flux;
+          for (unsigned int d = 0; d < dim; ++d) // scaled: g L0 / V0^2
+            ds.gravity[d] = scene.gravity[d] * units_.length / (units_.velocity * units_.velocity);
+          diff = std::make_unique<diffusion::DiffusionOperator<dim>>(*patch_, desc, ds, units_.length);
+          diff->setup();
+          diffusion::IntegratorSettings is;
+          is.method = scene.integrator == "implicit midpoint" ? diffusion::ImplicitMethod::implicit_midpoint :
+                      scene.integrator == "automatic"         ? diffusion::ImplicitMethod::automatic :
+                      scene.integrator == "explicit euler"    ? diffusion::ImplicitMethod::explicit_euler :
+                                                                diffusion::ImplicitMethod::gauss_legendre;
+          is.newton_tolerance      = scene.newton_tolerance;
+          is.newton_max_iterations = scene.newton_max_iterations;
+          is.linear_tolerance      = scene.linear_tolerance;
+          is.amg                   = scene.preconditioner == "amg";
+          integrator = std::make_unique<diffusion::ImplicitIntegrator<dim>>(*diff, desc, is);
+        }
     U.reinit(patch_->partitioner());
     print_header();
 
@@ -99,7 +141,7 @@ namespace granhydro
             Us[1 + d] = m * n * u[d];
             ke += 0.5 * m * n * u[d] * u[d];
           }
-        Us[dim + 1] = ke + n * t / (desc.gamma - 1.);
+        Us[dim + 1] = ke + n * t * desc.heat_capacity();
         // this Us is in SI with a *mass* momentum; convert to number momentum below
         for (unsigned int d = 0; d < dim; ++d)
           Us[1 + d] /= m;
@@ -112,11 +154,11 @@ namespace granhydro
     if (Utilities::MPI::logical_or(bad_T, comm))
       throw SceneError("in " + scene.source + ": parameter 'Initial state/Temperature' must be "
                        "positive everywhere in the domain");
-    output = std::make_unique<io::Output<dim>>(scene, *patch_, desc);
+    output = std::make_unique<io::Output<dim, Description>>(scene, *patch_, desc);
   }
 
-  template <int dim>
-  void Simulation<dim>::set_initial_state(const std::function<State(const Point<dim> &)> &f,
+  template <int dim, class Description>
+  void Simulation<dim, Description>::set_initial_state(const std::function<State(const Point<dim> &)> &f,
                                           const unsigned int nq)
   {
     // SI -> scaled: n [1/m^3] * L^3; number momentum n u [1/(m^2 s)] * L^3 / V; nE [J/m^3] / p0
@@ -152,8 +194,8 @@ namespace granhydro
       }
   }
 
-  template <int dim>
-  typename Simulation<dim>::State Simulation<dim>::state_si(const unsigned int s) const
+  template <int dim, class Description>
+  typename Simulation<dim, Description>::State Simulation<dim, Description>::state_si(const unsigned int s) const
   {
     State S;
     S[0] = U.local_element(std::size_t(s) * (dim + 2)) * units_.number_density();
@@ -164,8 +206,8 @@ namespace granhydro
     return S;
   }
 
-  template <int dim>
-  typename Simulation<dim>::State Simulation<dim>::totals() const
+  template <int dim, class Description>
+  typename Simulation<dim, Description>::State Simulation<dim, Description>::totals() const
   {
     State t;
     t.fill(0.);
@@ -175,6 +217,30 @@ namespace granhydro
     for (unsigned int c = 0; c < dim + 2; ++c)
       t[c] = Utilities::MPI::sum(t[c], comm) * patch_->cell_volume() / std::pow(units_.length, dim);
     return t;
+  }
+
+  template <int dim, class Description>
+  bool Simulation<dim, Description>::advance(const double dt)
+  {
+    using clock = std::chrono::steady_clock;
+    auto convect = [&](const double h) {
+      const auto c0 = clock::now();
+      const bool ok = conv->ssp_rk3_step(U, h);
+      conv_seconds += std::chrono::duration<double>(clock::now() - c0).count();
+      return ok && conv->admissible(U);
+    };
+    if (!integrator)
+      return convect(dt);
+    if (scene.convection && !convect(0.5 * dt))
+      return false;
+    const auto c0 = clock::now();
+    const bool ok = integrator->step(U, dt);
+    diff_seconds += std::chrono::duration<double>(clock::now() - c0).count();
+    if (!ok)
+      return false;
+    if (scene.convection && !convect(0.5 * dt))
+      return false;
+    return true;
   }
 
   namespace
@@ -189,8 +255,8 @@ namespace granhydro
     }
   } // namespace
 
-  template <int dim>
-  RunSummary Simulation<dim>::run()
+  template <int dim, class Description>
+  RunSummary Simulation<dim, Description>::run()
   {
     using clock = std::chrono::steady_clock;
     const auto   start = clock::now();
@@ -200,7 +266,7 @@ namespace granhydro
     const double dt_fixed = scene.fixed_time_step / t0;
     const double interval = scene.output_interval / t0;
     double       t = 0, next_output = interval > 0 ? interval : t_end;
-    double       conv_seconds = 0;
+    conv_seconds = diff_seconds = 0;
     unsigned int step = 0;
     auto         last_progress = start;
     std::string  why;
@@ -222,10 +288,7 @@ namespace granhydro
         unsigned int tries = 0;
         while (true)
           {
-            const auto c0 = clock::now();
-            const bool ok = conv->ssp_rk3_step(U, dt);
-            conv_seconds += std::chrono::duration<double>(clock::now() - c0).count();
-            if (ok && conv->admissible(U, &why))
+            if (advance(dt) && conv->admissible(U, &why))
               break;
             ++sum.rejected_steps;
             if (++tries > scene.max_step_retries)
@@ -236,7 +299,11 @@ namespace granhydro
                    << " retries with halved time step (last dt = " << dt * t0 << " s)";
                 if (!why.empty())
                   os << "; first bad " << why;
-                os << ". Lower 'Numerics/CFL number' or use a more diffusive reconstruction.";
+                os << ". Lower 'Numerics/CFL number' or use a more diffusive reconstruction"
+               << (integrator ? ", or check the diffusion step (Newton failures: " +
+                                  std::to_string(integrator->statistics().newton_failures) + ")" :
+                                std::string())
+               << ".";
                 throw RunError(os.str());
               }
             pcout << "  step " << step << ": inadmissible state, retrying with dt = " << dt * t0 / 2
@@ -272,6 +339,12 @@ namespace granhydro
     sum.wall_seconds       = std::chrono::duration<double>(clock::now() - start).count();
     sum.convection_seconds = Utilities::MPI::max(conv_seconds, comm);
     sum.convection         = conv->global_statistics();
+    sum.diffusion_active   = integrator != nullptr;
+    if (integrator)
+      {
+        sum.diffusion         = integrator->global_statistics();
+        sum.diffusion_seconds = Utilities::MPI::max(diff_seconds, comm);
+      }
 
     const auto  &cs = sum.convection;
     const double nr = Utilities::MPI::n_mpi_processes(comm);
@@ -287,16 +360,41 @@ namespace granhydro
     pcout << "\n  positivity: reconstructions reset to the cell average (cell x direction x stage) "
           << cs.limited_cells << ", cell updates redone first order (a posteriori) "
           << cs.fallback_cells << "\n";
+    if (integrator)
+      {
+        const auto &ds = sum.diffusion;
+        pcout << "  diffusion step: " << sum.diffusion_seconds << " s, " << ds.steps << " steps, "
+              << ds.newton_iterations << " Newton iterations ("
+              << double(ds.newton_iterations) / std::max<double>(ds.steps, 1) << "/step), "
+              << ds.linear_iterations << " GMRES iterations, " << ds.newton_failures
+              << " Newton failures, " << ds.linear_failures << " GMRES failures, "
+              << ds.switches_to_midpoint << " switches to implicit midpoint";
+        if (ds.explicit_substeps)
+          pcout << ", " << ds.explicit_substeps << " explicit sub-steps";
+        pcout << "\n";
+      }
     if (scene.write_vtu || scene.write_profiles)
-      pcout << "  output in " << scene.output_directory << "/ ("
-            << (scene.write_vtu ? scene.base_name + ".pvd for ParaView" : std::string()) 
-            << (scene.write_profiles ? ", profiles.csv" : "") << ")\n";
+      {
+        pcout << "  output in " << scene.output_directory << "/:";
+        if (scene.write_vtu)
+          pcout << " " << scene.base_name << ".pvd (ParaView)";
+        if (scene.write_profiles)
+          pcout << " profiles.csv";
+        pcout << "\n";
+      }
     return sum;
   }
 
   template <int dim>
   int run_dim(const Scene &scene, const MPI_Comm comm, std::ostream &log)
   {
+    if (scene.model == "granular")
+      {
+        Simulation<dim, physics::GranularGas<dim>> sim(scene, comm, log);
+        sim.setup();
+        sim.run();
+        return 0;
+      }
     Simulation<dim> sim(scene, comm, log);
     sim.setup();
     sim.run();
@@ -316,7 +414,10 @@ namespace granhydro
       }
   }
 
-  template class Simulation<1>;
-  template class Simulation<2>;
-  template class Simulation<3>;
+  template class Simulation<1, physics::IdealGas<1>>;
+  template class Simulation<2, physics::IdealGas<2>>;
+  template class Simulation<3, physics::IdealGas<3>>;
+  template class Simulation<1, physics::GranularGas<1>>;
+  template class Simulation<2, physics::GranularGas<2>>;
+  template class Simulation<3, physics::GranularGas<3>>;
 } // namespace granhydro

@@ -16,11 +16,11 @@ namespace granhydro::io
   namespace
   {
     /// derived SI fields from the DG0 conserved variables (scaled units)
-    template <int dim>
+    template <int dim, class Description>
     class Fields : public DataPostprocessor<dim>
     {
     public:
-      Fields(const Units &u, const physics::IdealGas<dim> &desc)
+      Fields(const Units &u, const Description &desc)
         : units(u)
         , desc(desc)
       {}
@@ -40,7 +40,7 @@ namespace granhydro::io
             out[q][k++] = n * units.number_density() * units.mass;
             for (unsigned int d = 0; d < dim; ++d)
               out[q][k++] = U[1 + d] / n * units.velocity;
-            out[q][k++] = p / n * units.energy();
+            out[q][k++] = desc.temperature(U) * units.energy();
             out[q][k++] = p * units.pressure();
           }
       }
@@ -72,13 +72,13 @@ namespace granhydro::io
 
     private:
       Units                          units;
-      const physics::IdealGas<dim> &desc;
+      const Description &desc;
     };
   } // namespace
 
-  template <int dim>
-  Output<dim>::Output(const Scene &scene, const CartesianPatch<dim> &patch,
-                      const physics::IdealGas<dim> &desc)
+  template <int dim, class Description>
+  Output<dim, Description>::Output(const Scene &scene, const CartesianPatch<dim> &patch,
+                                   const Description &desc)
     : scene(scene)
     , patch(patch)
     , desc(desc)
@@ -99,8 +99,8 @@ namespace granhydro::io
       throw SceneError(err);
   }
 
-  template <int dim>
-  void Output<dim>::write(const Vector &U, const double time_si, const unsigned int step)
+  template <int dim, class Description>
+  void Output<dim, Description>::write(const Vector &U, const double time_si, const unsigned int step)
   {
     if (scene.write_vtu)
       write_vtu(U, time_si, step);
@@ -109,10 +109,10 @@ namespace granhydro::io
     ++counter;
   }
 
-  template <int dim>
-  void Output<dim>::write_vtu(const Vector &U, const double time_si, const unsigned int step)
+  template <int dim, class Description>
+  void Output<dim, Description>::write_vtu(const Vector &U, const double time_si, const unsigned int step)
   {
-    Fields<dim>  fields(units, desc);
+    Fields<dim, Description> fields(units, desc);
     DataOut<dim> data_out;
     data_out.attach_dof_handler(patch.dof_handler());
     U.update_ghost_values();
@@ -135,8 +135,8 @@ namespace granhydro::io
       }
   }
 
-  template <int dim>
-  void Output<dim>::write_profiles(const Vector &U, const double time_si)
+  template <int dim, class Description>
+  void Output<dim, Description>::write_profiles(const Vector &U, const double time_si)
   {
     const unsigned int pd   = scene.profile_direction < 0 ? dim - 1 : scene.profile_direction;
     const unsigned int nl   = patch.cells(pd);
@@ -187,7 +187,10 @@ namespace granhydro::io
       }
   }
 
-  template class Output<1>;
-  template class Output<2>;
-  template class Output<3>;
+  template class Output<1, physics::IdealGas<1>>;
+  template class Output<2, physics::IdealGas<2>>;
+  template class Output<3, physics::IdealGas<3>>;
+  template class Output<1, physics::GranularGas<1>>;
+  template class Output<2, physics::GranularGas<2>>;
+  template class Output<3, physics::GranularGas<3>>;
 } // namespace granhydro::io

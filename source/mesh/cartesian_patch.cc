@@ -331,6 +331,28 @@ namespace granhydro
       }
   }
 
+  template <int dim>
+  void CartesianPatch<dim>::gather(const LinearAlgebra::distributed::Vector<double> &U,
+                                   std::vector<double>                             &W) const
+  {
+    constexpr unsigned int NC = n_components;
+    U.update_ghost_values();
+    const std::size_t nloc = std::size_t(n_owned_ + n_mpi_ghost_) * NC;
+    AssertThrow(U.locally_owned_size() + U.get_partitioner()->n_ghost_indices() == nloc,
+                ExcMessage("state vector does not match the patch"));
+    W.resize(std::size_t(n_slots()) * NC);
+    if (nloc > 0)
+      std::copy(U.begin(), U.begin() + nloc, W.begin()); // ghosts follow the owned entries
+    for (const auto &g : bghosts_)
+      for (unsigned int c = 0; c < NC; ++c)
+        {
+          double v = W[std::size_t(g.source) * NC + c];
+          if (c >= 1 && c <= dim && (g.flip_mask >> (c - 1) & 1u))
+            v = -v;
+          W[std::size_t(g.slot) * NC + c] = v;
+        }
+  }
+
   template class CartesianPatch<1>;
   template class CartesianPatch<2>;
   template class CartesianPatch<3>;

@@ -105,6 +105,16 @@ namespace granhydro
     return material_density * M_PI * std::pow(grain_diameter, 3) / 6.;
   }
 
+  bool Scene::diffusion_active() const
+  {
+    if (model != "granular")
+      return false;
+    bool g = false;
+    for (unsigned int d = 0; d < dimension; ++d)
+      g = g || gravity[d] != 0;
+    return viscosity || heat_conduction || (cooling && restitution < 1) || g;
+  }
+
   Units Scene::units() const
   {
     Units u;
@@ -139,9 +149,21 @@ namespace granhydro
 
     prm.enter_subsection("Material");
     {
-      prm.declare_entry("Model", "ideal gas", Patterns::Selection("ideal gas"),
+      prm.declare_entry("Model", "ideal gas", Patterns::Selection("ideal gas|granular"),
                         "Constitutive model. 'ideal gas': verification model (p = n T, "
-                        "no transport), the dilute elastic limit of granular gases.");
+                        "no transport), the dilute elastic limit of granular gases. "
+                        "'granular': hard spheres, p = n T Z(phi) with Torquato's pair "
+                        "correlation and Garzo-Dufty (1999) transport (physics.md 2, 3).");
+      prm.declare_entry("Restitution coefficient", "1", Patterns::Double(0, 1),
+                        "Normal coefficient of restitution eps of grain-grain collisions "
+                        "(granular model; 0.5 <= eps <= 1).");
+      prm.declare_entry("Freezing packing fraction", "0.49", Patterns::Double(0, 1),
+                        "phi_f of Torquato's pair correlation (granular model).");
+      prm.declare_entry("Close packing fraction", "0.64", Patterns::Double(0, 1),
+                        "phi_c, random close packing: chi has its pole here (granular model).");
+      prm.declare_entry("Close packing guard", "1e-3", Patterns::Double(0, 0.1),
+                        "delta: chi is continued linearly (C1) beyond phi_c - delta, so "
+                        "coefficients stay finite (physics.md 2, guard).");
       prm.declare_entry("Grain diameter", "1e-3", Patterns::Double(0, Patterns::Double::max_double_value),
                         "Grain diameter sigma [m].");
       prm.declare_entry("Material density", "2600", Patterns::Double(0, Patterns::Double::max_double_value),
@@ -202,6 +224,46 @@ namespace granhydro
       prm.declare_entry("Maximum step retries", "6", Patterns::Integer(0, 30),
                         "A step whose result is inadmissible (n <= 0 or T <= 0) is retried "
                         "with half the time step at most this many times, then the run stops.");
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Effects");
+    {
+      prm.declare_entry("Convection", "true", Patterns::Bool(),
+                        "Run the convective step C (Euler part, paper section 4).");
+      prm.declare_entry("Viscosity", "true", Patterns::Bool(),
+                        "Viscous stress (shear and bulk viscosity; granular model).");
+      prm.declare_entry("Heat conduction", "true", Patterns::Bool(),
+                        "Heat flux q = -kappa grad T - mu grad n (granular model).");
+      prm.declare_entry("Cooling", "true", Patterns::Bool(),
+                        "Inelastic cooling -(3/2) n T zeta0 (granular model, eps < 1).");
+      prm.declare_entry("Diffusive flux", "full", Patterns::Selection("full|diagonal"),
+                        "full: all cross-derivative terms (physics.md 4.3); diagonal: only "
+                        "D_ii d_i U as in the paper's eq. 5.6.");
+      prm.declare_entry("Gravity", "0, 0, 0", Patterns::Anything(),
+                        "Body force per unit mass g [m/s^2], one value per dimension "
+                        "(e.g. 0, -9.81 in 2D). Granular model only.");
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Diffusion step");
+    {
+      prm.declare_entry("Integrator", "gauss-legendre",
+                        Patterns::Selection("gauss-legendre|implicit midpoint|automatic|explicit euler"),
+                        "Time integrator of the diffusion/source step V: 2-stage Gauss-Legendre "
+                        "(order 4), implicit midpoint (order 2), automatic (Gauss-Legendre, "
+                        "implicit midpoint when its Newton iteration fails), or the sub-cycled "
+                        "explicit Euler baseline.");
+      prm.declare_entry("Newton tolerance", "1e-10", Patterns::Double(0, 1),
+                        "Modified Newton stops when dt * max |change of stage slopes| is below "
+                        "this times max |U| (scaled units).");
+      prm.declare_entry("Newton maximum iterations", "25", Patterns::Integer(1, 200),
+                        "Cap on modified Newton iterations; a step that does not converge is "
+                        "retried with half the time step.");
+      prm.declare_entry("Linear solver tolerance", "1e-12", Patterns::Double(0, 1),
+                        "Relative residual of Trilinos GMRES.");
+      prm.declare_entry("Preconditioner", "ilu", Patterns::Selection("ilu|amg"),
+                        "Preconditioner of GMRES: ilu (Ifpack ILU(0)) or amg (ML).");
     }
     prm.leave_subsection();
 
@@ -334,6 +396,10 @@ end
     s.grain_diameter   = prm.get_double("Grain diameter");
     s.material_density = prm.get_double("Material density");
     s.adiabatic_index  = prm.get_double("Adiabatic index");
+    s.restitution       = prm.get_double("Restitution coefficient");
+    s.phi_freezing      = prm.get_double("Freezing packing fraction");
+    s.phi_close_packing = prm.get_double("Close packing fraction");
+    s.guard_delta       = prm.get_double("Close packing guard");
     prm.leave_subsection();
 
     prm.enter_subsection("Initial state");
@@ -363,6 +429,23 @@ end
       s.reference_velocity = prm.get_double("Reference velocity");
       s.max_step_retries   = prm.get_integer("Maximum step retries");
     }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Effects");
+    s.convection      = prm.get_bool("Convection");
+    s.viscosity       = prm.get_bool("Viscosity");
+    s.heat_conduction = prm.get_bool("Heat conduction");
+    s.cooling         = prm.get_bool("Cooling");
+    s.diagonal_flux   = prm.get("Diffusive flux") == "diagonal";
+    s.gravity         = parse_list<double, 3>(prm.get("Gravity"), "Effects/Gravity", dim, 0.);
+    prm.leave_subsection();
+
+    prm.enter_subsection("Diffusion step");
+    s.integrator            = prm.get("Integrator");
+    s.newton_tolerance      = prm.get_double("Newton tolerance");
+    s.newton_max_iterations = prm.get_integer("Newton maximum iterations");
+    s.linear_tolerance      = prm.get_double("Linear solver tolerance");
+    s.preconditioner        = prm.get("Preconditioner");
     prm.leave_subsection();
 
     prm.enter_subsection("Time");
@@ -444,6 +527,29 @@ end
       fail("Material/Material density", "must be positive");
     if (s.adiabatic_index <= 1)
       fail("Material/Adiabatic index", "must exceed 1");
+    if (s.model == "granular")
+      {
+        if (s.restitution < 0.5 || s.restitution > 1)
+          fail("Material/Restitution coefficient",
+               "must lie in [0.5, 1] (Garzo-Dufty coefficients are verified positive there)");
+        if (!(s.phi_freezing < s.phi_close_packing))
+          fail("Material/Freezing packing fraction", "must be below 'Close packing fraction'");
+        if (!(s.guard_delta < s.phi_close_packing - s.phi_freezing))
+          fail("Material/Close packing guard", "must be smaller than phi_c - phi_f");
+      }
+    else
+      {
+        if (s.restitution != 1)
+          fail("Material/Restitution coefficient",
+               "the ideal-gas model is elastic; use 'Model = granular' for eps < 1");
+        for (unsigned int d = 0; d < dim; ++d)
+          if (s.gravity[d] != 0)
+            fail("Effects/Gravity", "the ideal-gas verification model has no body force; use "
+                                    "'Material/Model = granular'");
+      }
+    if (!s.convection && !s.diffusion_active())
+      fail("Effects/Convection", "with convection off the scene must have an active diffusion "
+                                 "step (granular model with transport, cooling or gravity)");
     if (s.output_directory.empty())
       fail("Output/Directory", "must not be empty");
     if (s.profile_direction >= static_cast<int>(dim))

@@ -8,8 +8,10 @@
  * schedule, progress line and run summary.
  */
 #include <granhydro/convection/convection_operator.h>
+#include <granhydro/diffusion/implicit_integrator.h>
 #include <granhydro/io/output.h>
 #include <granhydro/mesh/cartesian_patch.h>
+#include <granhydro/physics/granular_gas.h>
 #include <granhydro/physics/ideal_gas.h>
 #include <granhydro/scene/scene.h>
 
@@ -34,9 +36,14 @@ namespace granhydro
     unsigned int steps = 0, rejected_steps = 0;
     double       time_si = 0, wall_seconds = 0, convection_seconds = 0;
     convection::ConvectionStatistics convection;
+    diffusion::IntegratorStatistics  diffusion;
+    double                           diffusion_seconds = 0;
+    bool                             diffusion_active  = false;
   };
 
-  template <int dim>
+  /// the time loop of a scene with the constitutive description Description
+  /// (physics::IdealGas<dim> or physics::GranularGas<dim>)
+  template <int dim, class Description = physics::IdealGas<dim>>
   class Simulation
   {
   public:
@@ -57,11 +64,15 @@ namespace granhydro
     /// run to the scene's end time (or max steps)
     RunSummary run();
 
+    /// one time step of size dt_si [s] (Strang splitting C(dt/2) V(dt) C(dt/2), eq. 3.5,
+    /// or only the active half); false if a part failed (state then undefined)
+    bool advance(const double dt_scaled);
+
     const CartesianPatch<dim> &patch() const { return *patch_; }
     const Vector              &state() const { return U; }
     const Units               &units() const { return units_; }
-    const physics::IdealGas<dim> &description() const { return desc; }
-    const convection::ConvectionOperator<dim, physics::IdealGas<dim>> &convection() const
+    const Description &description() const { return desc; }
+    const convection::ConvectionOperator<dim, Description> &convection() const
     {
       return *conv;
     }
@@ -79,10 +90,13 @@ namespace granhydro
     MPI_Comm                  comm;
     dealii::ConditionalOStream pcout;
     Units                     units_;
-    physics::IdealGas<dim>    desc;
+    Description               desc;
     std::unique_ptr<CartesianPatch<dim>> patch_;
-    std::unique_ptr<convection::ConvectionOperator<dim, physics::IdealGas<dim>>> conv;
-    std::unique_ptr<io::Output<dim>> output;
+    std::unique_ptr<convection::ConvectionOperator<dim, Description>> conv;
+    std::unique_ptr<io::Output<dim, Description>> output;
+    std::unique_ptr<diffusion::DiffusionOperator<dim>>  diff;
+    std::unique_ptr<diffusion::ImplicitIntegrator<dim>> integrator;
+    double conv_seconds = 0, diff_seconds = 0;
     Vector                    U;
   };
 

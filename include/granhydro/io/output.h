@@ -6,6 +6,7 @@
  * the directions other than the profile direction.
  */
 #include <granhydro/mesh/cartesian_patch.h>
+#include <granhydro/physics/granular_gas.h>
 #include <granhydro/physics/ideal_gas.h>
 #include <granhydro/scene/scene.h>
 
@@ -17,12 +18,12 @@
 
 namespace granhydro::io
 {
-  template <int dim>
+  template <int dim, class Description>
   class Output
   {
   public:
     using Vector = dealii::LinearAlgebra::distributed::Vector<double>;
-    Output(const Scene &scene, const CartesianPatch<dim> &patch, const physics::IdealGas<dim> &desc);
+    Output(const Scene &scene, const CartesianPatch<dim> &patch, const Description &desc);
 
     /// write VTU/PVTU/PVD and/or a block of profiles.csv, as the scene asks
     void write(const Vector &U, const double time_si, const unsigned int step);
@@ -33,7 +34,7 @@ namespace granhydro::io
 
     const Scene                   &scene;
     const CartesianPatch<dim>     &patch;
-    const physics::IdealGas<dim>  &desc;
+    const Description             &desc;
     Units                          units;
     unsigned int                   counter = 0;
     std::vector<std::pair<double, std::string>> pvd_records;

@@ -29,6 +29,7 @@
 #include <deal.II/distributed/tria_base.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
+#include <deal.II/lac/la_parallel_vector.h>
 
 #include <array>
 #include <memory>
@@ -81,6 +82,11 @@ namespace granhydro
     unsigned int cells(const unsigned int d) const { return N_[d]; }
     double lower(const unsigned int d) const { return lo_[d]; }
     dealii::Point<dim> center(const unsigned int s) const;
+
+    /// slot array from a state vector on partitioner(): update ghosts, copy owned and
+    /// MPI-ghost values, fill boundary ghosts (mirror or copy)
+    void gather(const dealii::LinearAlgebra::distributed::Vector<double> &U,
+                std::vector<double>                                        &W) const;
 
     /// active_cell_index of each owned slot (for output only)
     const std::vector<unsigned int> &owned_active_cell_index() const { return active_index_; }

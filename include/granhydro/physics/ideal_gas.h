@@ -31,6 +31,9 @@ namespace granhydro::physics
     /// adiabatic index gamma_a; 5/3 = monatomic gas = elastic dilute grains
     double gamma = 5. / 3.;
 
+    /// internal energy per grain in units of T: 1/(gamma_a - 1)
+    double heat_capacity() const { return 1. / (gamma - 1.); }
+
     double kinetic_energy(const State<dim> &U) const
     {
       double m2 = 0;

@@ -77,6 +77,10 @@ namespace granhydro
     double grain_diameter   = 1e-3;
     double material_density = 2600;
     double adiabatic_index  = 5. / 3.;
+    double restitution      = 1.;    // eps (granular model)
+    double phi_freezing     = 0.49;  // phi_f of Torquato's chi
+    double phi_close_packing = 0.64; // phi_c
+    double guard_delta      = 1e-3;  // C1 continuation of chi beyond phi_c - delta
 
     // Initial state (FunctionParser expressions in x, y, z [m], SI values)
     std::string initial_packing_fraction = "0.01";
@@ -96,6 +100,24 @@ namespace granhydro
     double       fixed_time_step  = 0;   // [s], 0: from CFL
     double       reference_velocity = 0; // [m/s], 0: sqrt(g sigma), g = 9.81
     unsigned int max_step_retries = 6;
+
+    // Effects (granular model) and body force
+    bool                  convection      = true;
+    bool                  viscosity       = true;
+    bool                  heat_conduction = true;
+    bool                  cooling         = true;
+    bool                  diagonal_flux   = false; // paper's D_ii-only flux (5.6)
+    std::array<double, 3> gravity{{0, 0, 0}};      // [m/s^2]
+
+    // Diffusion step
+    std::string  integrator         = "gauss-legendre";
+    double       newton_tolerance   = 1e-10;
+    unsigned int newton_max_iterations = 25;
+    double       linear_tolerance   = 1e-12;
+    std::string  preconditioner     = "ilu";
+
+    /// true if the implicit diffusion/source step V runs (granular model only)
+    bool diffusion_active() const;
 
     // Time
     double       end_time  = 1;

@@ -1,0 +1,91 @@
+#pragma once
+/**
+ * @file diffusion_operator.h
+ * The diffusive operator and the sources of granular hydrodynamics, the
+ * right-hand side of the paper's step V (eqs. 3.2, 5.1-5.9):
+ *   f(U) = sum_i d_i F_i^v(U, grad U) + S(U)
+ * on the uniform Cartesian patch, with
+ *  - face fluxes F_i^v evaluated at the face state U_f = (U_L + U_R)/2 with the
+ *    Garzo-Dufty coefficients there; the normal derivative is (U_R - U_L)/dx_i,
+ *    the tangential derivatives (full flux, physics.md 4.3) the average of the
+ *    two cells' central differences; "diagonal only" keeps D_ii d_i U (paper 5.6);
+ *  - sources: gravity n g, m n u.g and inelastic cooling -(3/2) n T zeta0
+ *    (physics.md 1, 3.5).
+ * Walls: the mirror ghost states of the patch give exactly the slip-wall flux
+ * of physics.md 5.1 (no tangential stress, q = 0); outflow: zero gradient.
+ *
+ * The Jacobian df/dU used by the implicit integrators is the exact derivative
+ * of the normal-derivative part of every face flux (including the dependence
+ * of the coefficients on the face state), obtained by finite differences of
+ * the face flux, plus the exact source Jacobian; the tangential-derivative
+ * (cross) terms are lagged, i.e. their dependence on U is left out of the
+ * Jacobian (deferred correction, allowed by physics.md 4.3). Newton still
+ * converges to the full nonlinear residual.
+ */
+#include <granhydro/mesh/cartesian_patch.h>
+#include <granhydro/physics/granular_gas.h>
+
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_sparsity_pattern.h>
+
+#include <array>
+#include <vector>
+
+namespace granhydro::diffusion
+{
+  struct DiffusionSettings
+  {
+    bool                  viscous = true, heat = true, cooling = true;
+    bool                  diagonal_only = false;
+    std::array<double, 3> gravity{{0, 0, 0}}; ///< scaled units
+  };
+
+  template <int dim>
+  class DiffusionOperator
+  {
+  public:
+    static constexpr unsigned int NC = dim + 2;
+
+    DiffusionOperator(const CartesianPatch<dim>          &patch,
+                      const physics::GranularGas<dim>    &desc,
+                      const DiffusionSettings            &settings,
+                      const double                        length_unit);
+
+    void setup();
+
+    /// f(U) for owned cells (n_owned * NC values) from the slot array W
+    void residual(const double *W, double *f) const;
+
+    /// sparsity of the Jacobian (owned rows, 2 dim + 1 point block stencil), with each
+    /// entry repeated for s x s stages (interleaved numbering stages * dof + stage)
+    void make_sparsity(dealii::TrilinosWrappers::SparsityPattern &sp, const unsigned int stages) const;
+
+    /**
+     * M = I - dt (A (x) J) for the Butcher matrix A (stages x stages) with J = df/dU
+     * at the slot array W, assembled into M (built on make_sparsity()).
+     */
+    void assemble_newton_matrix(const double *W, const std::vector<std::vector<double>> &A,
+                                const double dt, dealii::TrilinosWrappers::SparseMatrix &M) const;
+
+    /// largest explicit diffusion rate max(2 D / dx^2 summed over directions) on owned cells
+    double explicit_rate(const double *W) const;
+
+    const CartesianPatch<dim> &get_patch() const { return patch; }
+
+  private:
+    void face_flux(const double *W, const unsigned int d, const unsigned int l, const unsigned int r,
+                   const physics::State<dim> &UL, const physics::State<dim> &UR,
+                   physics::State<dim> &F) const;
+    void source(const physics::State<dim> &U, physics::State<dim> &S) const;
+    physics::TransportCoefficients coefficients(const physics::State<dim> &U) const;
+
+    const CartesianPatch<dim>       &patch;
+    const physics::GranularGas<dim> &desc;
+    DiffusionSettings                settings;
+    double                           inv_h[dim];
+    std::vector<std::pair<unsigned int, unsigned int>> faces[dim];
+    std::vector<unsigned int> src;  ///< slot -> real slot carrying its data
+    std::vector<unsigned int> flip; ///< slot -> momentum sign flips relative to src
+    mutable std::vector<double> Fp[dim];
+  };
+} // namespace granhydro::diffusion

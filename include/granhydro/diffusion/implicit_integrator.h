@@ -1,0 +1,91 @@
+#pragma once
+/**
+ * @file implicit_integrator.h
+ * Step V of the Strang splitting: dU/dt = f(U) (diffusion + sources) over dt
+ * with an implicit Runge-Kutta method, solved by a modified Newton iteration
+ * with a frozen Jacobian (Houbak, Norsett & Thomsen 1985):
+ *   stage slopes K_i = f(U0 + dt sum_j a_ij K_j),  U1 = U0 + dt sum_i b_i K_i,
+ *   Newton matrix I - dt A (x) J with J = df/dU at U0, assembled once per step
+ *   into a Trilinos matrix (interleaved numbering dof * stages + stage), solved
+ *   by Trilinos GMRES with an ILU (Ifpack) or AMG (ML) preconditioner.
+ * Butcher tables (physics.md P13; the paper's 5.14/5.15 are garbled):
+ *   Gauss-Legendre 2: c = 1/2 -+ sqrt(3)/6, A = [[1/4, 1/4 - sqrt(3)/6], [1/4 + sqrt(3)/6, 1/4]], b = (1/2, 1/2)
+ *   implicit midpoint: c = 1/2, A = [[1/2]], b = 1
+ * Automatic switch: Gauss-Legendre (order 4) by default; when its modified
+ * Newton iteration does not converge within the iteration cap (slow
+ * contraction signals stiffness the frozen Jacobian cannot follow, the
+ * criterion of Norsett & Thomsen's switching codes) the step is redone with
+ * the implicit midpoint rule (one stage, half the linear system); every switch
+ * is counted and logged. A step that fails with every method returns false and
+ * the time loop retries with a smaller dt; it is never accepted silently.
+ * The explicit variant (forward Euler, sub-cycled at the explicit diffusive
+ * limit dt_sub = 0.9 / max_cells sum_d 2 D / dx_d^2) is kept only as the
+ * baseline that shows the time-step collapse near close packing.
+ */
+#include <granhydro/diffusion/diffusion_operator.h>
+
+#include <deal.II/lac/la_parallel_vector.h>
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_vector.h>
+
+#include <string>
+
+namespace granhydro::diffusion
+{
+  enum class ImplicitMethod
+  {
+    gauss_legendre,
+    implicit_midpoint,
+    automatic,
+    explicit_euler
+  };
+
+  struct IntegratorSettings
+  {
+    ImplicitMethod method             = ImplicitMethod::gauss_legendre;
+    double         newton_tolerance   = 1e-10; ///< relative, on dt * (change of the stage slopes)
+    unsigned int   newton_max_iterations = 25;
+    double         linear_tolerance   = 1e-12; ///< relative GMRES residual
+    bool           amg                = false;
+  };
+
+  struct IntegratorStatistics
+  {
+    unsigned long long steps = 0, newton_iterations = 0, linear_iterations = 0, newton_failures = 0,
+                       linear_failures = 0, switches_to_midpoint = 0, explicit_substeps = 0,
+                       jacobians = 0;
+  };
+
+  template <int dim>
+  class ImplicitIntegrator
+  {
+  public:
+    using Vector = dealii::LinearAlgebra::distributed::Vector<double>;
+
+    ImplicitIntegrator(const DiffusionOperator<dim> &op, const physics::GranularGas<dim> &desc,
+                       const IntegratorSettings &settings);
+
+    /// advance U (on the patch partitioner) by dt; false if the step failed
+    bool step(Vector &U, const double dt);
+
+    const IntegratorStatistics &statistics() const { return stats; }
+    IntegratorStatistics        global_statistics() const;
+
+  private:
+    bool irk_step(Vector &U, const double dt, const std::vector<std::vector<double>> &A,
+                  const std::vector<double> &b);
+    bool explicit_step(Vector &U, const double dt);
+    bool admissible_owned(const std::vector<double> &U) const;
+
+    const DiffusionOperator<dim>    &op;
+    const CartesianPatch<dim>       &patch;
+    const physics::GranularGas<dim> &desc;
+    IntegratorSettings               settings;
+    IntegratorStatistics             stats;
+    dealii::TrilinosWrappers::SparseMatrix M[3]; // indexed by number of stages
+    bool                                   have_pattern[3] = {false, false, false};
+    std::vector<double>                    W, U0, f;
+    Vector                                 Y;
+  };
+} // namespace granhydro::diffusion

@@ -1,0 +1,311 @@
+#include <granhydro/diffusion/diffusion_operator.h>
+#include <granhydro/physics/diffusive_flux.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace granhydro::diffusion
+{
+  using namespace dealii;
+  using physics::State;
+
+  template <int dim>
+  DiffusionOperator<dim>::DiffusionOperator(const CartesianPatch<dim>       &patch,
+                                            const physics::GranularGas<dim> &desc,
+                                            const DiffusionSettings         &settings,
+                                            const double                     length_unit)
+    : patch(patch)
+    , desc(desc)
+    , settings(settings)
+  {
+    for (unsigned int d = 0; d < dim; ++d)
+      inv_h[d] = length_unit / patch.cell_size(d);
+  }
+
+  template <int dim>
+  void DiffusionOperator<dim>::setup()
+  {
+    const unsigned int n_owned = patch.n_owned();
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        faces[d].clear();
+        for (unsigned int s = 0; s < n_owned; ++s)
+          {
+            const int r = patch.neighbor(s, d, 1), l = patch.neighbor(s, d, -1);
+            AssertThrow(r >= 0 && l >= 0, ExcMessage("diffusion stencil leaves the patch"));
+            faces[d].emplace_back(s, unsigned(r));
+            if (unsigned(l) >= n_owned)
+              faces[d].emplace_back(unsigned(l), s);
+          }
+      }
+    src.resize(patch.n_slots());
+    flip.assign(patch.n_slots(), 0u);
+    for (unsigned int s = 0; s < patch.n_slots(); ++s)
+      src[s] = s;
+    for (const auto &g : patch.boundary_ghosts())
+      {
+        src[g.slot]  = g.source;
+        flip[g.slot] = g.flip_mask;
+      }
+  }
+
+  template <int dim>
+  physics::TransportCoefficients DiffusionOperator<dim>::coefficients(const State<dim> &U) const
+  {
+    const double n = U[0], T = desc.temperature(U);
+    auto         c = desc.model.transport(n, std::max(T, 0.), 1., 1.);
+    if (!settings.viscous)
+      c.eta = c.gamma = 0;
+    if (!settings.heat)
+      c.kappa = c.mu = 0;
+    return c;
+  }
+
+  template <int dim>
+  void DiffusionOperator<dim>::face_flux(const double *W, const unsigned int d, const unsigned int l,
+                                         const unsigned int r, const State<dim> &UL,
+                                         const State<dim> &UR, State<dim> &F) const
+  {
+    State<dim> Uf;
+    physics::StateGradient<dim> dU;
+    for (unsigned int c = 0; c < NC; ++c)
+      {
+        Uf[c]    = 0.5 * (UL[c] + UR[c]);
+        dU[d][c] = (UR[c] - UL[c]) * inv_h[d];
+      }
+    for (unsigned int j = 0; j < dim; ++j)
+      if (j != d)
+        {
+          if (settings.diagonal_only)
+            dU[j].fill(0.);
+          else
+            {
+              const double *lp = W + std::size_t(patch.neighbor(l, j, 1)) * NC,
+                           *lm = W + std::size_t(patch.neighbor(l, j, -1)) * NC,
+                           *rp = W + std::size_t(patch.neighbor(r, j, 1)) * NC,
+                           *rm = W + std::size_t(patch.neighbor(r, j, -1)) * NC;
+              for (unsigned int c = 0; c < NC; ++c)
+                dU[j][c] = 0.25 * inv_h[j] * ((lp[c] - lm[c]) + (rp[c] - rm[c]));
+            }
+        }
+    F = physics::viscous_flux<dim>(Uf, dU, coefficients(Uf), 1., d);
+  }
+
+  template <int dim>
+  void DiffusionOperator<dim>::source(const State<dim> &U, State<dim> &S) const
+  {
+    S.fill(0.);
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        S[1 + d] += U[0] * settings.gravity[d];     // n g (scaled: m = 1)
+        S[dim + 1] += U[1 + d] * settings.gravity[d]; // m n u . g
+      }
+    if (settings.cooling && desc.model.eps() < 1)
+      {
+        const double n = U[0], T = std::max(desc.temperature(U), 0.);
+        S[dim + 1] -= 1.5 * n * T * desc.model.zeta0(n, T, 1., 1.); // physics.md 3.5
+      }
+  }
+
+  template <int dim>
+  void DiffusionOperator<dim>::residual(const double *W, double *f) const
+  {
+    const unsigned int n_owned = patch.n_owned();
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        Fp[d].resize(std::size_t(patch.n_slots()) * NC);
+        for (const auto &[l, r] : faces[d])
+          {
+            State<dim> UL, UR, F;
+            std::copy(W + std::size_t(l) * NC, W + std::size_t(l + 1) * NC, UL.begin());
+            std::copy(W + std::size_t(r) * NC, W + std::size_t(r + 1) * NC, UR.begin());
+            face_flux(W, d, l, r, UL, UR, F);
+            std::copy(F.begin(), F.end(), &Fp[d][std::size_t(l) * NC]);
+          }
+      }
+    for (unsigned int s = 0; s < n_owned; ++s)
+      {
+        State<dim> U, S;
+        std::copy(W + std::size_t(s) * NC, W + std::size_t(s + 1) * NC, U.begin());
+        source(U, S);
+        for (unsigned int c = 0; c < NC; ++c)
+          f[std::size_t(s) * NC + c] = S[c];
+        for (unsigned int d = 0; d < dim; ++d) // d_i F_i^v, fixed order: partition independent
+          {
+            const double *fe = &Fp[d][std::size_t(s) * NC];
+            const double *fw = &Fp[d][std::size_t(patch.neighbor(s, d, -1)) * NC];
+            for (unsigned int c = 0; c < NC; ++c)
+              f[std::size_t(s) * NC + c] += inv_h[d] * (fe[c] - fw[c]);
+          }
+      }
+  }
+
+  template <int dim>
+  void DiffusionOperator<dim>::make_sparsity(TrilinosWrappers::SparsityPattern &sp,
+                                             const unsigned int                 stages) const
+  {
+    const auto        &part  = *patch.partitioner();
+    const unsigned int n_own = patch.n_owned();
+    const types::global_dof_index N = part.size();
+    IndexSet owned(N * stages);
+    const auto range = part.local_range();
+    owned.add_range(range.first * stages, range.second * stages);
+    owned.compress();
+    sp.reinit(owned, patch.communicator());
+    std::vector<types::global_dof_index> cols;
+    for (unsigned int s = 0; s < n_own; ++s)
+      {
+        std::vector<unsigned int> cells{s};
+        for (unsigned int d = 0; d < dim; ++d)
+          for (const int o : {-1, 1})
+            cells.push_back(src[patch.neighbor(s, d, o)]);
+        cols.clear();
+        for (const unsigned int t : cells)
+          for (unsigned int c = 0; c < NC; ++c)
+            for (unsigned int k = 0; k < stages; ++k)
+              cols.push_back(part.local_to_global(std::size_t(t) * NC + c) * stages + k);
+        std::sort(cols.begin(), cols.end());
+        cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
+        for (unsigned int c = 0; c < NC; ++c)
+          for (unsigned int k = 0; k < stages; ++k)
+            sp.add_entries(part.local_to_global(std::size_t(s) * NC + c) * stages + k, cols.begin(),
+                           cols.end());
+      }
+    sp.compress();
+  }
+
+  template <int dim>
+  void DiffusionOperator<dim>::assemble_newton_matrix(const double *W,
+                                                      const std::vector<std::vector<double>> &A,
+                                                      const double dt,
+                                                      TrilinosWrappers::SparseMatrix &M) const
+  {
+    const auto        &part   = *patch.partitioner();
+    const unsigned int n_own  = patch.n_owned();
+    const unsigned int stages = A.size();
+    // J blocks per owned cell: J[s] = sum over stencil cells t of block (NC x NC) df_s/dU_t
+    std::vector<std::vector<std::pair<unsigned int, std::array<double, NC * NC>>>> J(n_own);
+    auto add_block = [&](const unsigned int s, unsigned int t, const std::array<double, NC * NC> &B,
+                         const double sign) {
+      // t may be a boundary ghost: U_t = Flip U_src(t) -> columns of src with signs
+      const unsigned int fm = flip[t];
+      t                     = src[t];
+      auto &row             = J[s];
+      auto  it = std::find_if(row.begin(), row.end(), [&](const auto &e) { return e.first == t; });
+      if (it == row.end())
+        {
+          row.emplace_back(t, std::array<double, NC * NC>{});
+          it = row.end() - 1;
+        }
+      for (unsigned int a = 0; a < NC; ++a)
+        for (unsigned int b = 0; b < NC; ++b)
+          {
+            const double sb = (b >= 1 && b <= dim && (fm >> (b - 1) & 1u)) ? -1. : 1.;
+            it->second[a * NC + b] += sign * sb * B[a * NC + b];
+          }
+    };
+    // face fluxes: derivative of the normal part w.r.t. U_L and U_R (tangential frozen)
+    for (unsigned int d = 0; d < dim; ++d)
+      for (const auto &[l, r] : faces[d])
+        {
+          State<dim> UL, UR, F0, F1;
+          std::copy(W + std::size_t(l) * NC, W + std::size_t(l + 1) * NC, UL.begin());
+          std::copy(W + std::size_t(r) * NC, W + std::size_t(r + 1) * NC, UR.begin());
+          face_flux(W, d, l, r, UL, UR, F0);
+          std::array<double, NC * NC> BL{}, BR{};
+          for (unsigned int b = 0; b < NC; ++b)
+            for (const int side : {0, 1})
+              {
+                State<dim> L2 = UL, R2 = UR;
+                State<dim> &P = side == 0 ? L2 : R2;
+                const double e = 1e-7 * std::max(std::abs(P[b]), std::max(1e-3 * std::abs(P[0]), 1e-10));
+                P[b] += e;
+                face_flux(W, d, l, r, L2, R2, F1);
+                for (unsigned int a = 0; a < NC; ++a)
+                  (side == 0 ? BL : BR)[a * NC + b] = (F1[a] - F0[a]) / e * inv_h[d];
+              }
+          // f[l] += F/h, f[r] -= F/h
+          if (l < n_own)
+            {
+              add_block(l, l, BL, 1.);
+              add_block(l, r, BR, 1.);
+            }
+          if (r < n_own)
+            {
+              add_block(r, l, BL, -1.);
+              add_block(r, r, BR, -1.);
+            }
+        }
+    // sources
+    for (unsigned int s = 0; s < n_own; ++s)
+      {
+        State<dim> U, S0, S1;
+        std::copy(W + std::size_t(s) * NC, W + std::size_t(s + 1) * NC, U.begin());
+        source(U, S0);
+        std::array<double, NC * NC> B{};
+        for (unsigned int b = 0; b < NC; ++b)
+          {
+            State<dim>   U2 = U;
+            const double e  = 1e-7 * std::max(std::abs(U[b]), std::max(1e-3 * std::abs(U[0]), 1e-10));
+            U2[b] += e;
+            source(U2, S1);
+            for (unsigned int a = 0; a < NC; ++a)
+              B[a * NC + b] = (S1[a] - S0[a]) / e;
+          }
+        add_block(s, s, B, 1.);
+      }
+    // M = I - dt A (x) J, interleaved numbering dof * stages + stage
+    M = 0;
+    std::vector<types::global_dof_index> cols;
+    std::vector<double>                  vals;
+    for (unsigned int s = 0; s < n_own; ++s)
+      for (unsigned int a = 0; a < NC; ++a)
+        {
+          const types::global_dof_index row = part.local_to_global(std::size_t(s) * NC + a);
+          for (unsigned int i = 0; i < stages; ++i)
+            {
+              cols.clear();
+              vals.clear();
+              for (const auto &[t, B] : J[s])
+                for (unsigned int b = 0; b < NC; ++b)
+                  {
+                    const types::global_dof_index col = part.local_to_global(std::size_t(t) * NC + b);
+                    for (unsigned int j = 0; j < stages; ++j)
+                      {
+                        cols.push_back(col * stages + j);
+                        vals.push_back(-dt * A[i][j] * B[a * NC + b] +
+                                       (t == s && a == b && i == j ? 1. : 0.));
+                      }
+                  }
+              M.add(row * stages + i, cols.size(), cols.data(), vals.data(), false, true);
+            }
+        }
+    M.compress(VectorOperation::add);
+  }
+
+  template <int dim>
+  double DiffusionOperator<dim>::explicit_rate(const double *W) const
+  {
+    double m = 0;
+    for (unsigned int s = 0; s < patch.n_owned(); ++s)
+      {
+        State<dim> U;
+        std::copy(W + std::size_t(s) * NC, W + std::size_t(s + 1) * NC, U.begin());
+        const auto c = coefficients(U);
+        const double n = U[0];
+        // momentum diffusivity (gamma/eta + 4/3) eta/(m n), thermal 2 kappa/(3 n) (physics.md 4.4)
+        const double D = std::max((c.gamma + 4. / 3. * c.eta) / n, 2. * c.kappa / (3. * n));
+        double       rate = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          rate += 2 * D * inv_h[d] * inv_h[d];
+        m = std::max(m, rate);
+      }
+    return Utilities::MPI::max(m, patch.communicator());
+  }
+
+  template class DiffusionOperator<1>;
+  template class DiffusionOperator<2>;
+  template class DiffusionOperator<3>;
+} // namespace granhydro::diffusion

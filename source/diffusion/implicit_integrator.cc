@@ -1,0 +1,218 @@
+#include <granhydro/diffusion/implicit_integrator.h>
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/trilinos_solver.h>
+
+#include <cmath>
+
+namespace granhydro::diffusion
+{
+  using namespace dealii;
+
+  template <int dim>
+  ImplicitIntegrator<dim>::ImplicitIntegrator(const DiffusionOperator<dim>    &op,
+                                              const physics::GranularGas<dim> &desc,
+                                              const IntegratorSettings        &settings)
+    : op(op)
+    , patch(op.get_patch())
+    , desc(desc)
+    , settings(settings)
+  {}
+
+  template <int dim>
+  bool ImplicitIntegrator<dim>::admissible_owned(const std::vector<double> &Uv) const
+  {
+    constexpr unsigned int NC = dim + 2;
+    bool                   ok = true;
+    for (unsigned int s = 0; s < patch.n_owned() && ok; ++s)
+      {
+        physics::State<dim> S;
+        std::copy(&Uv[std::size_t(s) * NC], &Uv[std::size_t(s + 1) * NC], S.begin());
+        ok = desc.admissible(S);
+      }
+    return Utilities::MPI::min(ok ? 1 : 0, patch.communicator()) == 1;
+  }
+
+  template <int dim>
+  bool ImplicitIntegrator<dim>::step(Vector &U, const double dt)
+  {
+    ++stats.steps;
+    const double s3 = std::sqrt(3.) / 6.;
+    const std::vector<std::vector<double>> A_gl{{0.25, 0.25 - s3}, {0.25 + s3, 0.25}};
+    const std::vector<double>              b_gl{0.5, 0.5};
+    const std::vector<std::vector<double>> A_mp{{0.5}};
+    const std::vector<double>              b_mp{1.};
+    switch (settings.method)
+      {
+        case ImplicitMethod::explicit_euler:
+          return explicit_step(U, dt);
+        case ImplicitMethod::implicit_midpoint:
+          return irk_step(U, dt, A_mp, b_mp);
+        case ImplicitMethod::gauss_legendre:
+          return irk_step(U, dt, A_gl, b_gl);
+        default:
+          if (irk_step(U, dt, A_gl, b_gl))
+            return true;
+          ++stats.switches_to_midpoint;
+          return irk_step(U, dt, A_mp, b_mp);
+      }
+  }
+
+  template <int dim>
+  bool ImplicitIntegrator<dim>::irk_step(Vector &U, const double dt,
+                                         const std::vector<std::vector<double>> &A,
+                                         const std::vector<double>              &b)
+  {
+    constexpr unsigned int NC     = dim + 2;
+    const unsigned int     stages = A.size();
+    const std::size_t      n      = std::size_t(patch.n_owned()) * NC;
+    const MPI_Comm         comm   = patch.communicator();
+    U0.assign(U.begin(), U.begin() + n);
+    if (Y.size() != U.size())
+      Y.reinit(patch.partitioner());
+
+    // Jacobian at U0, Newton matrix, preconditioner (frozen for the whole step)
+    patch.gather(U, W);
+    f.resize(n);
+    op.residual(W.data(), f.data());
+    if (!have_pattern[stages])
+      {
+        TrilinosWrappers::SparsityPattern sp;
+        op.make_sparsity(sp, stages);
+        M[stages].reinit(sp);
+        have_pattern[stages] = true;
+      }
+    op.assemble_newton_matrix(W.data(), A, dt, M[stages]);
+    ++stats.jacobians;
+    TrilinosWrappers::PreconditionILU ilu;
+    TrilinosWrappers::PreconditionAMG amg;
+    if (settings.amg)
+      {
+        TrilinosWrappers::PreconditionAMG::AdditionalData data;
+        data.elliptic = false;
+        amg.initialize(M[stages], data);
+      }
+    else
+      ilu.initialize(M[stages]);
+
+    const IndexSet owned = M[stages].locally_owned_range_indices();
+    TrilinosWrappers::MPI::Vector rhs(owned, comm), delta(owned, comm);
+    std::vector<double> K(n * stages);
+    for (std::size_t i = 0; i < n; ++i) // start from f(U0) in every stage
+      for (unsigned int k = 0; k < stages; ++k)
+        K[i * stages + k] = f[i];
+    double scale = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      scale = std::max(scale, std::abs(U0[i]));
+    scale = Utilities::MPI::max(scale, comm);
+
+    const auto &part = *patch.partitioner();
+    double      prev = 0;
+    for (unsigned int it = 0; it < settings.newton_max_iterations; ++it)
+      {
+        // residual R_k = K_k - f(U0 + dt sum_j a_kj K_j)
+        for (unsigned int k = 0; k < stages; ++k)
+          {
+            double *y = Y.begin();
+            for (std::size_t i = 0; i < n; ++i)
+              {
+                double s = 0;
+                for (unsigned int j = 0; j < stages; ++j)
+                  s += A[k][j] * K[i * stages + j];
+                y[i] = U0[i] + dt * s;
+              }
+            patch.gather(Y, W);
+            op.residual(W.data(), f.data());
+            for (std::size_t i = 0; i < n; ++i)
+              rhs[(part.local_to_global(i)) * stages + k] = -(K[i * stages + k] - f[i]);
+          }
+        rhs.compress(VectorOperation::insert);
+        SolverControl control(1000, std::max(settings.linear_tolerance * rhs.l2_norm(), 1e-300));
+        delta = 0;
+        try
+          {
+            TrilinosWrappers::SolverGMRES gmres(control);
+            if (settings.amg)
+              gmres.solve(M[stages], delta, rhs, amg);
+            else
+              gmres.solve(M[stages], delta, rhs, ilu);
+          }
+        catch (const std::exception &)
+          {
+            ++stats.linear_failures;
+            stats.linear_iterations += control.last_step();
+            return false;
+          }
+        stats.linear_iterations += control.last_step();
+        ++stats.newton_iterations;
+        double dmax = 0;
+        for (std::size_t i = 0; i < n; ++i)
+          for (unsigned int k = 0; k < stages; ++k)
+            {
+              const double d = delta[part.local_to_global(i) * stages + k];
+              K[i * stages + k] += d;
+              dmax = std::max(dmax, std::abs(d));
+            }
+        dmax = Utilities::MPI::max(dmax, comm) * dt;
+        if (!std::isfinite(dmax))
+          break;
+        if (dmax <= settings.newton_tolerance * scale)
+          {
+            // U1 = U0 + dt sum b_i K_i
+            std::vector<double> U1(n);
+            for (std::size_t i = 0; i < n; ++i)
+              {
+                double s = 0;
+                for (unsigned int k = 0; k < stages; ++k)
+                  s += b[k] * K[i * stages + k];
+                U1[i] = U0[i] + dt * s;
+              }
+            if (!admissible_owned(U1))
+              break;
+            std::copy(U1.begin(), U1.end(), U.begin());
+            return true;
+          }
+        if (it > 2 && dmax > 0.9 * prev) // no contraction: give up early
+          break;
+        prev = dmax;
+      }
+    ++stats.newton_failures;
+    std::copy(U0.begin(), U0.end(), U.begin());
+    return false;
+  }
+
+  template <int dim>
+  bool ImplicitIntegrator<dim>::explicit_step(Vector &U, const double dt)
+  {
+    const std::size_t n = std::size_t(patch.n_owned()) * (dim + 2);
+    patch.gather(U, W);
+    const double rate = op.explicit_rate(W.data());
+    const unsigned int m = std::max(1u, unsigned(std::ceil(dt * rate / 0.9)));
+    const double       h = dt / m;
+    f.resize(n);
+    for (unsigned int k = 0; k < m; ++k)
+      {
+        if (k > 0)
+          patch.gather(U, W);
+        op.residual(W.data(), f.data());
+        double *u = U.begin();
+        for (std::size_t i = 0; i < n; ++i)
+          u[i] += h * f[i];
+        ++stats.explicit_substeps;
+      }
+    std::vector<double> Uv(U.begin(), U.begin() + n);
+    return admissible_owned(Uv);
+  }
+
+  template <int dim>
+  IntegratorStatistics ImplicitIntegrator<dim>::global_statistics() const
+  {
+    IntegratorStatistics g = stats; // identical on all ranks (collective decisions)
+    return g;
+  }
+
+  template class ImplicitIntegrator<1>;
+  template class ImplicitIntegrator<2>;
+  template class ImplicitIntegrator<3>;
+} // namespace granhydro::diffusion
