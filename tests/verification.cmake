@@ -18,3 +18,7 @@ granhydro_test_executable(test_mpi_equivalence test_mpi_equivalence.cc)
 add_test(NAME mpi.equivalence_2ranks COMMAND ${DEAL_II_MPIEXEC} -n 2 $<TARGET_FILE:test_mpi_equivalence>)
 add_test(NAME mpi.equivalence_3ranks COMMAND ${DEAL_II_MPIEXEC} -n 3 --oversubscribe $<TARGET_FILE:test_mpi_equivalence>)
 set_tests_properties(mpi.equivalence_2ranks mpi.equivalence_3ranks PROPERTIES LABELS mpi TIMEOUT 600 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)
+
+granhydro_test_executable(test_haff test_haff.cc)
+add_test(NAME verify.haff COMMAND test_haff)
+set_tests_properties(verify.haff PROPERTIES LABELS verify TIMEOUT 600)

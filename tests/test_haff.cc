@@ -1,0 +1,101 @@
+// Homogeneous cooling state (physics.md 6(a)): a uniform granular gas at rest in a
+// 3D periodic box cools by Haff's law T(t) = T0 / (1 + zeta0(T0) t / 2)^2.
+// Runs the full code path (Strang splitting with the convective step, the implicit
+// diffusion/source step with Newton and GMRES) for eps = 0.9, 0.7 and phi = 0.1, 0.5
+// over 10 collision times (1/nu0, physics.md 3.1) with the Gauss-Legendre and the
+// implicit-midpoint integrators, and asserts
+//  - |T - T_Haff| / T_Haff <= 1e-6 at the end (issue acceptance 3), and
+//  - the temporal order on this nonlinear ODE from two step sizes:
+//    Gauss-Legendre >= 3.8, implicit midpoint >= 1.9 (acceptance 4, integrator part).
+#include "test_common.h"
+
+#include <iomanip>
+
+using namespace granhydro;
+using namespace granhydro::testing;
+
+namespace
+{
+  const double sigma = 1e-3, rho_s = 2600, T0 = 1e-8;
+
+  std::string haff_scene(double eps, double phi, double dt, double t_end, const std::string &integrator)
+  {
+    std::ostringstream os;
+    os.precision(17);
+    os << "set Dimension = 3\nsubsection Domain\n  set Lower corner = 0,0,0\n"
+       << "  set Upper corner = 0.01, 0.01, 0.01\n  set Cells = 2, 2, 2\n";
+    for (const char *b : {"x-", "x+", "y-", "y+", "z-", "z+"})
+      os << "  set Boundary " << b << " = periodic\n";
+    os << "end\nsubsection Material\n  set Model = granular\n  set Grain diameter = " << sigma
+       << "\n  set Material density = " << rho_s << "\n  set Restitution coefficient = " << eps
+       << "\nend\nsubsection Initial state\n  set Packing fraction = " << phi
+       << "\n  set Velocity = 0;0;0\n  set Temperature = " << T0
+       << "\n  set Quadrature points = 1\nend\n"
+       << "subsection Numerics\n  set Reconstruction = first order\n  set CFL number = 0.9\n"
+       << "  set Fixed time step = " << dt << "\nend\n"
+       << "subsection Diffusion step\n  set Integrator = " << integrator
+       << "\n  set Newton tolerance = 1e-13\nend\n"
+       << "subsection Time\n  set End time = " << t_end << "\nend\n"
+       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
+       << "  set Verbose = false\nend\n";
+    return os.str();
+  }
+
+  /// relative error of T at t_end against Haff's law, and the number of steps taken
+  double run(double eps, double phi, unsigned int steps, const std::string &integrator,
+             unsigned int &taken)
+  {
+    const physics::GarzoDufty1999 gd(eps);
+    const double m   = rho_s * M_PI * std::pow(sigma, 3) / 6;
+    const double n   = 6 * phi / (M_PI * std::pow(sigma, 3));
+    const double nu0 = gd.nu0(n, T0, m, sigma);
+    const double z0  = gd.zeta0(n, T0, m, sigma);
+    const double t_end = 10 / nu0;
+    Simulation<3, physics::GranularGas<3>> sim(parse_scene(haff_scene(eps, phi, t_end / steps, t_end, integrator), "haff"),
+                                               MPI_COMM_SELF, std::cout);
+    sim.setup();
+    const auto sum = sim.run();
+    taken          = sum.steps;
+    const double exact = T0 / std::pow(1 + z0 * t_end / 2, 2);
+    double       err   = 0;
+    for (unsigned int c = 0; c < sim.patch().n_owned(); ++c)
+      {
+        const auto   S = sim.state_si(c);
+        const double T = (2. / 3.) * S[4] / S[0]; // at rest: E = 3T/2
+        err            = std::max(err, std::abs(T - exact) / exact);
+      }
+    return err;
+  }
+} // namespace
+
+int main(int argc, char **argv)
+{
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  Checker                                  chk;
+  struct Case
+  {
+    std::string integrator;
+    unsigned    steps;
+    double      min_order;
+  };
+  // steps chosen so that zeta0 dt stays small enough for 1e-6 in the stiffest case
+  // (phi = 0.5, eps = 0.7: zeta0 t_end ~ 28): GL error ~ (zeta dt)^4, midpoint ~ (zeta dt)^2
+  for (const Case &c : {Case{"gauss-legendre", 100, 3.8}, Case{"implicit midpoint", 4000, 1.9}})
+    for (const double eps : {0.9, 0.7})
+      for (const double phi : {0.1, 0.5})
+        {
+          unsigned int n1, n2;
+          const double e1 = run(eps, phi, c.steps, c.integrator, n1);
+          const double e2 = run(eps, phi, 2 * c.steps, c.integrator, n2);
+          const double order = std::log(e1 / e2) / std::log(2.);
+          std::ostringstream os;
+          os << c.integrator << ", eps = " << eps << ", phi = " << phi << ": " << n1
+             << " steps rel. error " << std::scientific << std::setprecision(2) << e1 << ", " << n2
+             << " steps " << e2 << ", order " << std::fixed << std::setprecision(2) << order;
+          chk.check(e1 <= 1e-6 && n1 == c.steps, os.str() + " (error <= 1e-6)");
+          // below ~1e-12 round-off of the Newton tolerance masks the order
+          chk.check(e2 < 1e-12 || order >= c.min_order,
+                    c.integrator + ": order " + std::to_string(order) + " >= " + std::to_string(c.min_order));
+        }
+  return chk.failed != 0;
+}
