@@ -22,3 +22,7 @@ set_tests_properties(mpi.equivalence_2ranks mpi.equivalence_3ranks PROPERTIES LA
 granhydro_test_executable(test_haff test_haff.cc)
 add_test(NAME verify.haff COMMAND test_haff)
 set_tests_properties(verify.haff PROPERTIES LABELS verify TIMEOUT 600)
+
+granhydro_test_executable(test_hydrostatic test_hydrostatic.cc)
+add_test(NAME verify.hydrostatic_column COMMAND test_hydrostatic)
+set_tests_properties(verify.hydrostatic_column PROPERTIES LABELS "verify;stability" TIMEOUT 600)
