@@ -26,3 +26,7 @@ set_tests_properties(verify.haff PROPERTIES LABELS verify TIMEOUT 600)
 granhydro_test_executable(test_hydrostatic test_hydrostatic.cc)
 add_test(NAME verify.hydrostatic_column COMMAND test_hydrostatic)
 set_tests_properties(verify.hydrostatic_column PROPERTIES LABELS "verify;stability" TIMEOUT 600)
+
+granhydro_test_executable(test_diffusion_step test_diffusion_step.cc)
+add_test(NAME verify.diffusion_step COMMAND test_diffusion_step)
+set_tests_properties(verify.diffusion_step PROPERTIES LABELS verify TIMEOUT 900)

@@ -276,12 +276,14 @@ namespace granhydro
     Vector backup(U);
     while (t < t_end * (1 - 1e-12) && (scene.max_steps == 0 || step < scene.max_steps))
       {
-        const double rate = conv->max_rate(U);
-        if (!(rate > 0) || !std::isfinite(rate))
-          throw RunError("no finite wave speed at t = " + std::to_string(t * t0) + " s");
-        double dt = scene.cfl / rate;
-        if (dt_fixed > 0)
-          dt = std::min(dt, dt_fixed);
+        double dt = dt_fixed;
+        if (scene.convection) // the convective CFL limits the step; diffusion never does
+          {
+            const double rate = conv->max_rate(U);
+            if (!(rate > 0) || !std::isfinite(rate))
+              throw RunError("no finite wave speed at t = " + std::to_string(t * t0) + " s");
+            dt = dt_fixed > 0 ? std::min(scene.cfl / rate, dt_fixed) : scene.cfl / rate;
+          }
         dt = std::min(dt, t_end - t);
         dt = std::min(dt, next_output - t);
         backup          = U;

@@ -547,6 +547,9 @@ end
             fail("Effects/Gravity", "the ideal-gas verification model has no body force; use "
                                     "'Material/Model = granular'");
       }
+    if (!s.convection && s.fixed_time_step <= 0)
+      fail("Numerics/Fixed time step", "must be positive when 'Effects/Convection' is off (the "
+                                       "convective CFL then sets no time step)");
     if (!s.convection && !s.diffusion_active())
       fail("Effects/Convection", "with convection off the scene must have an active diffusion "
                                  "step (granular model with transport, cooling or gravity)");
