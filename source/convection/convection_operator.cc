@@ -303,7 +303,17 @@ namespace granhydro::convection
             if (bad && !low[s])
               ++new_flags;
             if (bad && low[s])
-              new_flags += 1u << 20; // already first order: give up, the step is rejected
+              {
+                new_flags += 1u << 20; // already first order: give up, the step is rejected
+                if (last_failure.empty())
+                  {
+                    std::ostringstream os;
+                    os << "convective stage at x = " << patch.center(s)
+                       << " m even with first-order fluxes: packing fraction " << S[0] * M_PI / 6
+                       << ", T = " << desc.temperature(S) << " (scaled units)";
+                    last_failure = os.str();
+                  }
+              }
           }
         const unsigned int global = Utilities::MPI::sum(new_flags, patch.communicator());
         if (global == 0)
@@ -361,6 +371,7 @@ namespace granhydro::convection
   bool ConvectionOperator<dim, Description>::ssp_rk3_step(Vector &U, const double dt) const
   {
     const std::size_t n = std::size_t(patch.n_owned()) * NC;
+    last_failure.clear();
     U0.resize(n);
     rhs0.resize(n);
     double *u = n ? &U.local_element(0) : nullptr;
@@ -397,10 +408,12 @@ namespace granhydro::convection
     if (!ok && what != nullptr && bad >= 0)
       {
         std::ostringstream os;
-        os << "cell at " << patch.center(bad) << " (scaled state";
+        physics::State<dim> S;
         for (unsigned int c = 0; c < NC; ++c)
-          os << ' ' << U.local_element(std::size_t(bad) * NC + c);
-        os << ")";
+          S[c] = U.local_element(std::size_t(bad) * NC + c);
+        os << "cell at x = " << patch.center(bad) << " m: n*sigma^3 = " << S[0]
+           << ", packing fraction " << S[0] * M_PI / 6 << ", T = " << desc.temperature(S)
+           << " (scaled units)";
         *what = os.str();
       }
     return ok;

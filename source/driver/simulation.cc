@@ -233,9 +233,14 @@ namespace granhydro
       return convect(dt);
     if (scene.convection && !convect(0.5 * dt))
       return false;
-    const auto c0 = clock::now();
-    const bool ok = integrator->step(U, dt);
+    const auto c0       = clock::now();
+    const auto switches = integrator->statistics().switches_to_midpoint;
+    const bool ok       = integrator->step(U, dt);
     diff_seconds += std::chrono::duration<double>(clock::now() - c0).count();
+    if (integrator->statistics().switches_to_midpoint > switches)
+      pcout << "  diffusion step: Gauss-Legendre Newton iteration did not converge, step "
+            << (ok ? "done with implicit midpoint" : "failed with both methods") << " (dt = "
+            << dt * units_.time() << " s)\n";
     if (!ok)
       return false;
     if (scene.convection && !convect(0.5 * dt))
@@ -292,12 +297,15 @@ namespace granhydro
           {
             if (advance(dt) && conv->admissible(U, &why))
               break;
+            conv->admissible(U, &why); // where and what, for the message
+            if (why.empty())
+              why = conv->failure();
             ++sum.rejected_steps;
             if (++tries > scene.max_step_retries)
               {
                 std::ostringstream os;
-                os << "step " << step << " at t = " << t * t0 << " s stays inadmissible (n <= 0 or "
-                   << "T <= 0) after " << scene.max_step_retries
+                os << "step " << step << " at t = " << t * t0 << " s stays inadmissible (n <= 0, "
+                   << "T <= 0 or phi >= phi_c) after " << scene.max_step_retries
                    << " retries with halved time step (last dt = " << dt * t0 << " s)";
                 if (!why.empty())
                   os << "; first bad " << why;

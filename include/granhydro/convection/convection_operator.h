@@ -71,6 +71,9 @@ namespace granhydro::convection
     bool admissible(const Vector &U, std::string *what = nullptr) const;
 
     const ConvectionStatistics &statistics() const { return stats; }
+
+    /// where the last rejected SSP-RK3 step failed (this rank; empty if elsewhere)
+    const std::string &failure() const { return last_failure; }
     ConvectionStatistics global_statistics() const;
 
   private:
@@ -102,5 +105,6 @@ namespace granhydro::convection
     mutable Vector              flags;
     mutable std::vector<double> W, rhs0, U0;
     mutable ConvectionStatistics stats;
+    mutable std::string          last_failure;
   };
 } // namespace granhydro::convection
