@@ -30,3 +30,7 @@ set_tests_properties(verify.hydrostatic_column PROPERTIES LABELS "verify;stabili
 granhydro_test_executable(test_diffusion_step test_diffusion_step.cc)
 add_test(NAME verify.diffusion_step COMMAND test_diffusion_step)
 set_tests_properties(verify.diffusion_step PROPERTIES LABELS verify TIMEOUT 900)
+
+granhydro_test_executable(test_couette test_couette.cc)
+add_test(NAME verify.couette COMMAND test_couette)
+set_tests_properties(verify.couette PROPERTIES LABELS verify TIMEOUT 600)

@@ -44,10 +44,24 @@ namespace granhydro::diffusion
     flip.assign(patch.n_slots(), 0u);
     for (unsigned int s = 0; s < patch.n_slots(); ++s)
       src[s] = s;
+    std::vector<int> side_of(patch.n_slots(), -1);
     for (const auto &g : patch.boundary_ghosts())
       {
         src[g.slot]  = g.source;
-        flip[g.slot] = g.flip_mask;
+        flip[g.slot] = g.no_slip ? (1u << dim) - 1 : g.flip_mask; // no-slip: all velocity mirrored
+        side_of[g.slot] = g.side;
+      }
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        walls[d].assign(faces[d].size(), WallFace());
+        for (std::size_t k = 0; k < faces[d].size(); ++k)
+          {
+            const auto [l, r] = faces[d][k];
+            if (side_of[r] == int(2 * d + 1) && settings.wall_restitution[2 * d + 1] < 1)
+              walls[d][k] = {settings.wall_restitution[2 * d + 1], +1};
+            if (side_of[l] == int(2 * d) && settings.wall_restitution[2 * d] < 1)
+              walls[d][k] = {settings.wall_restitution[2 * d], -1};
+          }
       }
   }
 
@@ -66,7 +80,8 @@ namespace granhydro::diffusion
   template <int dim>
   void DiffusionOperator<dim>::face_flux(const double *W, const unsigned int d, const unsigned int l,
                                          const unsigned int r, const State<dim> &UL,
-                                         const State<dim> &UR, State<dim> &F) const
+                                         const State<dim> &UR, const WallFace &wall,
+                                         State<dim> &F) const
   {
     State<dim> Uf;
     physics::StateGradient<dim> dU;
@@ -91,6 +106,16 @@ namespace granhydro::diffusion
             }
         }
     F = physics::viscous_flux<dim>(Uf, dU, coefficients(Uf), 1., d);
+    if (wall.sign != 0)
+      {
+        // energy into the wall (physics.md 5.2, contact theorem, m = 1): F^E is the flux
+        // along +e_d, so a loss through the upper wall is +q_w, through the lower -q_w
+        const State<dim> &Ui = wall.sign > 0 ? UL : UR;
+        const double      T  = std::max(desc.temperature(Ui), 0.);
+        const double      pw = desc.pressure(Ui);
+        const double      qw = (1 - wall.eps_w) * std::max(pw, 0.) * std::sqrt(2 * T / M_PI);
+        F[dim + 1] += wall.sign * qw;
+      }
   }
 
   template <int dim>
@@ -116,12 +141,13 @@ namespace granhydro::diffusion
     for (unsigned int d = 0; d < dim; ++d)
       {
         Fp[d].resize(std::size_t(patch.n_slots()) * NC);
-        for (const auto &[l, r] : faces[d])
+        for (std::size_t k = 0; k < faces[d].size(); ++k)
           {
+            const auto [l, r] = faces[d][k];
             State<dim> UL, UR, F;
             std::copy(W + std::size_t(l) * NC, W + std::size_t(l + 1) * NC, UL.begin());
             std::copy(W + std::size_t(r) * NC, W + std::size_t(r + 1) * NC, UR.begin());
-            face_flux(W, d, l, r, UL, UR, F);
+            face_flux(W, d, l, r, UL, UR, walls[d][k], F);
             std::copy(F.begin(), F.end(), &Fp[d][std::size_t(l) * NC]);
           }
       }
@@ -208,12 +234,14 @@ namespace granhydro::diffusion
     };
     // face fluxes: derivative of the normal part w.r.t. U_L and U_R (tangential frozen)
     for (unsigned int d = 0; d < dim; ++d)
-      for (const auto &[l, r] : faces[d])
+      for (std::size_t k = 0; k < faces[d].size(); ++k)
         {
+          const auto [l, r] = faces[d][k];
+          const auto &wall  = walls[d][k];
           State<dim> UL, UR, F0, F1;
           std::copy(W + std::size_t(l) * NC, W + std::size_t(l + 1) * NC, UL.begin());
           std::copy(W + std::size_t(r) * NC, W + std::size_t(r + 1) * NC, UR.begin());
-          face_flux(W, d, l, r, UL, UR, F0);
+          face_flux(W, d, l, r, UL, UR, wall, F0);
           std::array<double, NC * NC> BL{}, BR{};
           for (unsigned int b = 0; b < NC; ++b)
             for (const int side : {0, 1})
@@ -222,7 +250,7 @@ namespace granhydro::diffusion
                 State<dim> &P = side == 0 ? L2 : R2;
                 const double e = 1e-7 * std::max(std::abs(P[b]), std::max(1e-3 * std::abs(P[0]), 1e-10));
                 P[b] += e;
-                face_flux(W, d, l, r, L2, R2, F1);
+                face_flux(W, d, l, r, L2, R2, wall, F1);
                 for (unsigned int a = 0; a < NC; ++a)
                   (side == 0 ? BL : BR)[a * NC + b] = (F1[a] - F0[a]) / e * inv_h[d];
               }

@@ -89,6 +89,7 @@ namespace granhydro
           ds.heat          = scene.heat_conduction;
           ds.cooling       = scene.cooling;
           ds.diagonal_only = scene.diagonal_flux;
+          ds.wall_restitution = scene.wall_restitution;
           for (unsigned int d = 0; d < dim; ++d) // scaled: g L0 / V0^2
             ds.gravity[d] = scene.gravity[d] * units_.length / (units_.velocity * units_.velocity);
           diff = std::make_unique<diffusion::DiffusionOperator<dim>>(*patch_, desc, ds, units_.length);

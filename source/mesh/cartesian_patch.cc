@@ -277,6 +277,7 @@ namespace granhydro
       {
         std::array<int, 3> src = e;
         unsigned int flip = 0;
+        BoundaryGhost bg;
         for (unsigned int d = 0; d < dim; ++d)
           {
             if (periodic_[d])
@@ -287,11 +288,19 @@ namespace granhydro
             const int n = N_[d];
             if (e[d] < 0 || e[d] >= n)
               {
-                const BoundaryType t = scene.boundary[2 * d + (e[d] < 0 ? 0 : 1)];
-                if (t == BoundaryType::slip_wall)
+                const unsigned int   side = 2 * d + (e[d] < 0 ? 0 : 1);
+                const BoundaryType t    = scene.boundary[side];
+                bg.side                 = side;
+                if (t == BoundaryType::slip_wall || t == BoundaryType::no_slip_wall)
                   {
                     src[d] = e[d] < 0 ? -1 - e[d] : 2 * n - 1 - e[d];
                     flip |= 1u << d;
+                    if (t == BoundaryType::no_slip_wall)
+                      {
+                        bg.no_slip = true;
+                        for (unsigned int k = 0; k < 3; ++k)
+                          bg.wall_velocity[k] = scene.wall_velocity[side][k] / scene.units().velocity;
+                      }
                   }
                 else
                   src[d] = e[d] < 0 ? 0 : n - 1;
@@ -301,7 +310,10 @@ namespace granhydro
         const long long skey = src[0] + 1ll * N_[0] * (src[1] + 1ll * N_[1] * src[2]);
         const auto it = slot_of_key.find(skey);
         AssertThrow(it != slot_of_key.end(), ExcMessage("boundary ghost source not in patch"));
-        bghosts_.push_back({slot_of_key[key], it->second, flip});
+        bg.slot      = slot_of_key[key];
+        bg.source    = it->second;
+        bg.flip_mask = flip;
+        bghosts_.push_back(bg);
       }
 
     // ---- neighbour table -------------------------------------------------------
@@ -344,13 +356,34 @@ namespace granhydro
     if (nloc > 0)
       std::copy(U.begin(), U.begin() + nloc, W.begin()); // ghosts follow the owned entries
     for (const auto &g : bghosts_)
-      for (unsigned int c = 0; c < NC; ++c)
-        {
-          double v = W[std::size_t(g.source) * NC + c];
-          if (c >= 1 && c <= dim && (g.flip_mask >> (c - 1) & 1u))
-            v = -v;
-          W[std::size_t(g.slot) * NC + c] = v;
-        }
+      {
+        const double *in  = &W[std::size_t(g.source) * NC];
+        double       *out = &W[std::size_t(g.slot) * NC];
+        if (g.no_slip)
+          {
+            // u_g = 2 u_w - u, n and internal energy copied
+            const double n = in[0];
+            double       ke = 0, keg = 0;
+            out[0]          = n;
+            for (unsigned int k = 0; k < dim; ++k)
+              {
+                const double u  = in[1 + k] / n;
+                const double ug = 2 * g.wall_velocity[k] - u;
+                ke += 0.5 * n * u * u;
+                keg += 0.5 * n * ug * ug;
+                out[1 + k] = n * ug;
+              }
+            out[dim + 1] = in[dim + 1] - ke + keg;
+          }
+        else
+          for (unsigned int c = 0; c < NC; ++c)
+            {
+              double v = in[c];
+              if (c >= 1 && c <= dim && (g.flip_mask >> (c - 1) & 1u))
+                v = -v;
+              out[c] = v;
+            }
+      }
   }
 
   template class CartesianPatch<1>;

@@ -96,8 +96,10 @@ namespace granhydro
   }
   std::string to_string(BoundaryType b)
   {
-    return b == BoundaryType::periodic ? "periodic" :
-                                         (b == BoundaryType::slip_wall ? "slip wall" : "outflow");
+    return b == BoundaryType::periodic     ? "periodic" :
+           b == BoundaryType::slip_wall    ? "slip wall" :
+           b == BoundaryType::no_slip_wall ? "no-slip wall" :
+                                             "outflow";
   }
 
   double Scene::grain_mass() const
@@ -111,7 +113,7 @@ namespace granhydro
       return false;
     bool g = false;
     for (unsigned int d = 0; d < dimension; ++d)
-      g = g || gravity[d] != 0;
+      g = g || gravity[d] != 0 || wall_restitution[2 * d] < 1 || wall_restitution[2 * d + 1] < 1;
     return viscosity || heat_conduction || (cooling && restitution < 1) || g;
   }
 
@@ -138,12 +140,23 @@ namespace granhydro
       prm.declare_entry("Cells", "100, 100, 1", Patterns::Anything(),
                         "Number of cells per direction (uniform Cartesian mesh).");
       for (const char *s : side_names)
-        prm.declare_entry(std::string("Boundary ") + s, "slip wall",
-                          Patterns::Selection("periodic|slip wall|outflow"),
-                          std::string("Boundary condition on the ") + s +
-                            " side: periodic (both sides of a direction), slip wall "
-                            "(reflecting, mirror ghost state), outflow (transmissive, "
-                            "zero-gradient ghost state).");
+        {
+          prm.declare_entry(std::string("Boundary ") + s, "slip wall",
+                            Patterns::Selection("periodic|slip wall|no-slip wall|outflow"),
+                            std::string("Boundary condition on the ") + s +
+                              " side: periodic (both sides of a direction), slip wall "
+                              "(reflecting, no tangential stress), no-slip wall (velocity "
+                              "of the wall imposed, wall shear stress kept: physics.md 5.1, "
+                              "P10), outflow (transmissive, zero-gradient ghost state).");
+          prm.declare_entry(std::string("Wall velocity ") + s, "0, 0, 0", Patterns::Anything(),
+                            std::string("Velocity of the ") + s +
+                              " wall [m/s] (no-slip walls; tangential only).");
+          prm.declare_entry(std::string("Wall restitution ") + s, "1", Patterns::Double(0, 1),
+                            std::string("Grain-wall restitution eps_w of the ") + s +
+                              " wall: 1 = elastic (adiabatic), < 1 = dissipative wall with "
+                              "the heat flux q_w = (1 - eps_w) p_w sqrt(2T/(pi m)) "
+                              "(physics.md 5.2, contact theorem; granular model).");
+        }
     }
     prm.leave_subsection();
 
@@ -386,8 +399,13 @@ end
     for (unsigned int i = 0; i < 6; ++i)
       {
         const std::string v = prm.get(std::string("Boundary ") + side_names[i]);
-        s.boundary[i] = v == "periodic" ? BoundaryType::periodic :
-                        (v == "slip wall" ? BoundaryType::slip_wall : BoundaryType::outflow);
+        s.boundary[i] = v == "periodic"     ? BoundaryType::periodic :
+                        v == "slip wall"    ? BoundaryType::slip_wall :
+                        v == "no-slip wall" ? BoundaryType::no_slip_wall :
+                                              BoundaryType::outflow;
+        s.wall_velocity[i] = parse_list<double, 3>(prm.get(std::string("Wall velocity ") + side_names[i]),
+                                                   std::string("Domain/Wall velocity ") + side_names[i], dim, 0.);
+        s.wall_restitution[i] = prm.get_double(std::string("Wall restitution ") + side_names[i]);
       }
     prm.leave_subsection();
 
@@ -507,6 +525,26 @@ end
           fail("Domain/Cells", "direction " + std::string(1, "xyz"[d]) +
                                  " has walls and needs at least " + std::to_string(need) +
                                  " cells for reconstruction '" + to_string(s.reconstruction) + "'");
+      }
+    for (unsigned int i = 0; i < 2 * dim; ++i)
+      {
+        const std::string side = side_names[i];
+        const unsigned    d    = i / 2;
+        double            vmax = 0;
+        for (unsigned int k = 0; k < dim; ++k)
+          vmax = std::max(vmax, std::abs(s.wall_velocity[i][k]));
+        if (vmax != 0 && s.boundary[i] != BoundaryType::no_slip_wall)
+          fail("Domain/Wall velocity " + side, "only no-slip walls move (the boundary is " +
+                                                 to_string(s.boundary[i]) + ")");
+        if (s.wall_velocity[i][d] != 0)
+          fail("Domain/Wall velocity " + side, "a wall moves only tangentially: its component "
+                                               "along " + std::string(1, "xyz"[d]) + " must be 0");
+        if (s.wall_restitution[i] < 1 &&
+            (s.boundary[i] == BoundaryType::periodic || s.boundary[i] == BoundaryType::outflow))
+          fail("Domain/Wall restitution " + side, "only walls dissipate (the boundary is " +
+                                                    to_string(s.boundary[i]) + ")");
+        if (s.wall_restitution[i] < 1 && s.model != "granular")
+          fail("Domain/Wall restitution " + side, "dissipative walls need 'Material/Model = granular'");
       }
     double total = 1;
     for (unsigned int d = 0; d < dim; ++d)

@@ -12,7 +12,13 @@
  *  - sources: gravity n g, m n u.g and inelastic cooling -(3/2) n T zeta0
  *    (physics.md 1, 3.5).
  * Walls: the mirror ghost states of the patch give exactly the slip-wall flux
- * of physics.md 5.1 (no tangential stress, q = 0); outflow: zero gradient.
+ * of physics.md 5.1 (no tangential stress, q = 0); no-slip ghosts (velocity
+ * mirrored about the wall velocity) give the wall shear stress from the
+ * one-sided gradient with u = u_w on the wall and the work (tau_w . e) . u_w
+ * (physics.md 5.1, P10); a dissipative wall adds the heat flux into the wall
+ * q_w = (1 - eps_w) p_w sqrt(2 T/(pi m)) of physics.md 5.2 (contact theorem,
+ * replaces the paper's eq. 6.2, P11) with p_w, T of the adjacent cell;
+ * outflow: zero gradient.
  *
  * The Jacobian df/dU used by the implicit integrators is the exact derivative
  * of the normal-derivative part of every face flux (including the dependence
@@ -38,6 +44,8 @@ namespace granhydro::diffusion
     bool                  viscous = true, heat = true, cooling = true;
     bool                  diagonal_only = false;
     std::array<double, 3> gravity{{0, 0, 0}}; ///< scaled units
+    /// grain-wall restitution per side (2 d + upper); < 1: dissipative wall heat flux
+    std::array<double, 6> wall_restitution{{1, 1, 1, 1, 1, 1}};
   };
 
   template <int dim>
@@ -73,9 +81,16 @@ namespace granhydro::diffusion
     const CartesianPatch<dim> &get_patch() const { return patch; }
 
   private:
+    /// a face on a dissipative wall: eps_w and the sign of the wall's outward normal
+    /// along d (-1 lower wall: interior on the right; +1 upper wall); sign 0: no wall
+    struct WallFace
+    {
+      double eps_w = 1;
+      int    sign  = 0;
+    };
     void face_flux(const double *W, const unsigned int d, const unsigned int l, const unsigned int r,
                    const physics::State<dim> &UL, const physics::State<dim> &UR,
-                   physics::State<dim> &F) const;
+                   const WallFace &wall, physics::State<dim> &F) const;
     void source(const physics::State<dim> &U, physics::State<dim> &S) const;
     physics::TransportCoefficients coefficients(const physics::State<dim> &U) const;
 
@@ -84,6 +99,7 @@ namespace granhydro::diffusion
     DiffusionSettings                settings;
     double                           inv_h[dim];
     std::vector<std::pair<unsigned int, unsigned int>> faces[dim];
+    std::vector<WallFace> walls[dim]; ///< parallel to faces
     std::vector<unsigned int> src;  ///< slot -> real slot carrying its data
     std::vector<unsigned int> flip; ///< slot -> momentum sign flips relative to src
     mutable std::vector<double> Fp[dim];

@@ -48,6 +48,12 @@ namespace granhydro
     struct BoundaryGhost
     {
       unsigned int slot, source, flip_mask;
+      /// no-slip wall: velocity mirrored about the wall velocity (scaled units),
+      /// u_ghost = 2 u_w - u with n and T copied (physics.md 5.1)
+      bool                  no_slip = false;
+      std::array<double, 3> wall_velocity{{0, 0, 0}};
+      /// the wall side (2 d + upper) this ghost lies behind, for the wall heat flux
+      unsigned int side = 0;
     };
 
     CartesianPatch(const MPI_Comm comm);

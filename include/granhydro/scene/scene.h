@@ -24,6 +24,7 @@ namespace granhydro
   {
     periodic,
     slip_wall,
+    no_slip_wall,
     outflow
   };
 
@@ -71,6 +72,10 @@ namespace granhydro
     std::array<unsigned int, 3> cells{{1, 1, 1}};
     /// boundary[2*d] lower side, boundary[2*d+1] upper side of direction d
     std::array<BoundaryType, 6> boundary{};
+    /// tangential velocity of each wall [m/s] (no-slip walls), 3 components
+    std::array<std::array<double, 3>, 6> wall_velocity{};
+    /// grain-wall restitution eps_w of each wall (1 = elastic/adiabatic, physics.md 5.2)
+    std::array<double, 6> wall_restitution{{1, 1, 1, 1, 1, 1}};
 
     // Material
     std::string model = "ideal gas";

@@ -1,0 +1,119 @@
+// Plane Couette flow between no-slip adiabatic walls (physics.md 6(c); issue 4
+// acceptance 1): walls at y = 0 and y = H move with -+ gdot H/2 along x, no gravity.
+// The uniform state with a linear velocity profile is an exact solution whose
+// temperature follows ds/dt = A - B s^2 (s = sqrt(T), A = eta^ gdot^2/(3n),
+// B = zeta^/2) towards the simple-shear steady state T_s, where viscous heating
+// (supplied by the walls' shear stress, physics.md 5.1 / P10) balances cooling.
+// Checks the transient at 0.05 s and the steady state to 1 % (phi = 0.3, eps = 0.9,
+// gdot = 10/s: T_s = 1.683131e-10 J, T(0.05 s) = 1.896610e-9 J from T0 = 1e-8 J),
+// and that with slip walls (no wall shear stress) the gas just cools (Haff).
+#include "test_common.h"
+
+#include <iomanip>
+
+using namespace granhydro;
+using namespace granhydro::testing;
+
+namespace
+{
+  const double sigma = 1e-3, rho_s = 2600, phi = 0.3, eps = 0.9, gdot = 10, T0 = 1e-8;
+  const double H = 20 * sigma;
+  const unsigned int N = 40; // h = sigma/2
+
+  std::string scene(const double t_end, const std::string &walls)
+  {
+    std::ostringstream os;
+    os.precision(17);
+    os << "set Dimension = 2\nsubsection Domain\n  set Lower corner = 0, 0\n"
+       << "  set Upper corner = " << H / N << ", " << H << "\n  set Cells = 1, " << N << "\n"
+       << "  set Boundary x- = periodic\n  set Boundary x+ = periodic\n"
+       << "  set Boundary y- = " << walls << "\n  set Boundary y+ = " << walls << "\n";
+    if (walls == "no-slip wall")
+      os << "  set Wall velocity y- = " << -gdot * H / 2 << ", 0\n  set Wall velocity y+ = "
+         << gdot * H / 2 << ", 0\n";
+    os << "end\nsubsection Material\n  set Model = granular\n  set Restitution coefficient = " << eps
+       << "\n  set Grain diameter = " << sigma << "\n  set Material density = " << rho_s
+       << "\nend\nsubsection Initial state\n  set Packing fraction = " << phi
+       << "\n  set Velocity = " << gdot << "*(y - " << H / 2 << "); 0\n  set Temperature = " << T0
+       << "\n  set Quadrature points = 3\nend\n"
+       << "subsection Diffusion step\n  set Newton tolerance = 1e-12\nend\n"
+       << "subsection Time\n  set End time = " << t_end << "\nend\n"
+       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
+       << "  set Verbose = false\nend\n";
+    return os.str();
+  }
+
+  /// exact homogeneous temperature under shear (physics.md 6(c))
+  double T_exact(const double t, const double shear)
+  {
+    const physics::GarzoDufty1999 gd(eps);
+    const double m = rho_s * M_PI * sigma * sigma * sigma / 6, n = 6 * phi / (M_PI * sigma * sigma * sigma);
+    const double eta_hat  = gd.eta(n, 1., m, sigma);   // eta = eta_hat sqrt(T)
+    const double zeta_hat = gd.zeta0(n, 1., m, sigma); // zeta0 = zeta_hat sqrt(T)
+    const double A = eta_hat * shear * shear / (3 * n), B = zeta_hat / 2, s0 = std::sqrt(T0);
+    if (A == 0)
+      return T0 / std::pow(1 + B * s0 * t, 2); // Haff: ds/dt = -B s^2
+    const double sinf = std::sqrt(A / B), k = std::sqrt(A * B);
+    const double s = s0 < sinf ? sinf * std::tanh(k * t + std::atanh(s0 / sinf))
+                               : sinf / std::tanh(k * t + std::atanh(sinf / s0));
+    return s * s;
+  }
+
+  /// max relative deviation of the cell temperatures from T_exact(t_end)
+  double run(const double t_end, const std::string &walls, double &T_mean)
+  {
+    Simulation<2, physics::GranularGas<2>> sim(parse_scene(scene(t_end, walls), "couette"), MPI_COMM_SELF,
+                                               std::cout);
+    sim.setup();
+    const auto sum = sim.run();
+    AssertThrow(sum.diffusion.newton_failures == 0, dealii::ExcMessage("Newton failed"));
+    const double m     = rho_s * M_PI * sigma * sigma * sigma / 6;
+    const double exact = T_exact(t_end, walls == "no-slip wall" ? gdot : 0.);
+    double       worst = 0;
+    T_mean             = 0;
+    for (unsigned int c = 0; c < sim.patch().n_owned(); ++c)
+      {
+        const auto   S = sim.state_si(c);
+        const double n = S[0], ux = S[1] / n, uy = S[2] / n;
+        // cell averages of a linear profile carry m gdot^2 h^2/24 of sub-cell kinetic
+        // energy per grain that is not temperature: T = (2/3)(E - m u^2/2 - m gdot^2 h^2/24)
+        const double h     = H / N;
+        const double shear = walls == "no-slip wall" ? gdot : 0.;
+        const double T = (2. / 3.) * (S[3] / n - 0.5 * m * (ux * ux + uy * uy) - m * shear * shear * h * h / 24);
+        worst          = std::max(worst, std::abs(T - exact) / exact);
+        T_mean += T / sim.patch().n_owned();
+      }
+    return worst;
+  }
+} // namespace
+
+int main(int argc, char **argv)
+{
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  Checker                                  chk;
+  // the exact formula reproduces physics.md's numbers
+  chk.check(std::abs(T_exact(0.05, gdot) / 1.896610e-9 - 1) < 1e-6 &&
+              std::abs(T_exact(100., gdot) / 1.683131e-10 - 1) < 1e-6,
+            "exact shear transient reproduces physics.md 6(c): T(0.05 s) = 1.896610e-9 J, T_s = 1.683131e-10 J");
+  for (const double t : {0.05, 0.2, 1.5})
+    {
+      double     Tm;
+      const double e = run(t, "no-slip wall", Tm);
+      std::ostringstream os;
+      os << "Couette, no-slip walls moving -+" << gdot * H / 2 << " m/s, t = " << t << " s: T = "
+         << std::scientific << std::setprecision(6) << Tm << " J vs exact " << T_exact(t, gdot)
+         << ", max cell deviation " << std::setprecision(2) << e << " (<= 1 %)";
+      chk.check(e <= 0.01, os.str());
+    }
+  {
+    double       Tm;
+    const double e = run(0.2, "slip wall", Tm);
+    std::ostringstream os;
+    os << "slip walls (no wall shear stress): the shear decays and the gas cools, T(0.2 s) = "
+       << std::scientific << std::setprecision(4) << Tm << " J, below the sheared "
+       << T_exact(0.2, gdot) << " J";
+    chk.check(Tm < 0.9 * T_exact(0.2, gdot), os.str());
+    (void)e;
+  }
+  return chk.failed != 0;
+}
