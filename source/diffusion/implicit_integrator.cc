@@ -35,7 +35,7 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
-  bool ImplicitIntegrator<dim>::step(Vector &U, const double dt)
+  bool ImplicitIntegrator<dim>::step(Vector &U, const double t, const double dt)
   {
     ++stats.steps;
     const double s3 = std::sqrt(3.) / 6.;
@@ -46,21 +46,21 @@ namespace granhydro::diffusion
     switch (settings.method)
       {
         case ImplicitMethod::explicit_euler:
-          return explicit_step(U, dt);
+          return explicit_step(U, t, dt);
         case ImplicitMethod::implicit_midpoint:
-          return irk_step(U, dt, A_mp, b_mp);
+          return irk_step(U, t, dt, A_mp, b_mp);
         case ImplicitMethod::gauss_legendre:
-          return irk_step(U, dt, A_gl, b_gl);
+          return irk_step(U, t, dt, A_gl, b_gl);
         default:
-          if (irk_step(U, dt, A_gl, b_gl))
+          if (irk_step(U, t, dt, A_gl, b_gl))
             return true;
           ++stats.switches_to_midpoint;
-          return irk_step(U, dt, A_mp, b_mp);
+          return irk_step(U, t, dt, A_mp, b_mp);
       }
   }
 
   template <int dim>
-  bool ImplicitIntegrator<dim>::irk_step(Vector &U, const double dt,
+  bool ImplicitIntegrator<dim>::irk_step(Vector &U, const double t, const double dt,
                                          const std::vector<std::vector<double>> &A,
                                          const std::vector<double>              &b)
   {
@@ -75,6 +75,7 @@ namespace granhydro::diffusion
     // Jacobian at U0, Newton matrix, preconditioner (frozen for the whole step)
     patch.gather(U, W);
     f.resize(n);
+    op.set_time(t);
     op.residual(W.data(), f.data());
     if (!have_pattern[stages])
       {
@@ -123,6 +124,10 @@ namespace granhydro::diffusion
                 y[i] = U0[i] + dt * s;
               }
             patch.gather(Y, W);
+            double ck = 0; // stage time c_k = sum_j a_kj
+            for (unsigned int j = 0; j < stages; ++j)
+              ck += A[k][j];
+            op.set_time(t + ck * dt);
             op.residual(W.data(), f.data());
             for (std::size_t i = 0; i < n; ++i)
               rhs[(part.local_to_global(i)) * stages + k] = -(K[i * stages + k] - f[i]);
@@ -183,7 +188,7 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
-  bool ImplicitIntegrator<dim>::explicit_step(Vector &U, const double dt)
+  bool ImplicitIntegrator<dim>::explicit_step(Vector &U, const double t, const double dt)
   {
     const std::size_t n = std::size_t(patch.n_owned()) * (dim + 2);
     patch.gather(U, W);
@@ -195,6 +200,7 @@ namespace granhydro::diffusion
       {
         if (k > 0)
           patch.gather(U, W);
+        op.set_time(t + k * h);
         op.residual(W.data(), f.data());
         double *u = U.begin();
         for (std::size_t i = 0; i < n; ++i)

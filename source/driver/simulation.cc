@@ -43,20 +43,19 @@ namespace granhydro
     pcout << "), " << Utilities::MPI::n_mpi_processes(comm) << " MPI rank(s)\n"
           << "  model: " << scene.model;
     if constexpr (std::is_same_v<Description, physics::IdealGas<dim>>)
-      pcout << " (gamma_a = " << desc.gamma << ")\n"
-            << "  active effects: convection (always; the ideal-gas model has no transport,"
-               " cooling or body force)\n";
+      pcout << " (gamma_a = " << desc.gamma << "; no transport, cooling or body force)\n";
     else
       pcout << " (eps = " << scene.restitution << ", Torquato chi with phi_f = "
-            << scene.phi_freezing << ", phi_c = " << scene.phi_close_packing << ")\n"
-            << "  active effects:" << (scene.convection ? " convection," : "")
-            << (scene.diffusion_active() ? "" : " (no diffusion step)")
-            << (scene.diffusion_active() && scene.viscosity ? " viscosity," : "")
-            << (scene.diffusion_active() && scene.heat_conduction ? " heat conduction," : "")
-            << (scene.diffusion_active() && scene.cooling && scene.restitution < 1 ? " inelastic cooling," : "")
-            << (scene.diffusion_active() && (scene.gravity[0] != 0 || scene.gravity[1] != 0 || scene.gravity[2] != 0) ? " gravity," : "")
-            << "\n  diffusion step: " << (scene.diffusion_active() ? scene.integrator + ", " +
-                                             (scene.diagonal_flux ? "diagonal" : "full") + " flux, Strang splitting C(dt/2) V(dt) C(dt/2)" : "off")
+            << scene.phi_freezing << ", phi_c = " << scene.phi_close_packing << ")\n";
+    pcout << "  active effects (only these operators are built and run):\n";
+    for (const auto &[effect, why] : active_effects(scene))
+      pcout << "    " << effect << "  [" << why << "]\n";
+    if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
+      pcout << "  diffusion step: "
+            << (scene.diffusion_active() ?
+                  scene.integrator + ", " + (scene.diagonal_flux ? "diagonal" : "full") +
+                    " flux" + (scene.convection ? ", Strang splitting C(dt/2) V(dt) C(dt/2)" : "") :
+                  std::string("off (no transport, cooling, body force or dissipative wall)"))
             << "\n";
     pcout
           << "  numerics: " << to_string(scene.reconstruction) << " reconstruction, "
@@ -90,6 +89,10 @@ namespace granhydro
           ds.cooling       = scene.cooling;
           ds.diagonal_only = scene.diagonal_flux;
           ds.wall_restitution = scene.wall_restitution;
+          // vibrated container, scaled: A / L0, omega t0
+          ds.vibration_amplitude = scene.vibration_amplitude / units_.length;
+          ds.vibration_omega     = 2 * M_PI * scene.vibration_frequency * units_.time();
+          ds.vibration_direction = scene.vibration_direction;
           for (unsigned int d = 0; d < dim; ++d) // scaled: g L0 / V0^2
             ds.gravity[d] = scene.gravity[d] * units_.length / (units_.velocity * units_.velocity);
           diff = std::make_unique<diffusion::DiffusionOperator<dim>>(*patch_, desc, ds, units_.length);
@@ -221,7 +224,7 @@ namespace granhydro
   }
 
   template <int dim, class Description>
-  bool Simulation<dim, Description>::advance(const double dt)
+  bool Simulation<dim, Description>::advance(const double t, const double dt)
   {
     using clock = std::chrono::steady_clock;
     auto convect = [&](const double h) {
@@ -236,7 +239,7 @@ namespace granhydro
       return false;
     const auto c0       = clock::now();
     const auto switches = integrator->statistics().switches_to_midpoint;
-    const bool ok       = integrator->step(U, dt);
+    const bool ok       = integrator->step(U, t, dt);
     diff_seconds += std::chrono::duration<double>(clock::now() - c0).count();
     if (integrator->statistics().switches_to_midpoint > switches)
       pcout << "  diffusion step: Gauss-Legendre Newton iteration did not converge, step "
@@ -296,7 +299,7 @@ namespace granhydro
         unsigned int tries = 0;
         while (true)
           {
-            if (advance(dt) && conv->admissible(U, &why))
+            if (advance(t, dt) && conv->admissible(U, &why))
               break;
             conv->admissible(U, &why); // where and what, for the message
             if (why.empty())

@@ -107,6 +107,44 @@ namespace granhydro
     return material_density * M_PI * std::pow(grain_diameter, 3) / 6.;
   }
 
+  std::vector<std::pair<std::string, std::string>> active_effects(const Scene &s)
+  {
+    std::vector<std::pair<std::string, std::string>> e;
+    auto num = [](double v) {
+      std::ostringstream os;
+      os << v;
+      return os.str();
+    };
+    if (s.convection)
+      e.emplace_back("convection", "Effects/Convection = true");
+    if (s.model != "granular")
+      return e;
+    if (s.viscosity)
+      e.emplace_back("viscous stress", "granular model, Effects/Viscosity = true");
+    if (s.heat_conduction)
+      e.emplace_back("heat conduction", "granular model, Effects/Heat conduction = true");
+    if (s.cooling && s.restitution < 1)
+      e.emplace_back("inelastic cooling", "restitution " + num(s.restitution) + " < 1");
+    double g2 = 0;
+    for (unsigned int d = 0; d < s.dimension; ++d)
+      g2 += s.gravity[d] * s.gravity[d];
+    if (g2 > 0)
+      e.emplace_back("gravity", "|g| = " + num(std::sqrt(g2)) + " m/s^2");
+    if (s.vibration_amplitude > 0 && s.vibration_frequency > 0)
+      {
+        const double w = 2 * M_PI * s.vibration_frequency;
+        e.emplace_back("wall vibration (inertial body force)",
+                       "A = " + num(s.vibration_amplitude) + " m, f = " + num(s.vibration_frequency) +
+                         " Hz, A w^2 = " + num(s.vibration_amplitude * w * w) + " m/s^2");
+      }
+    const char *sides[6] = {"x-", "x+", "y-", "y+", "z-", "z+"};
+    for (unsigned int i = 0; i < 2 * s.dimension; ++i)
+      if (s.wall_restitution[i] < 1)
+        e.emplace_back(std::string("dissipative wall ") + sides[i],
+                       "wall restitution " + num(s.wall_restitution[i]) + " < 1");
+    return e;
+  }
+
   bool Scene::diffusion_active() const
   {
     if (model != "granular")
@@ -114,6 +152,7 @@ namespace granhydro
     bool g = false;
     for (unsigned int d = 0; d < dimension; ++d)
       g = g || gravity[d] != 0 || wall_restitution[2 * d] < 1 || wall_restitution[2 * d + 1] < 1;
+    g = g || (vibration_amplitude > 0 && vibration_frequency > 0);
     return viscosity || heat_conduction || (cooling && restitution < 1) || g;
   }
 
@@ -256,6 +295,15 @@ namespace granhydro
       prm.declare_entry("Gravity", "0, 0, 0", Patterns::Anything(),
                         "Body force per unit mass g [m/s^2], one value per dimension "
                         "(e.g. 0, -9.81 in 2D). Granular model only.");
+      prm.declare_entry("Vibration amplitude", "0", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Amplitude A [m] of the container motion s(t) = A sin(2 pi f t) e_s. "
+                        "The equations are solved in the container frame (all walls at rest) "
+                        "with the inertial body force g + A (2 pi f)^2 sin(2 pi f t) e_s "
+                        "(physics.md 5.3); output velocities are relative to the container.");
+      prm.declare_entry("Vibration frequency", "0", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Frequency f [Hz] of the container motion.");
+      prm.declare_entry("Vibration direction", "y", Patterns::Selection("x|y|z"),
+                        "Direction e_s of the container motion.");
     }
     prm.leave_subsection();
 
@@ -456,6 +504,12 @@ end
     s.cooling         = prm.get_bool("Cooling");
     s.diagonal_flux   = prm.get("Diffusive flux") == "diagonal";
     s.gravity         = parse_list<double, 3>(prm.get("Gravity"), "Effects/Gravity", dim, 0.);
+    s.vibration_amplitude = prm.get_double("Vibration amplitude");
+    s.vibration_frequency = prm.get_double("Vibration frequency");
+    {
+      const std::string v  = prm.get("Vibration direction");
+      s.vibration_direction = v == "x" ? 0 : (v == "y" ? 1 : 2);
+    }
     prm.leave_subsection();
 
     prm.enter_subsection("Diffusion step");
@@ -585,6 +639,14 @@ end
             fail("Effects/Gravity", "the ideal-gas verification model has no body force; use "
                                     "'Material/Model = granular'");
       }
+    if ((s.vibration_amplitude > 0) != (s.vibration_frequency > 0))
+      fail("Effects/Vibration frequency", "a vibrated container needs both a positive "
+                                          "'Vibration amplitude' and 'Vibration frequency'");
+    if (s.vibration_amplitude > 0 && s.vibration_direction >= dim)
+      fail("Effects/Vibration direction", "names a direction the " + std::to_string(dim) +
+                                            "D scene does not resolve");
+    if (s.vibration_amplitude > 0 && s.model != "granular")
+      fail("Effects/Vibration amplitude", "a vibrated container needs 'Material/Model = granular'");
     if (!s.convection && s.fixed_time_step <= 0)
       fail("Numerics/Fixed time step", "must be positive when 'Effects/Convection' is off (the "
                                        "convective CFL then sets no time step)");

@@ -46,6 +46,9 @@ namespace granhydro::diffusion
     std::array<double, 3> gravity{{0, 0, 0}}; ///< scaled units
     /// grain-wall restitution per side (2 d + upper); < 1: dissipative wall heat flux
     std::array<double, 6> wall_restitution{{1, 1, 1, 1, 1, 1}};
+    /// vibrated container (physics.md 5.3), scaled units: g_eff(t) = g + A w^2 sin(w t) e_s
+    double       vibration_amplitude = 0, vibration_omega = 0;
+    unsigned int vibration_direction = 0;
   };
 
   template <int dim>
@@ -80,6 +83,12 @@ namespace granhydro::diffusion
 
     const CartesianPatch<dim> &get_patch() const { return patch; }
 
+    /// time (scaled) at which the sources are evaluated (vibrated container)
+    void set_time(const double t) const { time = t; }
+
+    /// the body force per unit mass at the current time (scaled units)
+    std::array<double, 3> body_force() const;
+
   private:
     /// a face on a dissipative wall: eps_w and the sign of the wall's outward normal
     /// along d (-1 lower wall: interior on the right; +1 upper wall); sign 0: no wall
@@ -103,5 +112,6 @@ namespace granhydro::diffusion
     std::vector<unsigned int> src;  ///< slot -> real slot carrying its data
     std::vector<unsigned int> flip; ///< slot -> momentum sign flips relative to src
     mutable std::vector<double> Fp[dim];
+    mutable double              time = 0;
   };
 } // namespace granhydro::diffusion

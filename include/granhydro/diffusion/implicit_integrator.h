@@ -66,16 +66,17 @@ namespace granhydro::diffusion
     ImplicitIntegrator(const DiffusionOperator<dim> &op, const physics::GranularGas<dim> &desc,
                        const IntegratorSettings &settings);
 
-    /// advance U (on the patch partitioner) by dt; false if the step failed
-    bool step(Vector &U, const double dt);
+    /// advance U (on the patch partitioner) from time t by dt; false if the step failed.
+    /// Time-dependent sources are evaluated at the stage times t + c_i dt.
+    bool step(Vector &U, const double t, const double dt);
 
     const IntegratorStatistics &statistics() const { return stats; }
     IntegratorStatistics        global_statistics() const;
 
   private:
-    bool irk_step(Vector &U, const double dt, const std::vector<std::vector<double>> &A,
+    bool irk_step(Vector &U, const double t, const double dt, const std::vector<std::vector<double>> &A,
                   const std::vector<double> &b);
-    bool explicit_step(Vector &U, const double dt);
+    bool explicit_step(Vector &U, const double t, const double dt);
     bool admissible_owned(const std::vector<double> &U) const;
 
     const DiffusionOperator<dim>    &op;

@@ -66,7 +66,7 @@ namespace granhydro
 
     /// one time step of size dt_si [s] (Strang splitting C(dt/2) V(dt) C(dt/2), eq. 3.5,
     /// or only the active half); false if a part failed (state then undefined)
-    bool advance(const double dt_scaled);
+    bool advance(const double t_scaled, const double dt_scaled);
 
     const CartesianPatch<dim> &patch() const { return *patch_; }
     const Vector              &state() const { return U; }

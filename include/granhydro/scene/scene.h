@@ -10,6 +10,8 @@
 #include <array>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace granhydro
 {
@@ -113,6 +115,9 @@ namespace granhydro
     bool                  cooling         = true;
     bool                  diagonal_flux   = false; // paper's D_ii-only flux (5.6)
     std::array<double, 3> gravity{{0, 0, 0}};      // [m/s^2]
+    double       vibration_amplitude = 0;          // [m], container displacement A sin(w t)
+    double       vibration_frequency = 0;          // [Hz]
+    unsigned int vibration_direction = 1;
 
     // Diffusion step
     std::string  integrator         = "gauss-legendre";
@@ -156,6 +161,9 @@ namespace granhydro
 
   /// the same from a string in .prm syntax (tests)
   Scene parse_scene(const std::string &text, const std::string &source_name);
+
+  /// the effects the scene activates, each with the reason (design.md "Scenes and effects")
+  std::vector<std::pair<std::string, std::string>> active_effects(const Scene &scene);
 
   /// check every impossible combination; throws SceneError
   void validate(const Scene &scene);
