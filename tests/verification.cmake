@@ -34,3 +34,7 @@ set_tests_properties(verify.diffusion_step PROPERTIES LABELS verify TIMEOUT 900)
 granhydro_test_executable(test_couette test_couette.cc)
 add_test(NAME verify.couette COMMAND test_couette)
 set_tests_properties(verify.couette PROPERTIES LABELS verify TIMEOUT 600)
+
+granhydro_test_executable(test_effects test_effects.cc)
+add_test(NAME verify.effects COMMAND test_effects)
+set_tests_properties(verify.effects PROPERTIES LABELS verify TIMEOUT 300)

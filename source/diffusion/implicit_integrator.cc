@@ -5,6 +5,7 @@
 #include <deal.II/lac/trilinos_solver.h>
 
 #include <cmath>
+#include <sstream>
 
 namespace granhydro::diffusion
 {
@@ -21,7 +22,7 @@ namespace granhydro::diffusion
   {}
 
   template <int dim>
-  bool ImplicitIntegrator<dim>::admissible_owned(const std::vector<double> &Uv) const
+  bool ImplicitIntegrator<dim>::admissible_owned(const std::vector<double> &Uv)
   {
     constexpr unsigned int NC = dim + 2;
     bool                   ok = true;
@@ -30,6 +31,14 @@ namespace granhydro::diffusion
         physics::State<dim> S;
         std::copy(&Uv[std::size_t(s) * NC], &Uv[std::size_t(s + 1) * NC], S.begin());
         ok = desc.admissible(S);
+        if (!ok)
+          {
+            std::ostringstream os;
+            os << "diffusion step result inadmissible at x = " << patch.center(s)
+               << " m: packing fraction " << S[0] * M_PI / 6 << ", T = " << desc.temperature(S)
+               << " (scaled units)";
+            last_failure = os.str();
+          }
       }
     return Utilities::MPI::min(ok ? 1 : 0, patch.communicator()) == 1;
   }
@@ -66,6 +75,7 @@ namespace granhydro::diffusion
   {
     constexpr unsigned int NC     = dim + 2;
     const unsigned int     stages = A.size();
+    last_failure.clear();
     const std::size_t      n      = std::size_t(patch.n_owned()) * NC;
     const MPI_Comm         comm   = patch.communicator();
     U0.assign(U.begin(), U.begin() + n);
@@ -179,10 +189,19 @@ namespace granhydro::diffusion
             return true;
           }
         if (it > 2 && dmax > 0.9 * prev) // no contraction: give up early
-          break;
+          {
+            std::ostringstream os;
+            os << "modified Newton stalled after " << it + 1 << " iterations (update "
+               << dmax / scale << " of max|U|, tolerance " << settings.newton_tolerance << ")";
+            last_failure = os.str();
+            break;
+          }
         prev = dmax;
       }
     ++stats.newton_failures;
+    if (last_failure.empty())
+      last_failure = "modified Newton did not converge in " +
+                     std::to_string(settings.newton_max_iterations) + " iterations";
     std::copy(U0.begin(), U0.end(), U.begin());
     return false;
   }

@@ -304,6 +304,8 @@ namespace granhydro
             conv->admissible(U, &why); // where and what, for the message
             if (why.empty())
               why = conv->failure();
+            if (why.empty() && integrator)
+              why = integrator->failure();
             ++sum.rejected_steps;
             if (++tries > scene.max_step_retries)
               {

@@ -71,13 +71,16 @@ namespace granhydro::diffusion
     bool step(Vector &U, const double t, const double dt);
 
     const IntegratorStatistics &statistics() const { return stats; }
+
+    /// why the last failed step failed (this rank's view)
+    const std::string &failure() const { return last_failure; }
     IntegratorStatistics        global_statistics() const;
 
   private:
     bool irk_step(Vector &U, const double t, const double dt, const std::vector<std::vector<double>> &A,
                   const std::vector<double> &b);
     bool explicit_step(Vector &U, const double t, const double dt);
-    bool admissible_owned(const std::vector<double> &U) const;
+    bool admissible_owned(const std::vector<double> &U);
 
     const DiffusionOperator<dim>    &op;
     const CartesianPatch<dim>       &patch;
@@ -87,6 +90,7 @@ namespace granhydro::diffusion
     dealii::TrilinosWrappers::SparseMatrix M[3]; // indexed by number of stages
     bool                                   have_pattern[3] = {false, false, false};
     std::vector<double>                    W, U0, f;
+    std::string                            last_failure;
     Vector                                 Y;
   };
 } // namespace granhydro::diffusion
