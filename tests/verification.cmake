@@ -38,3 +38,7 @@ set_tests_properties(verify.couette PROPERTIES LABELS verify TIMEOUT 600)
 granhydro_test_executable(test_effects test_effects.cc)
 add_test(NAME verify.effects COMMAND test_effects)
 set_tests_properties(verify.effects PROPERTIES LABELS verify TIMEOUT 300)
+
+granhydro_test_executable(test_column_1d3d test_column_1d3d.cc)
+add_test(NAME verify.column_1d_vs_3d COMMAND test_column_1d3d ${CMAKE_SOURCE_DIR}/parameters)
+set_tests_properties(verify.column_1d_vs_3d PROPERTIES LABELS verify TIMEOUT 600)
