@@ -31,7 +31,6 @@ granhydro_test_executable(test_diffusion_step test_diffusion_step.cc)
 add_test(NAME verify.diffusion_step COMMAND test_diffusion_step)
 set_tests_properties(verify.diffusion_step PROPERTIES LABELS verify TIMEOUT 900)
 
-granhydro_test_executable(test_couette test_couette.cc)
 add_test(NAME verify.couette COMMAND test_couette)
 set_tests_properties(verify.couette PROPERTIES LABELS verify TIMEOUT 600)
 
@@ -42,3 +41,8 @@ set_tests_properties(verify.effects PROPERTIES LABELS verify TIMEOUT 300)
 granhydro_test_executable(test_column_1d3d test_column_1d3d.cc)
 add_test(NAME verify.column_1d_vs_3d COMMAND test_column_1d3d ${CMAKE_SOURCE_DIR}/parameters)
 set_tests_properties(verify.column_1d_vs_3d PROPERTIES LABELS verify TIMEOUT 600)
+
+granhydro_test_executable(test_walls test_walls.cc)
+add_test(NAME verify.walls COMMAND test_walls)
+set_tests_properties(verify.walls PROPERTIES LABELS verify TIMEOUT 300)
+granhydro_test_executable(test_couette test_couette.cc)

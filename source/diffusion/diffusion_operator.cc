@@ -48,7 +48,11 @@ namespace granhydro::diffusion
     for (const auto &g : patch.boundary_ghosts())
       {
         src[g.slot]  = g.source;
-        flip[g.slot] = g.no_slip ? (1u << dim) - 1 : g.flip_mask; // no-slip: all velocity mirrored
+        // sign of each velocity component after all reflections (exact for walls at rest)
+        unsigned int m = 0;
+        for (unsigned int w = 0; w < g.n_walls; ++w)
+          m ^= g.wall_no_slip[w] ? (1u << dim) - 1 : 1u << g.wall_dir[w];
+        flip[g.slot] = g.no_slip ? m : g.flip_mask;
         side_of[g.slot] = g.side;
       }
     for (unsigned int d = 0; d < dim; ++d)
@@ -108,13 +112,14 @@ namespace granhydro::diffusion
     F = physics::viscous_flux<dim>(Uf, dU, coefficients(Uf), 1., d);
     if (wall.sign != 0)
       {
-        // energy into the wall (physics.md 5.2, contact theorem, m = 1): F^E is the flux
-        // along +e_d, so a loss through the upper wall is +q_w, through the lower -q_w
+        // energy into the wall (physics.md 5.2, contact theorem, m = 1). The cell update
+        // is (F_e - F_w)/dx: a loss through the upper wall (the cell's east face) needs
+        // F^E -= q_w, through the lower wall (west face) F^E += q_w
         const State<dim> &Ui = wall.sign > 0 ? UL : UR;
         const double      T  = std::max(desc.temperature(Ui), 0.);
         const double      pw = desc.pressure(Ui);
         const double      qw = (1 - wall.eps_w) * std::max(pw, 0.) * std::sqrt(2 * T / M_PI);
-        F[dim + 1] += wall.sign * qw;
+        F[dim + 1] -= wall.sign * qw;
       }
   }
 

@@ -174,6 +174,30 @@ namespace granhydro::diffusion
           break;
         if (dmax <= settings.newton_tolerance * scale)
           {
+            // final slopes K_k = f(Y_k) at the converged stage values: f is in flux form,
+            // so U1 = U0 + dt sum b_k f(Y_k) conserves mass (and energy and momentum where
+            // no source acts) to round-off, not only to the Newton tolerance
+            std::vector<double> Kf(n * stages);
+            for (unsigned int k = 0; k < stages; ++k)
+              {
+                double *y  = Y.begin();
+                double  ck = 0;
+                for (unsigned int j = 0; j < stages; ++j)
+                  ck += A[k][j];
+                for (std::size_t i = 0; i < n; ++i)
+                  {
+                    double s = 0;
+                    for (unsigned int j = 0; j < stages; ++j)
+                      s += A[k][j] * K[i * stages + j];
+                    y[i] = U0[i] + dt * s;
+                  }
+                patch.gather(Y, W);
+                op.set_time(t + ck * dt);
+                op.residual(W.data(), f.data());
+                for (std::size_t i = 0; i < n; ++i)
+                  Kf[i * stages + k] = f[i];
+              }
+            K.swap(Kf);
             // U1 = U0 + dt sum b_i K_i
             std::vector<double> U1(n);
             for (std::size_t i = 0; i < n; ++i)

@@ -295,11 +295,14 @@ namespace granhydro
                   {
                     src[d] = e[d] < 0 ? -1 - e[d] : 2 * n - 1 - e[d];
                     flip |= 1u << d;
+                    const unsigned int w = bg.n_walls++;
+                    bg.wall_dir[w]       = d;
+                    bg.wall_no_slip[w]   = t == BoundaryType::no_slip_wall;
                     if (t == BoundaryType::no_slip_wall)
                       {
                         bg.no_slip = true;
                         for (unsigned int k = 0; k < 3; ++k)
-                          bg.wall_velocity[k] = scene.wall_velocity[side][k] / scene.units().velocity;
+                          bg.wall_velocity[w][k] = scene.wall_velocity[side][k] / scene.units().velocity;
                       }
                   }
                 else
@@ -361,17 +364,25 @@ namespace granhydro
         double       *out = &W[std::size_t(g.slot) * NC];
         if (g.no_slip)
           {
-            // u_g = 2 u_w - u, n and internal energy copied
+            // compose the wall reflections; n and the internal energy are copied
             const double n = in[0];
-            double       ke = 0, keg = 0;
-            out[0]          = n;
+            double       u[3] = {0, 0, 0}, ke = 0, keg = 0;
             for (unsigned int k = 0; k < dim; ++k)
               {
-                const double u  = in[1 + k] / n;
-                const double ug = 2 * g.wall_velocity[k] - u;
-                ke += 0.5 * n * u * u;
-                keg += 0.5 * n * ug * ug;
-                out[1 + k] = n * ug;
+                u[k] = in[1 + k] / n;
+                ke += 0.5 * n * u[k] * u[k];
+              }
+            for (unsigned int w = 0; w < g.n_walls; ++w)
+              if (g.wall_no_slip[w])
+                for (unsigned int k = 0; k < dim; ++k)
+                  u[k] = 2 * g.wall_velocity[w][k] - u[k];
+              else
+                u[g.wall_dir[w]] = -u[g.wall_dir[w]];
+            out[0] = n;
+            for (unsigned int k = 0; k < dim; ++k)
+              {
+                out[1 + k] = n * u[k];
+                keg += 0.5 * n * u[k] * u[k];
               }
             out[dim + 1] = in[dim + 1] - ke + keg;
           }

@@ -48,12 +48,18 @@ namespace granhydro
     struct BoundaryGhost
     {
       unsigned int slot, source, flip_mask;
-      /// no-slip wall: velocity mirrored about the wall velocity (scaled units),
-      /// u_ghost = 2 u_w - u with n and T copied (physics.md 5.1)
-      bool                  no_slip = false;
-      std::array<double, 3> wall_velocity{{0, 0, 0}};
-      /// the wall side (2 d + upper) this ghost lies behind, for the wall heat flux
+      /// true if any wall this ghost lies behind is a no-slip wall
+      bool no_slip = false;
+      /// the wall side (2 d + upper) this ghost lies behind (the last one), for the wall heat flux
       unsigned int side = 0;
+      /// the walls this ghost lies behind (1 at a face, 2 at an edge, 3 at a corner),
+      /// applied in turn: slip wall flips the normal velocity, no-slip wall mirrors the
+      /// velocity about the wall velocity u -> 2 u_w - u (scaled units); n and the
+      /// internal energy are copied (physics.md 5.1)
+      unsigned int n_walls = 0;
+      std::array<unsigned int, 3>          wall_dir{{0, 0, 0}};
+      std::array<bool, 3>                  wall_no_slip{{false, false, false}};
+      std::array<std::array<double, 3>, 3> wall_velocity{};
     };
 
     CartesianPatch(const MPI_Comm comm);
