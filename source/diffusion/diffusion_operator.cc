@@ -203,7 +203,18 @@ namespace granhydro::diffusion
         std::vector<unsigned int> cells{s};
         for (unsigned int d = 0; d < dim; ++d)
           for (const int o : {-1, 1})
-            cells.push_back(src[patch.neighbor(s, d, o)]);
+            {
+              const unsigned int f = patch.neighbor(s, d, o);
+              cells.push_back(src[f]);
+              for (unsigned int j = 0; j < dim; ++j) // edge neighbours (cross terms)
+                if (j != d)
+                  for (const int o2 : {-1, 1})
+                    {
+                      const int e = patch.neighbor(f, j, o2);
+                      AssertThrow(e >= 0, ExcMessage("edge neighbour outside the patch"));
+                      cells.push_back(src[e]);
+                    }
+            }
         cols.clear();
         for (const unsigned int t : cells)
           for (unsigned int c = 0; c < NC; ++c)
@@ -223,8 +234,12 @@ namespace granhydro::diffusion
   void DiffusionOperator<dim>::assemble_newton_matrix(const double *W,
                                                       const std::vector<std::vector<double>> &A,
                                                       const double dt,
-                                                      TrilinosWrappers::SparseMatrix &M) const
+                                                      TrilinosWrappers::SparseMatrix &M,
+                                                      const bool cross_terms) const
   {
+    std::vector<double> Wc; // perturbable copy of the slot array (cross-term derivatives)
+    if (cross_terms)
+      Wc.assign(W, W + std::size_t(patch.n_slots()) * NC);
     const auto        &part   = *patch.partitioner();
     const unsigned int n_own  = patch.n_owned();
     const unsigned int stages = A.size();
@@ -271,6 +286,30 @@ namespace granhydro::diffusion
                 for (unsigned int a = 0; a < NC; ++a)
                   (side == 0 ? BL : BR)[a * NC + b] = (F1[a] - F0[a]) / e * inv_h[d];
               }
+          if (cross_terms && !settings.diagonal_only)
+            for (unsigned int j = 0; j < dim; ++j)
+              if (j != d)
+                for (const unsigned int c : {l, r})
+                  for (const int o : {-1, 1})
+                    {
+                      const unsigned int t = patch.neighbor(c, j, o);
+                      std::array<double, NC * NC> B{};
+                      for (unsigned int b = 0; b < NC; ++b)
+                        {
+                          double      &P = Wc[std::size_t(t) * NC + b];
+                          const double P0 = P;
+                          const double e  = 1e-7 * std::max(std::abs(P0), std::max(1e-3 * std::abs(Wc[std::size_t(t) * NC]), 1e-10));
+                          P += e;
+                          face_flux(Wc.data(), d, l, r, UL, UR, wall, F1);
+                          P = P0;
+                          for (unsigned int a = 0; a < NC; ++a)
+                            B[a * NC + b] = (F1[a] - F0[a]) / e * inv_h[d];
+                        }
+                      if (l < n_own)
+                        add_block(l, t, B, 1.);
+                      if (r < n_own)
+                        add_block(r, t, B, -1.);
+                    }
           // f[l] += F/h, f[r] -= F/h
           if (l < n_own)
             {

@@ -73,6 +73,21 @@ namespace granhydro::diffusion
                                          const std::vector<std::vector<double>> &A,
                                          const std::vector<double>              &b)
   {
+    if (irk_attempt(U, t, dt, A, b, settings.full_jacobian))
+      return true;
+    if (settings.full_jacobian)
+      return false;
+    // the lagged cross terms can stall the iteration where they are stiff (near
+    // vacuum, P14): redo the step with the fully coupled Jacobian
+    ++stats.full_jacobian_retries;
+    return irk_attempt(U, t, dt, A, b, true);
+  }
+
+  template <int dim>
+  bool ImplicitIntegrator<dim>::irk_attempt(Vector &U, const double t, const double dt,
+                                            const std::vector<std::vector<double>> &A,
+                                            const std::vector<double> &b, const bool full)
+  {
     constexpr unsigned int NC     = dim + 2;
     const unsigned int     stages = A.size();
     last_failure.clear();
@@ -94,7 +109,7 @@ namespace granhydro::diffusion
         M[stages].reinit(sp);
         have_pattern[stages] = true;
       }
-    op.assemble_newton_matrix(W.data(), A, dt, M[stages]);
+    op.assemble_newton_matrix(W.data(), A, dt, M[stages], full);
     ++stats.jacobians;
     TrilinosWrappers::PreconditionILU ilu;
     TrilinosWrappers::PreconditionAMG amg;

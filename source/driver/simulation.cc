@@ -106,6 +106,7 @@ namespace granhydro
           is.newton_max_iterations = scene.newton_max_iterations;
           is.linear_tolerance      = scene.linear_tolerance;
           is.amg                   = scene.preconditioner == "amg";
+          is.full_jacobian         = scene.full_jacobian;
           integrator = std::make_unique<diffusion::ImplicitIntegrator<dim>>(*diff, desc, is);
         }
     U.reinit(patch_->partitioner());
@@ -384,7 +385,8 @@ namespace granhydro
               << double(ds.newton_iterations) / std::max<double>(ds.steps, 1) << "/step), "
               << ds.linear_iterations << " GMRES iterations, " << ds.newton_failures
               << " Newton failures, " << ds.linear_failures << " GMRES failures, "
-              << ds.switches_to_midpoint << " switches to implicit midpoint";
+              << ds.switches_to_midpoint << " switches to implicit midpoint, "
+              << ds.full_jacobian_retries << " retries with the fully coupled Jacobian";
         if (ds.explicit_substeps)
           pcout << ", " << ds.explicit_substeps << " explicit sub-steps";
         pcout << "\n";

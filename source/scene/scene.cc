@@ -325,6 +325,10 @@ namespace granhydro
                         "Relative residual of Trilinos GMRES.");
       prm.declare_entry("Preconditioner", "ilu", Patterns::Selection("ilu|amg"),
                         "Preconditioner of GMRES: ilu (Ifpack ILU(0)) or amg (ML).");
+      prm.declare_entry("Jacobian", "lagged", Patterns::Selection("lagged|full"),
+                        "Cross-derivative terms in the Newton matrix: lagged (deferred "
+                        "correction; a step whose iteration stalls is redone fully coupled) "
+                        "or full (always fully coupled, 19-point stencil in 3D).");
     }
     prm.leave_subsection();
 
@@ -518,6 +522,7 @@ end
     s.newton_max_iterations = prm.get_integer("Newton maximum iterations");
     s.linear_tolerance      = prm.get_double("Linear solver tolerance");
     s.preconditioner        = prm.get("Preconditioner");
+    s.full_jacobian         = prm.get("Jacobian") == "full";
     prm.leave_subsection();
 
     prm.enter_subsection("Time");

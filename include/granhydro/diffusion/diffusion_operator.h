@@ -23,10 +23,13 @@
  * The Jacobian df/dU used by the implicit integrators is the exact derivative
  * of the normal-derivative part of every face flux (including the dependence
  * of the coefficients on the face state), obtained by finite differences of
- * the face flux, plus the exact source Jacobian; the tangential-derivative
- * (cross) terms are lagged, i.e. their dependence on U is left out of the
- * Jacobian (deferred correction, allowed by physics.md 4.3). Newton still
- * converges to the full nonlinear residual.
+ * the face flux, plus the exact source Jacobian. By default the
+ * tangential-derivative (cross) terms are lagged, i.e. their dependence on U is
+ * left out of the Jacobian (deferred correction, allowed by physics.md 4.3);
+ * Newton still converges to the full nonlinear residual. With cross_terms =
+ * true their derivatives with respect to the edge neighbours are included too
+ * (the fully coupled variant; 19-point stencil in 3D), which the integrator
+ * uses when the lagged iteration stalls (near-vacuum, physics.md P14).
  */
 #include <granhydro/mesh/cartesian_patch.h>
 #include <granhydro/physics/granular_gas.h>
@@ -67,7 +70,7 @@ namespace granhydro::diffusion
     /// f(U) for owned cells (n_owned * NC values) from the slot array W
     void residual(const double *W, double *f) const;
 
-    /// sparsity of the Jacobian (owned rows, 2 dim + 1 point block stencil), with each
+    /// sparsity of the Jacobian (owned rows; face and edge neighbours), with each
     /// entry repeated for s x s stages (interleaved numbering stages * dof + stage)
     void make_sparsity(dealii::TrilinosWrappers::SparsityPattern &sp, const unsigned int stages) const;
 
@@ -76,7 +79,8 @@ namespace granhydro::diffusion
      * at the slot array W, assembled into M (built on make_sparsity()).
      */
     void assemble_newton_matrix(const double *W, const std::vector<std::vector<double>> &A,
-                                const double dt, dealii::TrilinosWrappers::SparseMatrix &M) const;
+                                const double dt, dealii::TrilinosWrappers::SparseMatrix &M,
+                                const bool cross_terms = false) const;
 
     /// largest explicit diffusion rate max(2 D / dx^2 summed over directions) on owned cells
     double explicit_rate(const double *W) const;

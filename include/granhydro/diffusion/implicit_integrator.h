@@ -48,13 +48,16 @@ namespace granhydro::diffusion
     unsigned int   newton_max_iterations = 25;
     double         linear_tolerance   = 1e-12; ///< relative GMRES residual
     bool           amg                = false;
+    /// Jacobian of the cross terms: false = lagged, retried fully coupled when Newton
+    /// stalls; true = always fully coupled
+    bool           full_jacobian      = false;
   };
 
   struct IntegratorStatistics
   {
     unsigned long long steps = 0, newton_iterations = 0, linear_iterations = 0, newton_failures = 0,
                        linear_failures = 0, switches_to_midpoint = 0, explicit_substeps = 0,
-                       jacobians = 0;
+                       jacobians = 0, full_jacobian_retries = 0;
   };
 
   template <int dim>
@@ -79,6 +82,8 @@ namespace granhydro::diffusion
   private:
     bool irk_step(Vector &U, const double t, const double dt, const std::vector<std::vector<double>> &A,
                   const std::vector<double> &b);
+    bool irk_attempt(Vector &U, const double t, const double dt, const std::vector<std::vector<double>> &A,
+                     const std::vector<double> &b, const bool full);
     bool explicit_step(Vector &U, const double t, const double dt);
     bool admissible_owned(const std::vector<double> &U);
 

@@ -125,6 +125,7 @@ namespace granhydro
     unsigned int newton_max_iterations = 25;
     double       linear_tolerance   = 1e-12;
     std::string  preconditioner     = "ilu";
+    bool         full_jacobian      = false;
 
     /// true if the implicit diffusion/source step V runs (granular model only)
     bool diffusion_active() const;
