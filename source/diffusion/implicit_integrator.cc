@@ -133,6 +133,23 @@ namespace granhydro::diffusion
       scale = std::max(scale, std::abs(U0[i]));
     scale = Utilities::MPI::max(scale, comm);
 
+    // f = f(Y_k) at the stage value Y_k = U0 + dt sum_j a_kj K_j, time t + c_k dt
+    auto stage_slope = [&](const unsigned int k) {
+      double *y  = Y.begin();
+      double  ck = 0;
+      for (unsigned int j = 0; j < stages; ++j)
+        ck += A[k][j];
+      for (std::size_t i = 0; i < n; ++i)
+        {
+          double s = 0;
+          for (unsigned int j = 0; j < stages; ++j)
+            s += A[k][j] * K[i * stages + j];
+          y[i] = U0[i] + dt * s;
+        }
+      patch.gather(Y, W);
+      op.set_time(t + ck * dt);
+      op.residual(W.data(), f.data());
+    };
     const auto &part = *patch.partitioner();
     double      prev = 0;
     for (unsigned int it = 0; it < settings.newton_max_iterations; ++it)
@@ -140,20 +157,7 @@ namespace granhydro::diffusion
         // residual R_k = K_k - f(U0 + dt sum_j a_kj K_j)
         for (unsigned int k = 0; k < stages; ++k)
           {
-            double *y = Y.begin();
-            for (std::size_t i = 0; i < n; ++i)
-              {
-                double s = 0;
-                for (unsigned int j = 0; j < stages; ++j)
-                  s += A[k][j] * K[i * stages + j];
-                y[i] = U0[i] + dt * s;
-              }
-            patch.gather(Y, W);
-            double ck = 0; // stage time c_k = sum_j a_kj
-            for (unsigned int j = 0; j < stages; ++j)
-              ck += A[k][j];
-            op.set_time(t + ck * dt);
-            op.residual(W.data(), f.data());
+            stage_slope(k);
             for (std::size_t i = 0; i < n; ++i)
               rhs[(part.local_to_global(i)) * stages + k] = -(K[i * stages + k] - f[i]);
           }
@@ -195,20 +199,7 @@ namespace granhydro::diffusion
             std::vector<double> Kf(n * stages);
             for (unsigned int k = 0; k < stages; ++k)
               {
-                double *y  = Y.begin();
-                double  ck = 0;
-                for (unsigned int j = 0; j < stages; ++j)
-                  ck += A[k][j];
-                for (std::size_t i = 0; i < n; ++i)
-                  {
-                    double s = 0;
-                    for (unsigned int j = 0; j < stages; ++j)
-                      s += A[k][j] * K[i * stages + j];
-                    y[i] = U0[i] + dt * s;
-                  }
-                patch.gather(Y, W);
-                op.set_time(t + ck * dt);
-                op.residual(W.data(), f.data());
+                stage_slope(k);
                 for (std::size_t i = 0; i < n; ++i)
                   Kf[i * stages + k] = f[i];
               }

@@ -36,13 +36,7 @@ namespace granhydro::physics
     /// internal energy per grain in units of T: 3/2 (hard spheres, physics.md 1.1)
     double heat_capacity() const { return 1.5; }
 
-    double kinetic_energy(const State<dim> &U) const
-    {
-      double m2 = 0;
-      for (int d = 0; d < dim; ++d)
-        m2 += U[1 + d] * U[1 + d];
-      return 0.5 * m2 / U[0];
-    }
+    double kinetic_energy(const State<dim> &U) const { return physics::kinetic_energy<dim>(U); }
 
     /// T = (2/3)(E - |u|^2/2) (physics.md 1, primitive recovery)
     double temperature(const State<dim> &U) const
@@ -72,13 +66,8 @@ namespace granhydro::physics
 
     double flux(const State<dim> &U, const unsigned int d, State<dim> &F) const
     {
-      const double p  = pressure(U);
-      const double ud = U[1 + d] / U[0];
-      F[0]            = U[1 + d];
-      for (int k = 0; k < dim; ++k)
-        F[1 + k] = U[1 + k] * ud;
-      F[1 + d] += p;
-      F[energy] = (U[energy] + p) * ud;
+      const double p = pressure(U);
+      euler_flux<dim>(U, p, d, F);
       return p;
     }
 

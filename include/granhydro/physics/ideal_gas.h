@@ -14,14 +14,13 @@
  * the physical flux, pressure, wave speed and the admissible set. A second
  * description (Garzó–Dufty granular gas) follows the same interface.
  */
+#include <granhydro/physics/euler_flux.h>
+
 #include <array>
 #include <cmath>
 
 namespace granhydro::physics
 {
-  template <int dim>
-  using State = std::array<double, dim + 2>;
-
   template <int dim>
   struct IdealGas
   {
@@ -34,13 +33,7 @@ namespace granhydro::physics
     /// internal energy per grain in units of T: 1/(gamma_a - 1)
     double heat_capacity() const { return 1. / (gamma - 1.); }
 
-    double kinetic_energy(const State<dim> &U) const
-    {
-      double m2 = 0;
-      for (int d = 0; d < dim; ++d)
-        m2 += U[1 + d] * U[1 + d];
-      return 0.5 * m2 / U[0];
-    }
+    double kinetic_energy(const State<dim> &U) const { return physics::kinetic_energy<dim>(U); }
 
     double pressure(const State<dim> &U) const
     {
@@ -65,13 +58,8 @@ namespace granhydro::physics
     /// physical flux F_d(U) (paper 2.6 with m = 1); returns the pressure too
     double flux(const State<dim> &U, const unsigned int d, State<dim> &F) const
     {
-      const double p  = pressure(U);
-      const double ud = U[1 + d] / U[0];
-      F[0]            = U[1 + d];
-      for (int k = 0; k < dim; ++k)
-        F[1 + k] = U[1 + k] * ud;
-      F[1 + d] += p;
-      F[energy] = (U[energy] + p) * ud;
+      const double p = pressure(U);
+      euler_flux<dim>(U, p, d, F);
       return p;
     }
 
