@@ -20,9 +20,10 @@ namespace granhydro::io
     class Fields : public DataPostprocessor<dim>
     {
     public:
-      Fields(const Units &u, const Description &desc)
+      Fields(const Units &u, const Description &desc, const std::array<double, 3> &frame_velocity)
         : units(u)
         , desc(desc)
+        , frame_velocity(frame_velocity)
       {}
 
       void evaluate_vector_field(const DataPostprocessorInputs::Vector<dim> &in,
@@ -39,7 +40,7 @@ namespace granhydro::io
             out[q][k++] = n * units.number_density();
             out[q][k++] = n * units.number_density() * units.mass;
             for (unsigned int d = 0; d < dim; ++d)
-              out[q][k++] = U[1 + d] / n * units.velocity;
+              out[q][k++] = U[1 + d] / n * units.velocity + frame_velocity[d];
             out[q][k++] = desc.temperature(U) * units.energy();
             out[q][k++] = p * units.pressure();
           }
@@ -73,6 +74,7 @@ namespace granhydro::io
     private:
       Units                          units;
       const Description &desc;
+      std::array<double, 3>          frame_velocity; // lab frame = container frame + ds/dt [m/s]
     };
   } // namespace
 
@@ -100,6 +102,19 @@ namespace granhydro::io
   }
 
   template <int dim, class Description>
+  std::array<double, 3> Output<dim, Description>::frame_velocity(const double time_si) const
+  {
+    // vibrated container (physics.md 5.3): s(t) = A sin(w t) e_s, ds/dt = A w cos(w t) e_s
+    std::array<double, 3> v{{0, 0, 0}};
+    if (scene.vibration_amplitude > 0)
+      {
+        const double w = 2 * M_PI * scene.vibration_frequency;
+        v[scene.vibration_direction] = scene.vibration_amplitude * w * std::cos(w * time_si);
+      }
+    return v;
+  }
+
+  template <int dim, class Description>
   void Output<dim, Description>::write(const Vector &U, const double time_si, const unsigned int step)
   {
     if (scene.write_vtu)
@@ -112,7 +127,7 @@ namespace granhydro::io
   template <int dim, class Description>
   void Output<dim, Description>::write_vtu(const Vector &U, const double time_si, const unsigned int step)
   {
-    Fields<dim, Description> fields(units, desc);
+    Fields<dim, Description> fields(units, desc, frame_velocity(time_si));
     DataOut<dim> data_out;
     data_out.attach_dof_handler(patch.dof_handler());
     U.update_ghost_values();
@@ -165,7 +180,9 @@ namespace granhydro::io
     if (!profiles_started)
       {
         out << "# averages over the directions other than " << ax[pd]
-            << " (SI units); one block per output time\n";
+            << " (SI units); one block per output time"
+            << (scene.vibration_amplitude > 0 ? "; velocities in the lab frame (container frame + ds/dt)" : "")
+            << "\n";
         out << "time_s," << ax[pd] << "_m,n_1/m3";
         for (unsigned int d = 0; d < dim; ++d)
           out << ",n*u_" << ax[d] << "_1/(m2 s)";
@@ -181,7 +198,7 @@ namespace granhydro::io
         out << time_si << ',' << patch.lower(pd) + (l + 0.5) * patch.cell_size(pd) << ','
             << a[0] / k * nu;
         for (unsigned int d = 0; d < dim; ++d)
-          out << ',' << a[1 + d] / k * nu * units.velocity;
+          out << ',' << a[1 + d] / k * nu * units.velocity + a[0] / k * nu * frame_velocity(time_si)[d];
         out << ',' << a[NC - 1] / k * units.pressure() << ',' << a[NC] / k << ','
             << a[NC + 1] / k * units.energy() << '\n';
       }

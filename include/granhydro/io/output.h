@@ -3,7 +3,8 @@
  * @file output.h
  * Output for people: VTU/PVTU per output time plus a PVD series for ParaView
  * (SI fields with units in their names), and profiles.csv with averages over
- * the directions other than the profile direction.
+ * the directions other than the profile direction. Velocities are written in
+ * the lab frame: for a vibrated container the frame velocity ds/dt is added.
  */
 #include <granhydro/mesh/cartesian_patch.h>
 #include <granhydro/physics/granular_gas.h>
@@ -12,6 +13,7 @@
 
 #include <deal.II/lac/la_parallel_vector.h>
 
+#include <array>
 #include <string>
 #include <utility>
 #include <vector>
@@ -29,6 +31,8 @@ namespace granhydro::io
     void write(const Vector &U, const double time_si, const unsigned int step);
 
   private:
+    /// velocity of the frame the equations are solved in (vibrated container) [m/s]
+    std::array<double, 3> frame_velocity(const double time_si) const;
     void write_vtu(const Vector &U, const double time_si, const unsigned int step);
     void write_profiles(const Vector &U, const double time_si);
 
