@@ -46,3 +46,7 @@ granhydro_test_executable(test_walls test_walls.cc)
 add_test(NAME verify.walls COMMAND test_walls)
 set_tests_properties(verify.walls PROPERTIES LABELS verify TIMEOUT 300)
 granhydro_test_executable(test_couette test_couette.cc)
+
+granhydro_test_executable(test_vibration test_vibration.cc)
+add_test(NAME verify.vibration COMMAND test_vibration)
+set_tests_properties(verify.vibration PROPERTIES LABELS verify TIMEOUT 300)
