@@ -121,6 +121,8 @@ namespace granhydro::io
       write_vtu(U, time_si, step);
     if (scene.write_profiles)
       write_profiles(U, time_si);
+    if (scene.section_direction >= 0)
+      write_cross_section(U, time_si);
     ++counter;
   }
 
@@ -201,6 +203,64 @@ namespace granhydro::io
           out << ',' << a[1 + d] / k * nu * units.velocity + a[0] / k * nu * frame_velocity(time_si)[d];
         out << ',' << a[NC - 1] / k * units.pressure() << ',' << a[NC] / k << ','
             << a[NC + 1] / k * units.energy() << '\n';
+      }
+  }
+
+  template <int dim, class Description>
+  void Output<dim, Description>::write_cross_section(const Vector &U, const double time_si)
+  {
+    if constexpr (dim == 3)
+      {
+        const unsigned int sd = scene.section_direction, a = (sd + 1) % 3, b = (sd + 2) % 3;
+        const unsigned int ia = std::min(a, b), ib = std::max(a, b);
+        const unsigned int na = patch.cells(ia), nb = patch.cells(ib);
+        constexpr unsigned int ncol = 7; // n, n u (3), phi, T, count
+        std::vector<double> sum(std::size_t(na) * nb * ncol, 0.);
+        const auto          fv = frame_velocity(time_si);
+        for (unsigned int s = 0; s < patch.n_owned(); ++s)
+          {
+            physics::State<3> S;
+            for (unsigned int c = 0; c < 5; ++c)
+              S[c] = U.local_element(std::size_t(s) * 5 + c);
+            const auto &l = patch.lattice(s);
+            double     *v = &sum[(std::size_t(l[ia]) + std::size_t(na) * l[ib]) * ncol];
+            v[0] += S[0];
+            for (unsigned int d = 0; d < 3; ++d)
+              v[1 + d] += S[1 + d];
+            v[4] += S[0] * M_PI / 6.;
+            v[5] += desc.temperature(S);
+            v[6] += 1;
+          }
+        Utilities::MPI::sum(sum, patch.communicator(), sum);
+        if (Utilities::MPI::this_mpi_process(patch.communicator()) != 0)
+          return;
+        std::ofstream out(scene.output_directory + "/cross_section.csv",
+                          section_started ? std::ios::app : std::ios::trunc);
+        const char *ax = "xyz";
+        if (!section_started)
+          {
+            out << "# averages along " << ax[sd] << " (SI units, lab-frame velocities); one block per output time\n"
+                << "time_s," << ax[ia] << "_m," << ax[ib] << "_m,n_1/m3,u_x_m/s,u_y_m/s,u_z_m/s,"
+                << "packing_fraction,temperature_J\n";
+            section_started = true;
+          }
+        out << std::setprecision(10);
+        for (unsigned int j = 0; j < nb; ++j)
+          for (unsigned int i = 0; i < na; ++i)
+            {
+              const double *v = &sum[(std::size_t(i) + std::size_t(na) * j) * ncol];
+              const double  k = v[6], n = v[0] / k;
+              out << time_si << ',' << patch.lower(ia) + (i + 0.5) * patch.cell_size(ia) << ','
+                  << patch.lower(ib) + (j + 0.5) * patch.cell_size(ib) << ',' << n * units.number_density();
+              for (unsigned int d = 0; d < 3; ++d)
+                out << ',' << v[1 + d] / k / n * units.velocity + fv[d];
+              out << ',' << v[4] / k << ',' << v[5] / k * units.energy() << '\n';
+            }
+      }
+    else
+      {
+        (void)U;
+        (void)time_si;
       }
   }
 

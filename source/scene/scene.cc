@@ -355,6 +355,10 @@ namespace granhydro
                         "profile direction.");
       prm.declare_entry("Profile direction", "auto", Patterns::Selection("auto|x|y|z"),
                         "Direction of the profiles; auto = the last resolved direction.");
+      prm.declare_entry("Cross-section direction", "none", Patterns::Selection("none|x|y|z"),
+                        "3D scenes: also write cross_section.csv, the averages along this "
+                        "direction as a map over the other two (e.g. x for the chute: the "
+                        "velocity field across the channel, paper fig. 8).");
       prm.declare_entry("Progress interval", "5", Patterns::Double(0, Patterns::Double::max_double_value),
                         "Wall-clock seconds between progress lines (0 = every step).");
       prm.declare_entry("Verbose", "true", Patterns::Bool(), "Print the run log.");
@@ -540,6 +544,10 @@ end
       const std::string p = prm.get("Profile direction");
       s.profile_direction = p == "auto" ? -1 : (p == "x" ? 0 : (p == "y" ? 1 : 2));
     }
+    {
+      const std::string c = prm.get("Cross-section direction");
+      s.section_direction = c == "none" ? -1 : (c == "x" ? 0 : (c == "y" ? 1 : 2));
+    }
     s.progress_interval = prm.get_double("Progress interval");
     s.verbose           = prm.get_bool("Verbose");
     prm.leave_subsection();
@@ -660,6 +668,8 @@ end
                                  "step (granular model with transport, cooling or gravity)");
     if (s.output_directory.empty())
       fail("Output/Directory", "must not be empty");
+    if (s.section_direction >= 0 && dim != 3)
+      fail("Output/Cross-section direction", "cross sections need a 3D scene");
     if (s.profile_direction >= static_cast<int>(dim))
       fail("Output/Profile direction", "names a direction the " + std::to_string(dim) +
                                          "D scene does not resolve");

@@ -35,6 +35,7 @@ namespace granhydro::io
     std::array<double, 3> frame_velocity(const double time_si) const;
     void write_vtu(const Vector &U, const double time_si, const unsigned int step);
     void write_profiles(const Vector &U, const double time_si);
+    void write_cross_section(const Vector &U, const double time_si);
 
     const Scene                   &scene;
     const CartesianPatch<dim>     &patch;
@@ -42,6 +43,6 @@ namespace granhydro::io
     Units                          units;
     unsigned int                   counter = 0;
     std::vector<std::pair<double, std::string>> pvd_records;
-    bool profiles_started = false;
+    bool profiles_started = false, section_started = false;
   };
 } // namespace granhydro::io

@@ -141,6 +141,7 @@ namespace granhydro
     bool         write_vtu        = true;
     bool         write_profiles   = true;
     int          profile_direction = -1; // -1: last dimension
+    int          section_direction = -1; // 3D: average along this direction into a 2D map, -1: off
     double       progress_interval = 5;  // wall seconds
     bool         verbose           = true;
 

@@ -1,0 +1,64 @@
+#!/usr/bin/python3
+"""Plot the inclined-chute cross section (cross_section.csv, averages along the flow
+direction x) at the last output time: the down-slope velocity u_x(y, z) across the
+channel (paper fig. 8) and the packing fraction phi(y) across the channel at a few
+heights (paper fig. 7), plus phi(z) and u_x(z) on the centreline.
+Debian: apt-get install python3-matplotlib python3-numpy
+
+    /usr/bin/python3 tools/plot_chute.py OUTPUT_DIR [--out chute.png]
+"""
+import argparse
+import csv
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("directory")
+    p.add_argument("--out", default=None)
+    a = p.parse_args()
+    path = os.path.join(a.directory, "cross_section.csv")
+    if not os.path.exists(path):
+        sys.exit(f"plot_chute: no {path} (set 'Output/Cross-section direction = x')")
+    with open(path) as f:
+        rows = [r for r in csv.reader(l for l in f if not l.startswith("#"))]
+    header, data = rows[0], np.array([[float(v) for v in r] for r in rows[1:] if r])
+    t_last = data[:, 0].max()
+    d = data[data[:, 0] == t_last]
+    y, z = np.unique(d[:, 1]), np.unique(d[:, 2])
+    col = {h: i for i, h in enumerate(header)}
+    grid = lambda name: d[:, col[name]].reshape(len(z), len(y))
+    ux, phi = grid("u_x_m/s"), grid("packing_fraction")
+    fig, ax = plt.subplots(1, 3, figsize=(15, 4.5))
+    c = ax[0].contourf(y * 1e3, z * 1e3, ux, 20, cmap="viridis")
+    fig.colorbar(c, ax=ax[0], label="u_x [m/s]")
+    ax[0].set_xlabel("y [mm] (across)")
+    ax[0].set_ylabel("z [mm] (normal to the base)")
+    ax[0].set_title(f"down-slope velocity, t = {t_last:g} s")
+    for k in np.linspace(0, len(z) - 1, 4).astype(int):
+        ax[1].plot(y * 1e3, phi[k], label=f"z = {z[k] * 1e3:.1f} mm")
+    ax[1].set_xlabel("y [mm]")
+    ax[1].set_ylabel("packing fraction")
+    ax[1].legend(fontsize=7)
+    mid = len(y) // 2
+    ax[2].plot(phi[:, mid], z * 1e3, label="phi")
+    ax2 = ax[2].twiny()
+    ax2.plot(ux[:, mid], z * 1e3, "r--", label="u_x")
+    ax[2].set_xlabel("packing fraction (centreline)")
+    ax2.set_xlabel("u_x [m/s] (dashed)")
+    ax[2].set_ylabel("z [mm]")
+    fig.tight_layout()
+    out = a.out or os.path.join(a.directory, "chute.png")
+    fig.savefig(out, dpi=110)
+    print(f"plot_chute: wrote {out}")
+
+
+if __name__ == "__main__":
+    main()
