@@ -287,7 +287,8 @@ namespace granhydro::convection
     double            *u       = n ? &U.local_element(0) : nullptr;
     apply(W.data(), rhs0.data());
     cand.resize(n);
-    flags.reinit(patch.partitioner());
+    if (flags.get_partitioner() != patch.partitioner())
+      flags.reinit(patch.partitioner()); // once per mesh
     std::vector<char> low(patch.n_slots(), 0);
     for (unsigned int iter = 0;; ++iter)
       {
@@ -376,7 +377,6 @@ namespace granhydro::convection
     rhs0.resize(n);
     double *u = n ? &U.local_element(0) : nullptr;
     std::copy(u, u + n, U0.begin());
-    (void)rhs0;
     // eq. 4.10, each stage a convex combination of forward Euler steps, written with
     // integer weights and one division ((U0 + 2 v)/3, not U0/3 + 2v/3): the rounded
     // weights 1/3 and 2/3 sum to 1 - 5.6e-17, a systematic mass loss of that size per step
