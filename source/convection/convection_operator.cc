@@ -346,12 +346,6 @@ namespace granhydro::convection
   }
 
   template <int dim, class Description>
-  void ConvectionOperator<dim, Description>::gather(const Vector &U, std::vector<double> &Wv) const
-  {
-    patch.gather(U, Wv);
-  }
-
-  template <int dim, class Description>
   double ConvectionOperator<dim, Description>::max_rate(const Vector &U) const
   {
     double m = 0;
@@ -380,13 +374,13 @@ namespace granhydro::convection
     // eq. 4.10, each stage a convex combination of forward Euler steps, written with
     // integer weights and one division ((U0 + 2 v)/3, not U0/3 + 2v/3): the rounded
     // weights 1/3 and 2/3 sum to 1 - 5.6e-17, a systematic mass loss of that size per step
-    gather(U, W);
+    patch.gather(U, W);
     if (!stage_update(U, 0., 1., 1., dt))
       return false;
-    gather(U, W);
+    patch.gather(U, W);
     if (!stage_update(U, 3., 1., 4., dt))
       return false;
-    gather(U, W);
+    patch.gather(U, W);
     if (!stage_update(U, 1., 2., 3., dt))
       return false;
     return true;

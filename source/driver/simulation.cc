@@ -113,12 +113,7 @@ namespace granhydro
     print_header();
 
     // initial state from the scene's expressions (SI), averaged over cells
-    std::map<std::string, double> constants{{"pi", M_PI}};
-    for (const auto &c : Utilities::split_string_list(scene.initial_constants, ','))
-      {
-        const auto kv     = Utilities::split_string_list(c, '=');
-        constants[kv[0]] = std::stod(kv[1]);
-      }
+    const auto constants = expression_constants(scene);
     const std::string vars = dim == 1 ? "x" : (dim == 2 ? "x,y" : "x,y,z");
     FunctionParser<dim> phi(1), T(1);
     phi.initialize(vars, scene.initial_packing_fraction, constants);

@@ -145,6 +145,25 @@ namespace granhydro
     return e;
   }
 
+  std::map<std::string, double> expression_constants(const Scene &s)
+  {
+    std::map<std::string, double> constants{{"pi", M_PI}};
+    for (const auto &c : dealii::Utilities::split_string_list(s.initial_constants, ','))
+      {
+        const auto kv = dealii::Utilities::split_string_list(c, '=');
+        if (kv.size() != 2)
+          throw SceneError("in " + s.source + ": parameter 'Initial state/Constants': expected "
+                           "'name=value' pairs, got '" + c + "'");
+        double             v;
+        std::istringstream is(kv[1]);
+        if (!(is >> v) || !(is >> std::ws).eof())
+          throw SceneError("in " + s.source + ": parameter 'Initial state/Constants': cannot read "
+                           "the value of '" + kv[0] + "' ('" + kv[1] + "' is not a number)");
+        constants[kv[0]] = v;
+      }
+    return constants;
+  }
+
   bool Scene::diffusion_active() const
   {
     if (model != "granular")
@@ -690,19 +709,7 @@ end
       } restore{old_buf};
       try
         {
-          std::map<std::string, double> constants{{"pi", M_PI}};
-          for (const auto &c : dealii::Utilities::split_string_list(s.initial_constants, ','))
-            {
-              const auto kv = dealii::Utilities::split_string_list(c, '=');
-              if (kv.size() != 2)
-                fail("Initial state/Constants", "expected 'name=value' pairs, got '" + c + "'");
-              double             v;
-              std::istringstream is(kv[1]);
-              if (!(is >> v) || !(is >> std::ws).eof())
-                fail("Initial state/Constants", "cannot read the value of '" + kv[0] + "' ('" +
-                                                  kv[1] + "' is not a number)");
-              constants[kv[0]] = v;
-            }
+          const auto constants = expression_constants(s);
           // the variables the run will offer: x (1D), x,y (2D), x,y,z (3D)
           double v = 0;
           if (dim == 1)

@@ -56,9 +56,6 @@ namespace granhydro::convection
     /// W: slot array (owned + MPI ghosts + boundary ghosts); rhs: n_owned*NC
     void apply(const double *W, double *rhs) const;
 
-    /// copy owned+ghost values of U (ghosts updated) into W and fill boundary ghosts
-    void gather(const Vector &U, std::vector<double> &W) const;
-
     /// max over owned cells of sum_d (|u_d| + c)/dx_d (global MPI max)
     double max_rate(const Vector &U) const;
 

@@ -8,6 +8,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include <array>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -166,6 +167,9 @@ namespace granhydro
 
   /// the effects the scene activates, each with the reason (design.md "Scenes and effects")
   std::vector<std::pair<std::string, std::string>> active_effects(const Scene &scene);
+
+  /// pi and the scene's 'Initial state/Constants' for the expressions; throws SceneError
+  std::map<std::string, double> expression_constants(const Scene &scene);
 
   /// check every impossible combination; throws SceneError
   void validate(const Scene &scene);
