@@ -187,7 +187,8 @@ namespace granhydro::diffusion
 
   template <int dim>
   void DiffusionOperator<dim>::make_sparsity(TrilinosWrappers::SparsityPattern &sp,
-                                             const unsigned int                 stages) const
+                                             const unsigned int                 stages,
+                                             const bool edge_neighbours) const
   {
     const auto        &part  = *patch.partitioner();
     const unsigned int n_own = patch.n_owned();
@@ -207,7 +208,7 @@ namespace granhydro::diffusion
               const unsigned int f = patch.neighbor(s, d, o);
               cells.push_back(src[f]);
               for (unsigned int j = 0; j < dim; ++j) // edge neighbours (cross terms)
-                if (j != d)
+                if (j != d && edge_neighbours)
                   for (const int o2 : {-1, 1})
                     {
                       const int e = patch.neighbor(f, j, o2);

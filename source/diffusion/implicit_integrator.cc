@@ -102,14 +102,16 @@ namespace granhydro::diffusion
     f.resize(n);
     op.set_time(t);
     op.residual(W.data(), f.data());
-    if (!have_pattern[stages])
+    const bool coupled = full && !op.diagonal_only();
+    auto      &M       = M_[stages][coupled];
+    if (!have_pattern[stages][coupled])
       {
         TrilinosWrappers::SparsityPattern sp;
-        op.make_sparsity(sp, stages);
-        M[stages].reinit(sp);
-        have_pattern[stages] = true;
+        op.make_sparsity(sp, stages, coupled);
+        M.reinit(sp);
+        have_pattern[stages][coupled] = true;
       }
-    op.assemble_newton_matrix(W.data(), A, dt, M[stages], full);
+    op.assemble_newton_matrix(W.data(), A, dt, M, coupled);
     ++stats.jacobians;
     TrilinosWrappers::PreconditionILU ilu;
     TrilinosWrappers::PreconditionAMG amg;
@@ -117,12 +119,12 @@ namespace granhydro::diffusion
       {
         TrilinosWrappers::PreconditionAMG::AdditionalData data;
         data.elliptic = false;
-        amg.initialize(M[stages], data);
+        amg.initialize(M, data);
       }
     else
-      ilu.initialize(M[stages]);
+      ilu.initialize(M);
 
-    const IndexSet owned = M[stages].locally_owned_range_indices();
+    const IndexSet owned = M.locally_owned_range_indices();
     TrilinosWrappers::MPI::Vector rhs(owned, comm), delta(owned, comm);
     std::vector<double> K(n * stages);
     for (std::size_t i = 0; i < n; ++i) // start from f(U0) in every stage
@@ -168,9 +170,9 @@ namespace granhydro::diffusion
           {
             TrilinosWrappers::SolverGMRES gmres(control);
             if (settings.amg)
-              gmres.solve(M[stages], delta, rhs, amg);
+              gmres.solve(M, delta, rhs, amg);
             else
-              gmres.solve(M[stages], delta, rhs, ilu);
+              gmres.solve(M, delta, rhs, ilu);
           }
         catch (const std::exception &)
           {

@@ -72,7 +72,8 @@ namespace granhydro::diffusion
 
     /// sparsity of the Jacobian (owned rows; face and edge neighbours), with each
     /// entry repeated for s x s stages (interleaved numbering stages * dof + stage)
-    void make_sparsity(dealii::TrilinosWrappers::SparsityPattern &sp, const unsigned int stages) const;
+    void make_sparsity(dealii::TrilinosWrappers::SparsityPattern &sp, const unsigned int stages,
+                       const bool edge_neighbours) const;
 
     /**
      * M = I - dt (A (x) J) for the Butcher matrix A (stages x stages) with J = df/dU
@@ -86,6 +87,9 @@ namespace granhydro::diffusion
     double explicit_rate(const double *W) const;
 
     const CartesianPatch<dim> &get_patch() const { return patch; }
+
+    /// true when the fluxes use the diagonal (normal-gradient) part only
+    bool diagonal_only() const { return settings.diagonal_only; }
 
     /// time (scaled) at which the sources are evaluated (vibrated container)
     void set_time(const double t) const { time = t; }

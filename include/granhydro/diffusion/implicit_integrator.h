@@ -92,8 +92,11 @@ namespace granhydro::diffusion
     const physics::GranularGas<dim> &desc;
     IntegratorSettings               settings;
     IntegratorStatistics             stats;
-    dealii::TrilinosWrappers::SparseMatrix M[3]; // indexed by number of stages
-    bool                                   have_pattern[3] = {false, false, false};
+    // indexed by [number of stages][cross terms coupled]: the lagged Jacobian only
+    // couples face neighbours (7-point in 3D), the fully coupled one adds the edge
+    // neighbours (19-point); a 19-point pattern full of zeros makes ILU ~3x dearer
+    dealii::TrilinosWrappers::SparseMatrix M_[3][2];
+    bool                                   have_pattern[3][2] = {};
     std::vector<double>                    W, U0, f;
     std::string                            last_failure;
     Vector                                 Y;
