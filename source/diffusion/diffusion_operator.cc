@@ -74,6 +74,7 @@ namespace granhydro::diffusion
   {
     const double n = U[0], T = desc.temperature(U);
     auto         c = desc.model.transport(n, std::max(T, 0.), 1., 1.);
+    c.eta += desc.contact.viscosity(n); // dense closure: frictional shear viscosity (0 if off)
     if (!settings.viscous)
       c.eta = c.gamma = 0;
     if (!settings.heat)
@@ -117,7 +118,7 @@ namespace granhydro::diffusion
         // F^E -= q_w, through the lower wall (west face) F^E += q_w
         const State<dim> &Ui = wall.sign > 0 ? UL : UR;
         const double      T  = std::max(desc.temperature(Ui), 0.);
-        const double      pw = desc.pressure(Ui);
+        const double      pw = desc.pressure(Ui) - desc.contact.pressure(Ui[0]); // collisional
         const double      qw = (1 - wall.eps_w) * std::max(pw, 0.) * std::sqrt(2 * T / M_PI);
         F[dim + 1] -= wall.sign * qw;
       }

@@ -25,8 +25,15 @@ namespace granhydro
     if constexpr (std::is_same_v<Description, physics::IdealGas<dim>>)
       desc.gamma = scene.adiabatic_index;
     else
-      desc = Description(physics::GarzoDufty1999(scene.restitution, scene.phi_freezing,
-                                                 scene.phi_close_packing, scene.guard_delta));
+      {
+        desc = Description(physics::GarzoDufty1999(scene.restitution, scene.phi_freezing,
+                                                   scene.phi_close_packing, scene.guard_delta));
+        if (scene.dense_closure != "none") // scaled units: pressure p0, time t0
+          desc.contact = physics::ContactPressure(
+            scene.closure_F / units_.pressure(), scene.closure_phi_min, scene.phi_close_packing,
+            scene.closure_r, scene.closure_s, scene.guard_delta,
+            scene.closure_time / units_.time() * std::sin(scene.closure_angle * M_PI / 180.));
+      }
   }
 
   template <int dim, class Description>
@@ -142,6 +149,9 @@ namespace granhydro
             ke += 0.5 * m * n * u[d] * u[d];
           }
         Us[dim + 1] = ke + n * t * desc.heat_capacity();
+        if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>) // contact potential
+          Us[dim + 1] += desc.contact.energy_density(n * units_.length * units_.length * units_.length) *
+                         units_.pressure();
         // this Us is in SI with a *mass* momentum; convert to number momentum below
         for (unsigned int d = 0; d < dim; ++d)
           Us[1 + d] /= m;

@@ -125,6 +125,11 @@ namespace granhydro
       e.emplace_back("heat conduction", "granular model, Effects/Heat conduction = true");
     if (s.cooling && s.restitution < 1)
       e.emplace_back("inelastic cooling", "restitution " + num(s.restitution) + " < 1");
+    if (s.dense_closure != "none")
+      e.emplace_back("dense closure: contact pressure" +
+                       std::string(s.closure_time > 0 && s.viscosity ? " and frictional viscosity" : ""),
+                     "Dense closure/Model = " + s.dense_closure + ", F = " + num(s.closure_F) +
+                       " Pa, phi_min = " + num(s.closure_phi_min));
     double g2 = 0;
     for (unsigned int d = 0; d < s.dimension; ++d)
       g2 += s.gravity[d] * s.gravity[d];
@@ -215,6 +220,29 @@ namespace granhydro
                               "the heat flux q_w = (1 - eps_w) p_w sqrt(2T/(pi m)) "
                               "(physics.md 5.2, contact theorem; granular model).");
         }
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Dense closure");
+    {
+      prm.declare_entry("Model", "none", Patterns::Selection("none|johnson-jackson"),
+                        "Contact/frictional stresses of the dense regime (granular model; the "
+                        "paper has none). 'johnson-jackson': pressure p_f ~ F (phi - phi_min)^r "
+                        "/ (phi_c - phi)^s from a contact potential in the energy (T stays "
+                        "positive on expansion) and shear viscosity mu_f = t_f sin(theta_f) p_f. "
+                        "Without it a pile cooling at rest reaches phi_c in finite time and the "
+                        "run stops with a diagnostic (README, 'Dense closure').");
+      prm.declare_entry("Coefficient", "0.05", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "F [Pa] (MFIX/OpenFOAM default 0.05).");
+      prm.declare_entry("Minimum packing fraction", "0.5", Patterns::Double(0, 1),
+                        "phi_min: no contact stress below it (default 0.5).");
+      prm.declare_entry("Exponent r", "2", Patterns::Double(1, 10), "r (default 2, at least 1).");
+      prm.declare_entry("Exponent s", "5", Patterns::Double(1.5, 20), "s (default 5, above 1).");
+      prm.declare_entry("Viscosity time", "0.5", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "t_f [s] of the frictional viscosity mu_f = t_f sin(theta_f) p_f "
+                        "(OpenFOAM's Johnson-Jackson choice 0.5 s; 0 switches mu_f off).");
+      prm.declare_entry("Friction angle", "28.5", Patterns::Double(0, 90),
+                        "theta_f [degrees] of the frictional viscosity.");
     }
     prm.leave_subsection();
 
@@ -495,6 +523,16 @@ end
     s.guard_delta       = prm.get_double("Close packing guard");
     prm.leave_subsection();
 
+    prm.enter_subsection("Dense closure");
+    s.dense_closure   = prm.get("Model");
+    s.closure_F       = prm.get_double("Coefficient");
+    s.closure_phi_min = prm.get_double("Minimum packing fraction");
+    s.closure_r       = prm.get_double("Exponent r");
+    s.closure_s       = prm.get_double("Exponent s");
+    s.closure_time    = prm.get_double("Viscosity time");
+    s.closure_angle   = prm.get_double("Friction angle");
+    prm.leave_subsection();
+
     prm.enter_subsection("Initial state");
     s.initial_packing_fraction = prm.get("Packing fraction");
     s.initial_velocity         = prm.get("Velocity");
@@ -660,6 +698,14 @@ end
           fail("Material/Freezing packing fraction", "must be below 'Close packing fraction'");
         if (!(s.guard_delta < s.phi_close_packing - s.phi_freezing))
           fail("Material/Close packing guard", "must be smaller than phi_c - phi_f");
+        if (s.dense_closure != "none")
+          {
+            if (!(s.closure_F > 0))
+              fail("Dense closure/Coefficient", "must be positive");
+            if (!(s.closure_phi_min < s.phi_close_packing - s.guard_delta))
+              fail("Dense closure/Minimum packing fraction",
+                   "must be below phi_c - delta (Material/Close packing fraction minus guard)");
+          }
       }
     else
       {
@@ -679,6 +725,8 @@ end
                                             "D scene does not resolve");
     if (s.vibration_amplitude > 0 && s.model != "granular")
       fail("Effects/Vibration amplitude", "a vibrated container needs 'Material/Model = granular'");
+    if (s.dense_closure != "none" && s.model != "granular")
+      fail("Dense closure/Model", "a dense closure needs 'Material/Model = granular'");
     if (!s.convection && s.fixed_time_step <= 0)
       fail("Numerics/Fixed time step", "must be positive when 'Effects/Convection' is off (the "
                                        "convective CFL then sets no time step)");

@@ -10,6 +10,7 @@
  * Units: the code's scaled units (sigma = 1, m = 1), so phi = pi n / 6.
  * Admissible set: n > 0, T > 0, phi < phi_c (physics.md 2, guard item 1).
  */
+#include <granhydro/physics/contact_pressure.h>
 #include <granhydro/physics/garzo_dufty.h>
 #include <granhydro/physics/ideal_gas.h>
 
@@ -24,8 +25,9 @@ namespace granhydro::physics
     static constexpr unsigned int energy       = dim + 1;
     static constexpr double       phi_per_n    = M_PI / 6.; // sigma = 1
 
-    GarzoDufty1999 model;
-    double         phi_c = 0.64;
+    GarzoDufty1999  model;
+    double          phi_c = 0.64;
+    ContactPressure contact; ///< optional dense closure (inactive by default)
 
     GranularGas() = default;
     explicit GranularGas(const GarzoDufty1999 &m)
@@ -38,24 +40,27 @@ namespace granhydro::physics
 
     double kinetic_energy(const State<dim> &U) const { return physics::kinetic_energy<dim>(U); }
 
-    /// T = (2/3)(E - |u|^2/2) (physics.md 1, primitive recovery)
+    /// T = (2/3)(E - |u|^2/2 - w(phi)) (physics.md 1, primitive recovery; w = contact
+    /// potential per grain of the optional dense closure, 0 without it)
     double temperature(const State<dim> &U) const
     {
-      return (2. / 3.) * (U[energy] - kinetic_energy(U)) / U[0];
+      return (2. / 3.) * (U[energy] - kinetic_energy(U) - contact.energy_density(U[0])) / U[0];
     }
 
+    /// p = n T Z(phi) (+ p_f(n) with the dense closure)
     double pressure(const State<dim> &U) const
     {
       const double n = U[0];
-      return n * temperature(U) * model.Z(n * phi_per_n);
+      return n * temperature(U) * model.Z(n * phi_per_n) + contact.pressure(n);
     }
 
-    /// c^2 = T [Z + phi dZ/dphi + (2/3) Z^2] (physics.md 1.1), from n and p
+    /// c^2 = T [Z + phi dZ/dphi + (2/3) Z^2] (physics.md 1.1) (+ dp_f/dn), from n and p
     double sound_speed(const double n, const double p) const
     {
       const double phi = n * phi_per_n, Z = model.Z(phi);
-      const double T   = p / (n * Z);
-      return std::sqrt(std::max(T, 0.) * (Z + phi * model.dZ_dphi(phi) + (2. / 3.) * Z * Z));
+      const double T   = (p - contact.pressure(n)) / (n * Z);
+      return std::sqrt(std::max(T, 0.) * (Z + phi * model.dZ_dphi(phi) + (2. / 3.) * Z * Z) +
+                       contact.dpressure_dn(n));
     }
 
     double max_wave_speed(const State<dim> &U, const unsigned int d) const
@@ -89,7 +94,7 @@ namespace granhydro::physics
           U[1 + d] = n * u[d];
           ke += 0.5 * n * u[d] * u[d];
         }
-      U[energy] = ke + 1.5 * n * T;
+      U[energy] = ke + 1.5 * n * T + contact.energy_density(n);
       return U;
     }
   };

@@ -90,6 +90,15 @@ namespace granhydro
     double phi_close_packing = 0.64; // phi_c
     double guard_delta      = 1e-3;  // C1 continuation of chi beyond phi_c - delta
 
+    // Dense closure (optional, off by default; physics/contact_pressure.h)
+    std::string dense_closure = "none"; // none | johnson-jackson
+    double      closure_F       = 0.05; // [Pa]
+    double      closure_phi_min = 0.5;
+    double      closure_r       = 2;
+    double      closure_s       = 5;
+    double      closure_time    = 0.5;  // t_f [s] of mu_f = t_f sin(theta_f) p_f
+    double      closure_angle   = 28.5; // theta_f [degrees]
+
     // Initial state (FunctionParser expressions in x, y, z [m], SI values)
     std::string initial_packing_fraction = "0.01";
     std::string initial_velocity         = "0; 0; 0";

@@ -1,0 +1,121 @@
+#pragma once
+/**
+ * @file contact_pressure.h
+ * Optional dense-regime closure (off by default; the paper has none): a contact
+ * (frictional) pressure of Johnson–Jackson type, p_f ~ F (phi - phi_min)^r /
+ * (phi_c - phi)^s, as MFIX and OpenFOAM use, and a frictional shear viscosity
+ * mu_f = t_f sin(theta_f) p_f (OpenFOAM's JohnsonJackson choice, t_f = 0.5 s).
+ *
+ * Why it is needed: kinetic theory alone gives no pressure to a pile at rest
+ * (T -> 0). Under gravity the floor of a cooling column obeys, with
+ * x = phi_c - phi, p = n T Z ~ C T / x = weight (so T ~ x) and
+ * 3/2 n dT/dt = p dphi/dt / phi - cooling ~ -x^{1/2}: x' = -K sqrt(x), so the
+ * pair-correlation pole is reached in *finite* time (the 1D sedimentation
+ * column reaches phi_c at t = 0.118 s without a closure).
+ *
+ * How it stays consistent: p_f is derived from a contact potential energy per
+ * grain w(phi) that is part of the energy density,
+ *   nE = n |u|^2/2 + 3/2 n T + n w(phi),   p_f = n^2 dw/dn = n phi w'(phi),
+ * so the work of p_f is stored in w and given back on expansion: the equation
+ * for T is exactly the one without closure (no negative T on expansion, the
+ * flaw of adding p_f to the momentum equation only), total energy stays
+ * conserved, and the Euler system stays hyperbolic with
+ *   c^2 = c_kinetic^2 + dp_f/dn    (per unit grain mass).
+ * The potential is chosen in closed form,
+ *   w(phi) = A (phi - a)^{r+1} / (c - phi)^{s-1},  A = v F / (c^2 (s - 1)(c - a)),
+ * (a = phi_min, c = phi_c, v = grain volume), giving
+ *   p_f = F (phi - a)^r / (c - phi)^s * (phi/c)^2 [(r+1)(c - phi) + (s-1)(phi - a)] / ((s-1)(c - a)),
+ * i.e. Johnson–Jackson's law times a smooth factor that is 1 at phi_c and
+ * (a/c)^2 (r+1)/(s-1) at phi_min (0.46 for the defaults). Beyond
+ * phi_max = phi_c - delta, w is continued linearly (C1) so everything stays finite.
+ *
+ * Units: the code's scaled units (sigma = 1, m = 1, so v = pi/6 and phi = v n).
+ */
+#include <cmath>
+
+namespace granhydro::physics
+{
+  struct ContactPressure
+  {
+    bool   active    = false;
+    double F         = 0;    ///< scaled pressure
+    double phi_min   = 0.5;
+    double phi_c     = 0.64;
+    double r         = 2;
+    double s         = 5;
+    double delta     = 1e-3; ///< continuation beyond phi_c - delta
+    double mu_factor = 0;    ///< t_f sin(theta_f), scaled time: mu_f = mu_factor p_f
+
+    static constexpr double v = M_PI / 6.;
+
+    ContactPressure() = default;
+    ContactPressure(const double F, const double phi_min, const double phi_c, const double r,
+                    const double s, const double delta, const double mu_factor)
+      : active(F > 0)
+      , F(F)
+      , phi_min(phi_min)
+      , phi_c(phi_c)
+      , r(r)
+      , s(s)
+      , delta(delta)
+      , mu_factor(mu_factor)
+    {}
+
+    double A() const { return v * F / (phi_c * phi_c * (s - 1) * (phi_c - phi_min)); }
+
+    /// w(phi), w'(phi), w''(phi) (energy per grain), continued linearly beyond phi_c - delta
+    void potential(double phi, double &w, double &w1, double &w2) const
+    {
+      w = w1 = w2 = 0;
+      if (!active || !(phi > phi_min))
+        return;
+      const double pm = phi_c - delta;
+      const double ph = std::min(phi, pm);
+      const double y = ph - phi_min, x = phi_c - ph, a = A();
+      const double g = (r + 1) * x + (s - 1) * y, gp = s - r - 2;
+      w  = a * std::pow(y, r + 1) / std::pow(x, s - 1);
+      w1 = a * std::pow(y, r) * g / std::pow(x, s);
+      w2 = a * (r * std::pow(y, r - 1) * g / std::pow(x, s) + std::pow(y, r) * gp / std::pow(x, s) +
+                s * std::pow(y, r) * g / std::pow(x, s + 1));
+      if (phi > pm)
+        {
+          w += w1 * (phi - pm);
+          w2 = 0;
+        }
+    }
+
+    /// contact potential energy per volume n w(phi)
+    double energy_density(const double n) const
+    {
+      if (!active)
+        return 0;
+      double w, w1, w2;
+      potential(n * v, w, w1, w2);
+      return n * w;
+    }
+
+    /// p_f = n phi w'(phi)
+    double pressure(const double n) const
+    {
+      if (!active)
+        return 0;
+      double w, w1, w2;
+      potential(n * v, w, w1, w2);
+      return n * n * v * w1;
+    }
+
+    /// dp_f/dn = 2 phi w' + phi^2 w''
+    double dpressure_dn(const double n) const
+    {
+      if (!active)
+        return 0;
+      const double phi = n * v;
+      double       w, w1, w2;
+      potential(phi, w, w1, w2);
+      return 2 * phi * w1 + phi * phi * w2;
+    }
+
+    /// frictional shear viscosity mu_f = t_f sin(theta_f) p_f
+    double viscosity(const double n) const { return mu_factor > 0 ? mu_factor * pressure(n) : 0.; }
+  };
+} // namespace granhydro::physics
