@@ -188,7 +188,7 @@ namespace
       << "end\n"
          "subsection Output\n"
          "  set Write VTU = false\n"
-         "  set Write profiles = false\n"
+         "  set Write profiles = false\n  set Write checkpoint = false\n"
          "  set Progress interval = 1e9\n"
          "  set Verbose = false\n"
          "end\n";

@@ -31,7 +31,7 @@ namespace
   const std::string overrides = "\nsubsection Numerics\n  set Fixed time step = 5e-4\n  set CFL number = 0.9\nend\n"
                                 "subsection Diffusion step\n  set Newton tolerance = 1e-13\nend\n"
                                 "subsection Time\n  set End time = 0.02\nend\n"
-                                "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
+                                "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n"
                                 "  set Verbose = false\nend\n";
 
   /// layer averages of (n, n u_vertical, nE) [SI]

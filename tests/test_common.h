@@ -57,7 +57,7 @@ namespace granhydro::testing
        << "\n  set Reference velocity = 1\nend\n"
        << "subsection Time\n  set End time = " << s.end_time << "\n  set Maximum steps = "
        << s.max_steps << "\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
+       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n"
        << "  set Verbose = false\nend\n";
     return os.str();
   }

@@ -38,7 +38,7 @@ namespace
        << "\n  set Quadrature points = 3\nend\n"
        << "subsection Diffusion step\n  set Newton tolerance = 1e-12\nend\n"
        << "subsection Time\n  set End time = " << t_end << "\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
+       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n"
        << "  set Verbose = false\nend\n";
     return os.str();
   }

@@ -50,7 +50,7 @@ namespace
        << "subsection Diffusion step\n  set Integrator = " << s.integrator
        << "\n  set Newton tolerance = 1e-14\n  set Linear solver tolerance = 1e-14\nend\n"
        << "subsection Time\n  set End time = " << s.t_end << "\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
+       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n"
        << "  set Verbose = false\nend\n";
     return os.str();
   }

@@ -31,7 +31,7 @@ namespace
        << "  set Velocity = 0.02*cos(2*pi*y/0.012); 0.01*sin(2*pi*x/0.016)\n"
        << "  set Temperature = 1e-7*(1 + 0.2*cos(2*pi*x/0.016))\nend\n"
        << "subsection Time\n  set End time = " << t_end << "\n  set Maximum steps = 20\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Verbose = false\nend\n";
+       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n  set Verbose = false\nend\n";
     return os.str();
   }
 } // namespace

@@ -58,7 +58,7 @@ namespace
        << "  set Temperature = " << c.T << "\nend\n"
        << "subsection Diffusion step\n  set Newton tolerance = 1e-12\nend\n"
        << "subsection Time\n  set End time = 100\n  set Maximum steps = 1000\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
+       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n"
        << "  set Verbose = false\nend\n";
     return os.str();
   }

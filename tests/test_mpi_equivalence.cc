@@ -153,6 +153,7 @@ end
 subsection Output
   set Write VTU = false
   set Write profiles = false
+  set Write checkpoint = false
   set Verbose = false
 end
 )";

@@ -80,7 +80,7 @@ int main(int argc, char **argv)
     }
   const std::string kind = argv[2];
   const Scene       scene =
-    parse_scene(read(argv[1]) + "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
+    parse_scene(read(argv[1]) + "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n"
                                 "  set Verbose = false\nend\n",
                 argv[1]);
   AssertThrow(scene.dimension == 3, ExcMessage("the paper scenes are 3D"));
@@ -146,7 +146,7 @@ int main(int argc, char **argv)
       const unsigned int ny = scene.cells[1], kz = top / 2;
       std::vector<double> ux(ny, 0.), nn(ny, 0.);
       for (unsigned int c = 0; c < sim.patch().n_owned(); ++c)
-        if (sim.patch().lattice(c)[2] == kz)
+        if (sim.patch().lattice(c)[2] == int(kz))
           {
             const auto S = sim.state_si(c);
             ux[sim.patch().lattice(c)[1]] += S[1];

@@ -31,7 +31,7 @@ namespace
        << "subsection Numerics\n  set Fixed time step = " << dt << "\nend\n"
        << "subsection Diffusion step\n  set Newton tolerance = 1e-13\nend\n"
        << "subsection Time\n  set End time = 10\n  set Maximum steps = " << steps << "\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Verbose = false\nend\n";
+       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n  set Verbose = false\nend\n";
     return os.str();
   }
 } // namespace

@@ -50,3 +50,15 @@ granhydro_test_executable(test_couette test_couette.cc)
 granhydro_test_executable(test_vibration test_vibration.cc)
 add_test(NAME verify.vibration COMMAND test_vibration)
 set_tests_properties(verify.vibration PROPERTIES LABELS verify TIMEOUT 300)
+
+# checkpoint/restart: a run killed with SIGKILL mid-way and restarted from its last
+# checkpoint ends bitwise in the state of the uninterrupted run (1 rank and 2 ranks)
+add_test(NAME verify.restart_after_kill
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/restart_after_kill.sh $<TARGET_FILE:granhydro>
+          ${CMAKE_CURRENT_SOURCE_DIR}/data/restart_granular_2d.prm ${CMAKE_CURRENT_BINARY_DIR}/restart_1rank)
+add_test(NAME mpi.restart_after_kill_2ranks
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/restart_after_kill.sh $<TARGET_FILE:granhydro>
+          ${CMAKE_CURRENT_SOURCE_DIR}/data/restart_granular_2d.prm ${CMAKE_CURRENT_BINARY_DIR}/restart_2ranks
+          ${DEAL_II_MPIEXEC} -n 2)
+set_tests_properties(verify.restart_after_kill PROPERTIES LABELS verify TIMEOUT 300)
+set_tests_properties(mpi.restart_after_kill_2ranks PROPERTIES LABELS mpi TIMEOUT 300 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)

@@ -6,6 +6,9 @@
 #include <deal.II/base/timer.h>
 
 #include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -119,6 +122,13 @@ namespace granhydro
     U.reinit(patch_->partitioner());
     print_header();
 
+    if (!scene.initial_checkpoint.empty())
+      {
+        output = std::make_unique<io::Output<dim, Description>>(scene, *patch_, desc);
+        read_checkpoint(scene.initial_checkpoint);
+        return;
+      }
+
     // initial state from the scene's expressions (SI), averaged over cells
     const auto constants = expression_constants(scene);
     const std::string vars = dim == 1 ? "x" : (dim == 2 ? "x,y" : "x,y,z");
@@ -165,6 +175,143 @@ namespace granhydro
       throw SceneError("in " + scene.source + ": parameter 'Initial state/Temperature' must be "
                        "positive everywhere in the domain");
     output = std::make_unique<io::Output<dim, Description>>(scene, *patch_, desc);
+  }
+
+  namespace
+  {
+    /// fixed-size header of a checkpoint file (after checkpoint_magic())
+    struct CheckpointHeader
+    {
+      std::int32_t  dim, n_components;
+      std::uint64_t cells[3];
+      double        lower[3], upper[3];
+      double        length, mass, velocity; ///< the scaled units the values are in
+      double        time;                   ///< scaled
+      std::uint64_t step, n_cells, outputs;
+      char          model[16];
+    };
+  } // namespace
+
+  template <int dim, class Description>
+  void Simulation<dim, Description>::write_checkpoint(const std::string &file, const double t,
+                                                      const unsigned int step) const
+  {
+    constexpr unsigned int NC = dim + 2;
+    const unsigned int     n  = patch_->n_owned();
+    std::vector<double>    mine(std::size_t(n) * (NC + 1));
+    for (unsigned int s = 0; s < n; ++s)
+      {
+        const auto &e = patch_->lattice(s);
+        mine[s * (NC + 1)] =
+          double(e[0] + std::int64_t(patch_->cells(0)) * (e[1] + std::int64_t(patch_->cells(1)) * e[2]));
+        for (unsigned int c = 0; c < NC; ++c)
+          mine[s * (NC + 1) + 1 + c] = U.local_element(std::size_t(s) * NC + c);
+      }
+    const auto all = Utilities::MPI::gather(comm, mine, 0);
+    if (Utilities::MPI::this_mpi_process(comm) != 0)
+      return;
+    std::vector<std::pair<double, const double *>> rows;
+    for (const auto &part : all)
+      for (std::size_t i = 0; i < part.size(); i += NC + 1)
+        rows.emplace_back(part[i], &part[i + 1]);
+    std::sort(rows.begin(), rows.end(), [](const auto &a, const auto &b) { return a.first < b.first; });
+    CheckpointHeader h{};
+    h.dim          = dim;
+    h.n_components = NC;
+    for (unsigned int d = 0; d < 3; ++d)
+      {
+        h.cells[d] = d < dim ? scene.cells[d] : 1;
+        h.lower[d] = d < dim ? scene.lower[d] : 0;
+        h.upper[d] = d < dim ? scene.upper[d] : 0;
+      }
+    h.length   = units_.length;
+    h.mass     = units_.mass;
+    h.velocity = units_.velocity;
+    h.time     = t;
+    h.step     = step;
+    h.n_cells  = rows.size();
+    h.outputs  = output ? output->count() : 0;
+    std::snprintf(h.model, sizeof(h.model), "%s", scene.model.c_str());
+    const std::string tmp = file + ".tmp";
+    {
+      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+      out.write(checkpoint_magic().data(), checkpoint_magic().size());
+      out.write(reinterpret_cast<const char *>(&h), sizeof(h));
+      for (const auto &[key, v] : rows)
+        {
+          const std::int64_t k = std::int64_t(key);
+          out.write(reinterpret_cast<const char *>(&k), sizeof(k));
+          out.write(reinterpret_cast<const char *>(v), NC * sizeof(double));
+        }
+      if (!out)
+        throw RunError("cannot write the checkpoint " + tmp);
+    }
+    if (std::rename(tmp.c_str(), file.c_str()) != 0)
+      throw RunError("cannot rename " + tmp + " to " + file);
+  }
+
+  template <int dim, class Description>
+  void Simulation<dim, Description>::read_checkpoint(const std::string &file)
+  {
+    constexpr unsigned int NC   = dim + 2;
+    const std::string      what = "in " + scene.source + ": parameter 'Initial state/Checkpoint': '" +
+                             file + "' ";
+    std::ifstream    in(file, std::ios::binary);
+    std::string      magic(checkpoint_magic().size(), '\0');
+    CheckpointHeader h{};
+    if (!in || !in.read(&magic[0], magic.size()) || magic != checkpoint_magic() ||
+        !in.read(reinterpret_cast<char *>(&h), sizeof(h)))
+      throw SceneError(what + "is not a readable granhydro checkpoint file");
+    bool same_mesh = h.dim == dim && h.n_components == int(NC) && h.n_cells == patch_->n_global_cells();
+    for (unsigned int d = 0; d < dim; ++d)
+      same_mesh = same_mesh && h.cells[d] == scene.cells[d] &&
+                  std::abs(h.lower[d] - scene.lower[d]) <= 1e-12 * std::abs(scene.upper[d] - scene.lower[d]) &&
+                  std::abs(h.upper[d] - scene.upper[d]) <= 1e-12 * std::abs(scene.upper[d] - scene.lower[d]);
+    if (!same_mesh)
+      throw SceneError(what + "was written for another mesh (dimension, Domain/Cells or corners differ)");
+    if (std::string(h.model, strnlen(h.model, sizeof(h.model))) != scene.model)
+      throw SceneError(what + "was written with 'Material/Model = " +
+                       std::string(h.model, strnlen(h.model, sizeof(h.model))) + "'");
+    // values are in the writer's scaled units: convert only if ours differ (restart with the
+    // same material is then bitwise exact)
+    const bool   same_units = h.length == units_.length && h.mass == units_.mass && h.velocity == units_.velocity;
+    const double sn = std::pow(units_.length / h.length, 3); // n' = n L'^3 / L^3
+    const double sm = sn * units_.velocity / h.velocity;
+    const double se = (h.mass * h.velocity * h.velocity / std::pow(h.length, 3)) / units_.pressure();
+    std::vector<std::int64_t> key_of(patch_->n_owned());
+    std::map<std::int64_t, unsigned int> slot_of;
+    for (unsigned int s = 0; s < patch_->n_owned(); ++s)
+      {
+        const auto &e = patch_->lattice(s);
+        slot_of[e[0] + std::int64_t(patch_->cells(0)) * (e[1] + std::int64_t(patch_->cells(1)) * e[2])] = s;
+      }
+    std::size_t found = 0;
+    double      v[NC];
+    for (std::uint64_t i = 0; i < h.n_cells; ++i)
+      {
+        std::int64_t k;
+        if (!in.read(reinterpret_cast<char *>(&k), sizeof(k)) ||
+            !in.read(reinterpret_cast<char *>(v), sizeof(v)))
+          throw SceneError(what + "is truncated");
+        const auto it = slot_of.find(k);
+        if (it == slot_of.end())
+          continue;
+        ++found;
+        for (unsigned int c = 0; c < NC; ++c)
+          {
+            const double f = same_units ? 1. : (c == 0 ? sn : (c == NC - 1 ? se : sm));
+            U.local_element(std::size_t(it->second) * NC + c) = v[c] * f;
+          }
+      }
+    if (Utilities::MPI::sum(found, comm) != patch_->n_global_cells() || found != patch_->n_owned())
+      throw SceneError(what + "does not hold every cell of the mesh");
+    start_time_ = h.time * h.length / h.velocity / units_.time();
+    if (same_units)
+      start_time_ = h.time;
+    start_step_ = h.step;
+    output->resume(h.outputs, start_time());
+    pcout << "  initial state: checkpoint " << file << " (t = " << start_time() << " s, step "
+          << start_step_ << ")\n";
   }
 
   template <int dim, class Description>
@@ -280,14 +427,27 @@ namespace granhydro
     const double t_end = scene.end_time / t0;
     const double dt_fixed = scene.fixed_time_step / t0;
     const double interval = scene.output_interval / t0;
-    double       t = 0, next_output = interval > 0 ? interval : t_end;
+    double       t = start_time_, next_output = interval > 0 ? interval : t_end;
+    // the output times after a restart are the ones the uninterrupted run would have
+    // chosen (same additions), so the time steps and results are identical
+    while (interval > 0 && t >= next_output * (1 - 1e-12) && next_output < t_end)
+      next_output = std::min(next_output + interval, t_end);
     conv_seconds = diff_seconds = 0;
-    unsigned int step = 0;
+    unsigned int step = start_step_;
+    const std::string checkpoint = scene.output_directory + "/" + scene.base_name + ".checkpoint";
+    auto write_checkpoint_now = [&]() {
+      if (scene.write_checkpoint)
+        write_checkpoint(checkpoint, t, step);
+    };
     auto         last_progress = start;
     std::string  why;
     if (!conv->admissible(U, &why))
       throw RunError("initial state is inadmissible (n <= 0 or T <= 0): " + why);
-    output->write(U, 0., 0);
+    if (step == 0)
+      {
+        output->write(U, t * t0, 0);
+        write_checkpoint_now();
+      }
     Vector backup(U);
     while (t < t_end * (1 - 1e-12) && (scene.max_steps == 0 || step < scene.max_steps))
       {
@@ -338,7 +498,10 @@ namespace granhydro
         if (t >= next_output * (1 - 1e-12))
           {
             if (t < t_end * (1 - 1e-12))
-              output->write(U, t * t0, step);
+              {
+                output->write(U, t * t0, step);
+                write_checkpoint_now();
+              }
             next_output = interval > 0 ? std::min(next_output + interval, t_end) : t_end;
           }
         const auto now = clock::now();
@@ -356,6 +519,7 @@ namespace granhydro
           }
       }
     output->write(U, t * t0, step);
+    write_checkpoint_now();
     sum.steps              = step;
     sum.time_si            = t * t0;
     sum.wall_seconds       = std::chrono::duration<double>(clock::now() - start).count();

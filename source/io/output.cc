@@ -88,7 +88,7 @@ namespace granhydro::io
   {
     std::string err;
     if (Utilities::MPI::this_mpi_process(patch.communicator()) == 0 &&
-        (scene.write_vtu || scene.write_profiles))
+        (scene.write_vtu || scene.write_profiles || scene.write_checkpoint))
       {
         std::error_code ec;
         std::filesystem::create_directories(scene.output_directory, ec);
@@ -124,6 +124,27 @@ namespace granhydro::io
     if (scene.section_direction >= 0)
       write_cross_section(U, time_si);
     ++counter;
+  }
+
+  template <int dim, class Description>
+  void Output<dim, Description>::resume(const unsigned int outputs, const double time_si)
+  {
+    counter          = outputs;
+    profiles_started = section_started = true;
+    pvd_records.clear();
+    // the PVD of the interrupted run: <DataSet timestep="t" group="" part="0" file="name"/>
+    std::ifstream in(scene.output_directory + "/" + scene.base_name + ".pvd");
+    std::string   line;
+    while (std::getline(in, line))
+      {
+        const auto t0 = line.find("timestep=\""), f0 = line.find("file=\"");
+        if (t0 == std::string::npos || f0 == std::string::npos)
+          continue;
+        const double t    = std::stod(line.substr(t0 + 10));
+        const auto   f1   = line.find('"', f0 + 6);
+        if (t <= time_si * (1 + 1e-12))
+          pvd_records.emplace_back(t, line.substr(f0 + 6, f1 - f0 - 6));
+      }
   }
 
   template <int dim, class Description>

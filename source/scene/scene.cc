@@ -150,6 +150,12 @@ namespace granhydro
     return e;
   }
 
+  const std::string &checkpoint_magic()
+  {
+    static const std::string m = "granhydro checkpoint v1\n";
+    return m;
+  }
+
   std::map<std::string, double> expression_constants(const Scene &s)
   {
     std::map<std::string, double> constants{{"pi", M_PI}};
@@ -288,6 +294,12 @@ namespace granhydro
       prm.declare_entry("Quadrature points", "3", Patterns::Integer(1, 8),
                         "Gauss points per direction used to average the initial state "
                         "over each cell (finite-volume cell averages).");
+      prm.declare_entry("Checkpoint", "", Patterns::Anything(),
+                        "A checkpoint file written by an earlier run of the same mesh "
+                        "(Output/Write checkpoint): the state, time and step are read from "
+                        "it and the run continues to 'Time/End time' (any number of MPI "
+                        "ranks). The expressions above are then ignored. Empty: start from "
+                        "the expressions at t = 0.");
     }
     prm.leave_subsection();
 
@@ -397,6 +409,9 @@ namespace granhydro
       prm.declare_entry("Interval", "0", Patterns::Double(0, Patterns::Double::max_double_value),
                         "Simulated time between outputs [s]; 0 = initial and final state only.");
       prm.declare_entry("Write VTU", "true", Patterns::Bool(), "Write VTU/PVTU + PVD for ParaView.");
+      prm.declare_entry("Write checkpoint", "true", Patterns::Bool(),
+                        "Write <Directory>/<Base name>.checkpoint at every output time and at "
+                        "the end (replaced atomically), for 'Initial state/Checkpoint'.");
       prm.declare_entry("Write profiles", "true", Patterns::Bool(),
                         "Write profiles.csv: averages over the directions other than the "
                         "profile direction.");
@@ -539,6 +554,7 @@ end
     s.initial_temperature      = prm.get("Temperature");
     s.initial_constants        = prm.get("Constants");
     s.initial_quadrature       = prm.get_integer("Quadrature points");
+    s.initial_checkpoint       = prm.get("Checkpoint");
     prm.leave_subsection();
 
     prm.enter_subsection("Numerics");
@@ -597,6 +613,7 @@ end
     s.output_interval  = prm.get_double("Interval");
     s.write_vtu        = prm.get_bool("Write VTU");
     s.write_profiles   = prm.get_bool("Write profiles");
+    s.write_checkpoint = prm.get_bool("Write checkpoint");
     {
       const std::string p = prm.get("Profile direction");
       s.profile_direction = p == "auto" ? -1 : (p == "x" ? 0 : (p == "y" ? 1 : 2));
@@ -794,6 +811,14 @@ end
     };
     check_expr("Initial state/Packing fraction", s.initial_packing_fraction);
     check_expr("Initial state/Temperature", s.initial_temperature);
+    if (!s.initial_checkpoint.empty())
+      {
+        std::ifstream in(s.initial_checkpoint, std::ios::binary);
+        std::string   magic(checkpoint_magic().size(), '\0');
+        if (!in || !in.read(&magic[0], magic.size()) || magic != checkpoint_magic())
+          fail("Initial state/Checkpoint", "'" + s.initial_checkpoint +
+                                             "' is not a readable granhydro checkpoint file");
+      }
     for (const auto &v : vel)
       check_expr("Initial state/Velocity", v);
   }

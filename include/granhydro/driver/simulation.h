@@ -83,6 +83,18 @@ namespace granhydro
     /// global sums of the conserved variables times the cell volume (scaled units)
     State totals() const;
 
+    /// write the state, time (scaled) and step to file (rank 0 writes all cells, sorted by
+    /// lattice key, to file + ".tmp", then renames it: a killed run never leaves a
+    /// half-written checkpoint)
+    void write_checkpoint(const std::string &file, const double t, const unsigned int step) const;
+
+    /// read a checkpoint of this mesh (any number of ranks wrote it): state, time, step
+    void read_checkpoint(const std::string &file);
+
+    /// time [s] and step the run starts from (0 unless restarted from a checkpoint)
+    double       start_time() const { return start_time_ * units_.time(); }
+    unsigned int start_step() const { return start_step_; }
+
   private:
     void print_header() const;
 
@@ -97,6 +109,8 @@ namespace granhydro
     std::unique_ptr<diffusion::DiffusionOperator<dim>>  diff;
     std::unique_ptr<diffusion::ImplicitIntegrator<dim>> integrator;
     double conv_seconds = 0, diff_seconds = 0;
+    double       start_time_ = 0; ///< scaled
+    unsigned int start_step_ = 0;
     Vector                    U;
   };
 

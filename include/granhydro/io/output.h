@@ -30,6 +30,14 @@ namespace granhydro::io
     /// write VTU/PVTU/PVD and/or a block of profiles.csv, as the scene asks
     void write(const Vector &U, const double time_si, const unsigned int step);
 
+    /// number of output times written so far (numbering of the VTU files)
+    unsigned int count() const { return counter; }
+
+    /// continue a run restarted from a checkpoint taken after `outputs` output times at
+    /// time_si: VTU numbering continues, the PVD keeps its records up to time_si, the CSV
+    /// files are appended to
+    void resume(const unsigned int outputs, const double time_si);
+
   private:
     /// velocity of the frame the equations are solved in (vibrated container) [m/s]
     std::array<double, 3> frame_velocity(const double time_si) const;

@@ -105,6 +105,7 @@ namespace granhydro
     std::string initial_temperature      = "1e-8";
     std::string initial_constants        = "";
     unsigned int initial_quadrature      = 3;
+    std::string  initial_checkpoint      = ""; // restart/initial state from this file
 
     // Numerics
     ReconstructionType reconstruction = ReconstructionType::weno5;
@@ -150,6 +151,7 @@ namespace granhydro
     double       output_interval  = 0;
     bool         write_vtu        = true;
     bool         write_profiles   = true;
+    bool         write_checkpoint = true;
     int          profile_direction = -1; // -1: last dimension
     int          section_direction = -1; // 3D: average along this direction into a 2D map, -1: off
     double       progress_interval = 5;  // wall seconds
@@ -158,6 +160,9 @@ namespace granhydro
     Units units() const;
     double grain_mass() const;
   };
+
+  /// the first bytes of a checkpoint file (driver/simulation.cc writes and reads them)
+  const std::string &checkpoint_magic();
 
   /// declare every parameter with its default, pattern and documentation
   void declare_scene_parameters(dealii::ParameterHandler &prm);
