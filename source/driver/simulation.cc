@@ -434,6 +434,8 @@ namespace granhydro
       next_output = std::min(next_output + interval, t_end);
     conv_seconds = diff_seconds = 0;
     unsigned int step = start_step_;
+    bool         have_steady_reference = false;
+    double       steady_ke = 0, steady_com = 0;
     const std::string checkpoint = scene.output_directory + "/" + scene.base_name + ".checkpoint";
     auto write_checkpoint_now = [&]() {
       if (scene.write_checkpoint)
@@ -503,6 +505,40 @@ namespace granhydro
                 write_checkpoint_now();
               }
             next_output = interval > 0 ? std::min(next_output + interval, t_end) : t_end;
+            if (scene.steady_tolerance > 0 && interval > 0)
+              {
+                // steady state: total kinetic energy and centre of mass along the profile
+                // direction both change by less than the tolerance over one output interval
+                const unsigned int pd = scene.profile_direction < 0 ? dim - 1 : scene.profile_direction;
+                double             v[3] = {0, 0, 0}; // kinetic energy, n x_pd, n
+                for (unsigned int s = 0; s < patch_->n_owned(); ++s)
+                  {
+                    const double *u = &U.local_element(std::size_t(s) * (dim + 2));
+                    double        m2 = 0;
+                    for (unsigned int d = 0; d < dim; ++d)
+                      m2 += u[1 + d] * u[1 + d];
+                    v[0] += 0.5 * m2 / u[0];
+                    v[1] += u[0] * patch_->center(s)[pd];
+                    v[2] += u[0];
+                  }
+                Utilities::MPI::sum(ArrayView<const double>(v, 3), comm, ArrayView<double>(v, 3));
+                const double ke = v[0], com = v[1] / v[2];
+                const double L  = patch_->cell_size(pd) * patch_->cells(pd);
+                if (have_steady_reference && std::abs(ke - steady_ke) <= scene.steady_tolerance * ke &&
+                    std::abs(com - steady_com) <= scene.steady_tolerance * L)
+                  {
+                    pcout << "  steady state at t = " << t * t0 << " s: kinetic energy and centre of mass "
+                          << "changed by " << std::abs(ke - steady_ke) / ke << " and "
+                          << std::abs(com - steady_com) / L << " (relative) over the last "
+                          << scene.output_interval << " s (Time/Steady state tolerance = "
+                          << scene.steady_tolerance << ")\n";
+                    sum.steady = true;
+                    break;
+                  }
+                have_steady_reference = true;
+                steady_ke             = ke;
+                steady_com            = com;
+              }
           }
         const auto now = clock::now();
         if (std::chrono::duration<double>(now - last_progress).count() >= scene.progress_interval)
@@ -518,8 +554,11 @@ namespace granhydro
                   << std::setprecision(6) << "\n";
           }
       }
-    output->write(U, t * t0, step);
-    write_checkpoint_now();
+    if (!(sum.steady && t < t_end * (1 - 1e-12))) // a steady stop has just written its output
+      {
+        output->write(U, t * t0, step);
+        write_checkpoint_now();
+      }
     sum.steps              = step;
     sum.time_si            = t * t0;
     sum.wall_seconds       = std::chrono::duration<double>(clock::now() - start).count();

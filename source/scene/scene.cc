@@ -397,6 +397,11 @@ namespace granhydro
                         "Simulated end time [s].");
       prm.declare_entry("Maximum steps", "0", Patterns::Integer(0),
                         "Stop after this many steps (0 = no limit).");
+      prm.declare_entry("Steady state tolerance", "0", Patterns::Double(0, 1),
+                        "Stop before the end time once a steady state is reached: the total "
+                        "kinetic energy and the mean height (centre of mass) change by less "
+                        "than this fraction between two output times (needs Output/Interval "
+                        "> 0; 0 = off).");
     }
     prm.leave_subsection();
 
@@ -605,6 +610,7 @@ end
     prm.enter_subsection("Time");
     s.end_time  = prm.get_double("End time");
     s.max_steps = prm.get_integer("Maximum steps");
+    s.steady_tolerance = prm.get_double("Steady state tolerance");
     prm.leave_subsection();
 
     prm.enter_subsection("Output");

@@ -39,6 +39,7 @@ namespace granhydro
     diffusion::IntegratorStatistics  diffusion;
     double                           diffusion_seconds = 0;
     bool                             diffusion_active  = false;
+    bool                             steady            = false; ///< stopped at a steady state
   };
 
   /// the time loop of a scene with the constitutive description Description

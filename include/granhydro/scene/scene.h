@@ -144,6 +144,7 @@ namespace granhydro
     // Time
     double       end_time  = 1;
     unsigned int max_steps = 0;
+    double       steady_tolerance = 0; // stop when KE and centre of mass change less per output interval
 
     // Output
     std::string  output_directory = "output";
