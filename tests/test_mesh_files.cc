@@ -60,7 +60,7 @@ namespace
     return out;
   }
 
-  /// largest absolute difference (0 = bitwise equal); +inf if the cell sets differ
+  /// largest relative difference (0 = bitwise equal); +inf if the cell sets differ
   template <int dim, class Description>
   double max_difference(const StateMap<dim, Description> &a, const StateMap<dim, Description> &b)
   {
@@ -72,16 +72,19 @@ namespace
         const auto it = b.find(key);
         if (it == b.end())
           return std::numeric_limits<double>::infinity();
-        for (unsigned int c = 0; c < dim + 2; ++c)
-          diff = std::max(diff, std::abs(it->second[c] - S[c]));
+        for (unsigned int c = 0; c < dim + 2; ++c) // relative, momenta against n
+          diff = std::max(diff, std::abs(it->second[c] - S[c]) / (std::abs(S[c]) + std::abs(S[0]) * 1e-3));
       }
     return diff;
   }
 
-  /// generated box (text) vs the same text with the mesh file: bitwise equal
+  /// generated box (text) vs the same text with the mesh file: bitwise equal on the same
+  /// ranks. N-rank file run vs 1-rank generated run: bitwise for convection only; the
+  /// implicit step's Krylov solver sums in a partition-dependent order (mpi.equivalence:
+  /// 4e-14), so the granular case allows cross_rank_tolerance
   template <int dim, class Description>
   void compare_box(const std::string &name, const std::string &text, const std::string &mesh,
-                   const unsigned int refinements, Checker &chk)
+                   const unsigned int refinements, Checker &chk, const double cross_rank_tolerance = 0)
   {
     const MPI_Comm world = MPI_COMM_WORLD;
     const Scene generated = parse_scene(text, "<generated box>");
@@ -96,15 +99,16 @@ namespace
       return;
     const double d = max_difference<dim, Description>(a, b);
     std::ostringstream os;
-    os << name << ": " << a.size() << " cells, " << nranks << " rank(s), file vs generated: max |difference| " << d;
+    os << name << ": " << a.size() << " cells, " << nranks << " rank(s), file vs generated: max relative difference " << d;
     chk.check(d == 0, os.str());
     if (nranks > 1)
       {
         const auto   c  = run<dim, Description>(generated, MPI_COMM_SELF);
         const double d1 = max_difference<dim, Description>(c, b);
         std::ostringstream os1;
-        os1 << name << ": file on " << nranks << " ranks vs generated on 1 rank: max |difference| " << d1;
-        chk.check(d1 == 0, os1.str());
+        os1 << name << ": file on " << nranks << " ranks vs generated on 1 rank: max relative difference "
+            << d1 << " (allowed " << cross_rank_tolerance << ")";
+        chk.check(d1 <= cross_rank_tolerance, os1.str());
       }
   }
 
@@ -203,7 +207,7 @@ int main(int argc, char **argv)
         blast_text(3, {{"slip wall", "outflow", "no-slip wall", "slip wall", "slip wall", "no-slip wall"}}),
         arg + "/box_3d.msh", 2, chk);
       compare_box<2, physics::GranularGas<2>>("2D granular gas, gravity, no-slip + moving + dissipative walls, gmsh",
-                                              granular_text(), arg + "/box_2d.msh", 3, chk);
+                                              granular_text(), arg + "/box_2d.msh", 3, chk, 1e-12);
     }
   else if (mode == "closed" || mode == "discharge")
     {
@@ -246,6 +250,8 @@ int main(int argc, char **argv)
                       << " kg; initial outlet content " << outlet0 << " kg\n";
           chk.check(M1 < M0, "the total mass decreases");
           chk.check(M0 - M1 > outlet0, "more than the outlet channel's initial content left");
+          // and the bed itself flows: at least 1 % of the free-fall bound (measured: 8.8 %)
+          chk.check(M0 - M1 > 0.01 * bound, "more than 1 % of the free-fall bound left (the bed flows)");
           chk.check(M0 - M1 < bound, "less than the free-fall bound rho_s phi_c A sqrt(2 g h) t left");
         }
     }

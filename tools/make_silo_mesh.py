@@ -23,8 +23,8 @@ through a centred orifice into a short outlet channel (all lengths in m):
                 x=0.016  x=0.024
 
 The orifice is the 8 mm x 10 mm opening of the floor at y = 8 mm. Coarse blocks are
-4 mm (x) x 4 mm (y) x 2.5 mm (z): 10 x 17 x 4 lattice, 616 blocks; 'Mesh refinements' halves
-them (2 refinements: 1 x 1 x 0.625 mm cells, 39424 cells).
+4 mm (x) x 4 mm (y) x 5 mm (z): 10 x 17 x 2 lattice, 308 blocks; 'Mesh refinements' halves
+them (2 refinements: 1 x 1 x 1.25 mm cells, 19712 cells).
 
 Usage:
   tools/make_silo_mesh.py                       # meshes/silo_3d.msh
@@ -127,8 +127,8 @@ def write_mesh(path, dim, blocks, lower, h, face_id):
 
 
 def silo(path):
-    h = (0.004, 0.004, 0.0025)
-    nx, ny, nz = 10, 17, 4
+    h = (0.004, 0.004, 0.005)
+    nx, ny, nz = 10, 17, 2
     outlet_x = (4, 5)  # x in [16, 24) mm
     outlet_y = 2       # y in [0, 8) mm: outlet channel; bin above
     blocks = [(i, j, k) for i in range(nx) for j in range(ny) for k in range(nz)

@@ -312,6 +312,7 @@ namespace granhydro
           {
             if (advance(t, dt) && conv->admissible(U, &why))
               break;
+            why.clear();
             conv->admissible(U, &why); // where and what, for the message
             if (why.empty())
               why = conv->failure();
@@ -334,7 +335,7 @@ namespace granhydro
                 throw RunError(os.str());
               }
             pcout << "  step " << step << ": inadmissible state, retrying with dt = " << dt * t0 / 2
-                  << " s\n";
+                  << " s" << (why.empty() ? std::string() : " (" + why + ")") << "\n";
             U  = backup;
             dt = dt / 2;
           }
