@@ -62,3 +62,16 @@ add_test(NAME mpi.restart_after_kill_2ranks
           ${DEAL_II_MPIEXEC} -n 2)
 set_tests_properties(verify.restart_after_kill PROPERTIES LABELS verify TIMEOUT 300)
 set_tests_properties(mpi.restart_after_kill_2ranks PROPERTIES LABELS mpi TIMEOUT 300 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)
+# meshes from files (tests/test_mesh_files.cc): a box read from gmsh/ucd files is bitwise the
+# generated box (1 and 2 ranks); the silo closed conserves mass; silo-ci discharges
+granhydro_test_executable(test_mesh_files test_mesh_files.cc)
+add_test(NAME verify.mesh_file_box COMMAND test_mesh_files box ${CMAKE_CURRENT_SOURCE_DIR}/data)
+set_tests_properties(verify.mesh_file_box PROPERTIES LABELS verify TIMEOUT 300)
+add_test(NAME mpi.mesh_file_box_2ranks COMMAND ${DEAL_II_MPIEXEC} -n 2 $<TARGET_FILE:test_mesh_files> box ${CMAKE_CURRENT_SOURCE_DIR}/data)
+set_tests_properties(mpi.mesh_file_box_2ranks PROPERTIES LABELS "verify;mpi" TIMEOUT 300 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)
+add_test(NAME stability.silo_closed COMMAND test_mesh_files closed ${CMAKE_SOURCE_DIR}/parameters/silo-ci.prm)
+set_tests_properties(stability.silo_closed PROPERTIES LABELS stability TIMEOUT 300)
+add_test(NAME mpi.silo_closed_2ranks COMMAND ${DEAL_II_MPIEXEC} -n 2 $<TARGET_FILE:test_mesh_files> closed ${CMAKE_SOURCE_DIR}/parameters/silo-ci.prm)
+set_tests_properties(mpi.silo_closed_2ranks PROPERTIES LABELS "stability;mpi" TIMEOUT 300 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)
+add_test(NAME stability.scene_silo-ci COMMAND test_mesh_files discharge ${CMAKE_SOURCE_DIR}/parameters/silo-ci.prm)
+set_tests_properties(stability.scene_silo-ci PROPERTIES LABELS stability TIMEOUT 600)

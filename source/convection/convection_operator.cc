@@ -65,6 +65,9 @@ namespace granhydro::convection
             if (l >= n_owned)
               faces[d].emplace_back(l, s);
           }
+        wall[d].resize(faces[d].size());
+        for (std::size_t k = 0; k < faces[d].size(); ++k)
+          wall[d][k] = patch.wall_face(faces[d][k].first, faces[d][k].second, d);
         std::vector<unsigned int> fin;
         for (const auto &f : faces[d])
           {
@@ -234,8 +237,9 @@ namespace granhydro::convection
         // on the numbering (1 rank and N ranks agree bit for bit)
         std::vector<double> &Fpd = Fp[d];
         Fpd.resize(std::size_t(patch.n_slots()) * NC);
-        for (const auto &[sl, sr] : faces[d])
+        for (std::size_t k = 0; k < faces[d].size(); ++k)
           {
+            const auto [sl, sr] = faces[d][k];
             physics::State<dim> UL, UR, F;
             double *Fsum = &Fpd[std::size_t(sl) * NC];
             std::fill(Fsum, Fsum + NC, 0.);
@@ -249,6 +253,8 @@ namespace granhydro::convection
                 for (unsigned int c = 0; c < NC; ++c)
                   Fsum[c] += wq * F[c];
               }
+            if (wall[d][k])
+              Fsum[0] = Fsum[NC - 1] = 0.;
           }
       }
     assemble_rhs(rhs);
@@ -330,13 +336,15 @@ namespace granhydro::convection
                 ++stats.fallback_cells;
             }
         for (unsigned int d = 0; d < dim; ++d)
-          for (const auto &[sl, sr] : faces[d])
-            if (low[sl] || low[sr])
+          for (std::size_t k = 0; k < faces[d].size(); ++k)
+            if (const auto [sl, sr] = faces[d][k]; low[sl] || low[sr])
               {
                 physics::State<dim> UL, UR, F;
                 std::copy(&W[std::size_t(sl) * NC], &W[std::size_t(sl + 1) * NC], UL.begin());
                 std::copy(&W[std::size_t(sr) * NC], &W[std::size_t(sr + 1) * NC], UR.begin());
                 numflux.rusanov(UL, UR, d, F);
+                if (wall[d][k])
+                  F[0] = F[NC - 1] = 0.;
                 std::copy(F.begin(), F.end(), &Fp[d][std::size_t(sl) * NC]);
               }
         assemble_rhs(rhs0.data());

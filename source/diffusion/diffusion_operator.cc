@@ -44,7 +44,6 @@ namespace granhydro::diffusion
     flip.assign(patch.n_slots(), 0u);
     for (unsigned int s = 0; s < patch.n_slots(); ++s)
       src[s] = s;
-    std::vector<int> side_of(patch.n_slots(), -1);
     for (const auto &g : patch.boundary_ghosts())
       {
         src[g.slot]  = g.source;
@@ -53,18 +52,22 @@ namespace granhydro::diffusion
         for (unsigned int w = 0; w < g.n_walls; ++w)
           m ^= g.wall_no_slip[w] ? (1u << dim) - 1 : 1u << g.wall_dir[w];
         flip[g.slot] = g.no_slip ? m : g.flip_mask;
-        side_of[g.slot] = g.side;
       }
+    // dissipative walls: a face between a cell and a boundary ghost whose cell face has a
+    // wall id with eps_w < 1; the sign is that of the wall's outward normal along d, from
+    // the geometry (which side the cell is on), not from the id (mesh files)
     for (unsigned int d = 0; d < dim; ++d)
       {
         walls[d].assign(faces[d].size(), WallFace());
         for (std::size_t k = 0; k < faces[d].size(); ++k)
           {
             const auto [l, r] = faces[d][k];
-            if (side_of[r] == int(2 * d + 1) && settings.wall_restitution[2 * d + 1] < 1)
-              walls[d][k] = {settings.wall_restitution[2 * d + 1], +1};
-            if (side_of[l] == int(2 * d) && settings.wall_restitution[2 * d] < 1)
-              walls[d][k] = {settings.wall_restitution[2 * d], -1};
+            if (!patch.wall_face(l, r, d))
+              continue;
+            const bool cell_low = patch.is_cell(l);
+            const int  id = cell_low ? patch.face_boundary_id(l, 2 * d + 1) : patch.face_boundary_id(r, 2 * d);
+            if (settings.wall_restitution[id] < 1)
+              walls[d][k] = {settings.wall_restitution[id], cell_low ? +1 : -1};
           }
       }
   }

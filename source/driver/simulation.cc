@@ -48,8 +48,11 @@ namespace granhydro
     const char *ax = "xyz";
     pcout << "granhydro: scene " << scene.source << "\n"
           << "  " << dim << "D, " << patch_->n_global_cells() << " cells (";
+    if (!scene.mesh_file.empty())
+      pcout << "mesh file " << scene.mesh_file << ", " << scene.mesh_refinements
+            << " refinement(s), lattice ";
     for (unsigned int d = 0; d < dim; ++d)
-      pcout << (d ? " x " : "") << scene.cells[d];
+      pcout << (d ? " x " : "") << patch_->cells(d);
     pcout << "), " << Utilities::MPI::n_mpi_processes(comm) << " MPI rank(s)\n"
           << "  model: " << scene.model;
     if constexpr (std::is_same_v<Description, physics::IdealGas<dim>>)
@@ -77,6 +80,8 @@ namespace granhydro
     for (unsigned int d = 0; d < dim; ++d)
       pcout << ' ' << ax[d] << "-/+ = " << to_string(scene.boundary[2 * d]) << '/'
             << to_string(scene.boundary[2 * d + 1]);
+    if (!scene.mesh_file.empty())
+      pcout << " (by boundary id 0..5 of the mesh file)";
     pcout << "\n  scaled units: length " << units_.length << " m, mass " << units_.mass
           << " kg, velocity " << units_.velocity << " m/s, time " << units_.time() << " s\n";
   }
@@ -469,6 +474,7 @@ namespace granhydro
           {
             if (advance(t, dt) && conv->admissible(U, &why))
               break;
+            why.clear();
             conv->admissible(U, &why); // where and what, for the message
             if (why.empty())
               why = conv->failure();
@@ -491,7 +497,7 @@ namespace granhydro
                 throw RunError(os.str());
               }
             pcout << "  step " << step << ": inadmissible state, retrying with dt = " << dt * t0 / 2
-                  << " s\n";
+                  << " s" << (why.empty() ? std::string() : " (" + why + ")") << "\n";
             U  = backup;
             dt = dt / 2;
           }

@@ -218,6 +218,8 @@ namespace granhydro::io
       {
         const double *a = &sum[l * ncol];
         const double  k = count[l];
+        if (k == 0) // a layer of solid lattice points (mesh file)
+          continue;
         out << time_si << ',' << patch.lower(pd) + (l + 0.5) * patch.cell_size(pd) << ','
             << a[0] / k * nu;
         for (unsigned int d = 0; d < dim; ++d)
@@ -271,6 +273,8 @@ namespace granhydro::io
             {
               const double *v = &sum[(std::size_t(i) + std::size_t(na) * j) * ncol];
               const double  k = v[6], n = v[0] / k;
+              if (k == 0) // only solid lattice points (mesh file)
+                continue;
               out << time_si << ',' << patch.lower(ia) + (i + 0.5) * patch.cell_size(ia) << ','
                   << patch.lower(ib) + (j + 0.5) * patch.cell_size(ib) << ',' << n * units.number_density();
               for (unsigned int d = 0; d < 3; ++d)

@@ -1,4 +1,5 @@
 #include <granhydro/scene/scene.h>
+#include <granhydro/mesh/mesh_file.h>
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/function_parser.h>
@@ -202,12 +203,31 @@ namespace granhydro
                       "directions are homogeneous.");
     prm.enter_subsection("Domain");
     {
+      prm.declare_entry("Mesh file", "", Patterns::Anything(),
+                        "Coarse mesh read with deal.II's GridIn instead of the box: gmsh "
+                        "(.msh, e.g. format 2.2 ASCII) or ucd (.inp); 2D and 3D only. A relative "
+                        "name is taken relative to the directory of the scene file. All cells "
+                        "must be congruent axis-aligned boxes with vertices on one lattice "
+                        "(axis-aligned blocks, e.g. a silo with an outlet; meshes/); the "
+                        "lattice points of the bounding box without a cell are solid. The "
+                        "boundary id of each boundary face selects the entries below: id 0 = "
+                        "'Boundary x-', 1 = 'x+', 2 = 'y-', 3 = 'y+', 4 = 'z-', 5 = 'z+' (with "
+                        "'Wall velocity' and 'Wall restitution' of the same name), whatever the "
+                        "face's direction (deal.II's colorize convention: a box read from a "
+                        "file behaves exactly like the generated box). Faces the file gives no "
+                        "id get id 0. Periodic boundaries are not available with a mesh file. "
+                        "With a mesh file 'Lower corner', 'Upper corner' and 'Cells' are ignored.");
+      prm.declare_entry("Mesh refinements", "0", Patterns::Integer(0, 8),
+                        "Global refinements of the mesh file's coarse cells (each halves the "
+                        "cell size).");
       prm.declare_entry("Lower corner", "0, 0, 0", Patterns::Anything(),
-                        "Lower corner of the box [m], one value per dimension (extra ignored).");
+                        "Lower corner of the box [m], one value per dimension (extra ignored; "
+                        "ignored with a 'Mesh file').");
       prm.declare_entry("Upper corner", "0.1, 0.1, 0.1", Patterns::Anything(),
-                        "Upper corner of the box [m].");
+                        "Upper corner of the box [m] (ignored with a 'Mesh file').");
       prm.declare_entry("Cells", "100, 100, 1", Patterns::Anything(),
-                        "Number of cells per direction (uniform Cartesian mesh).");
+                        "Number of cells per direction (uniform Cartesian mesh; ignored with "
+                        "a 'Mesh file').");
       for (const char *s : side_names)
         {
           prm.declare_entry(std::string("Boundary ") + s, "slip wall",
@@ -507,6 +527,16 @@ end
     const unsigned int dim = s.dimension;
 
     prm.enter_subsection("Domain");
+    s.mesh_file        = prm.get("Mesh file");
+    s.mesh_refinements = prm.get_integer("Mesh refinements");
+    if (!s.mesh_file.empty() && s.mesh_file[0] != '/' && !source_name.empty() &&
+        source_name[0] != '<')
+      {
+        // relative to the scene file, so that a scene runs from any working directory
+        const auto slash = source_name.rfind('/');
+        if (slash != std::string::npos)
+          s.mesh_file = source_name.substr(0, slash + 1) + s.mesh_file;
+      }
     s.lower = parse_list<double, 3>(prm.get("Lower corner"), "Domain/Lower corner", dim, 0.);
     s.upper = parse_list<double, 3>(prm.get("Upper corner"), "Domain/Upper corner", dim, 1.);
     {
@@ -654,7 +684,39 @@ end
     auto fail = [&](const std::string &param, const std::string &msg) {
       throw SceneError("in " + s.source + ": parameter '" + param + "': " + msg);
     };
-    for (unsigned int d = 0; d < dim; ++d)
+    const bool mesh = !s.mesh_file.empty();
+    MeshFileInfo mesh_info;
+    if (mesh)
+      {
+        if (dim == 1)
+          fail("Domain/Mesh file", "mesh files need 'Dimension' 2 or 3");
+        try
+          {
+            mesh_info = check_mesh_file(s.mesh_file, dim);
+          }
+        catch (const std::exception &e)
+          {
+            fail("Domain/Mesh file", e.what());
+          }
+        for (unsigned int i = 0; i < 2 * dim; ++i)
+          if (s.boundary[i] == BoundaryType::periodic)
+            fail("Domain/Mesh file", std::string("periodic boundaries are not available with a "
+                                                 "mesh file ('Boundary ") + side_names[i] +
+                                       "' = periodic); use walls or outflow");
+        // a wall moves only tangentially: check against the faces' geometric directions
+        for (const auto &[id, d] : mesh_info.id_direction)
+          if (s.wall_velocity[id][d] != 0)
+            fail("Domain/Wall velocity " + std::string(side_names[id]),
+                 "a wall moves only tangentially: the mesh has faces with boundary id " +
+                   std::to_string(id) + " normal to " + std::string(1, "xyz"[d]) +
+                   ", so the " + std::string(1, "xyz"[d]) + " component must be 0");
+        double total = mesh_info.n_cells;
+        for (unsigned int r = 0; r < s.mesh_refinements; ++r)
+          total *= 1u << dim;
+        if (total > 5e7)
+          fail("Domain/Mesh refinements", "more than 5e7 cells in total");
+      }
+    for (unsigned int d = 0; d < dim && !mesh; ++d)
       {
         if (!(s.upper[d] > s.lower[d]))
           fail("Domain/Upper corner", "must exceed 'Domain/Lower corner' in direction " +
@@ -683,7 +745,7 @@ end
         if (vmax != 0 && s.boundary[i] != BoundaryType::no_slip_wall)
           fail("Domain/Wall velocity " + side, "only no-slip walls move (the boundary is " +
                                                  to_string(s.boundary[i]) + ")");
-        if (s.wall_velocity[i][d] != 0)
+        if (!mesh && s.wall_velocity[i][d] != 0)
           fail("Domain/Wall velocity " + side, "a wall moves only tangentially: its component "
                                                "along " + std::string(1, "xyz"[d]) + " must be 0");
         if (s.wall_restitution[i] < 1 &&
@@ -696,7 +758,7 @@ end
     double total = 1;
     for (unsigned int d = 0; d < dim; ++d)
       total *= s.cells[d];
-    if (total > 5e7)
+    if (!mesh && total > 5e7)
       fail("Domain/Cells", "more than 5e7 cells in total");
     if (s.end_time <= 0)
       fail("Time/End time", "must be positive");

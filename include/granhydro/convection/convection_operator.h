@@ -95,6 +95,11 @@ namespace granhydro::convection
     // slot lists per direction
     std::vector<unsigned int> listA[dim], listB[dim], listC[dim];
     std::vector<std::pair<unsigned int, unsigned int>> faces[dim];
+    /// per face: 1 if it lies on a (slip or no-slip) wall; walls do not move normally, so
+    /// the mass and energy fluxes there are exactly 0 whatever the ghost state (at concave
+    /// corners of a mesh file the nearest-fluid ghost is not an exact mirror for every
+    /// stencil): closed domains conserve mass to round-off
+    std::vector<char> wall[dim];
 
     mutable std::vector<double> A, B, C; // stage arrays (one direction at a time)
     mutable std::vector<double> Fp[dim];  // flux at the + face of each slot, per direction

@@ -47,7 +47,7 @@ namespace granhydro::diffusion
     bool                  viscous = true, heat = true, cooling = true;
     bool                  diagonal_only = false;
     std::array<double, 3> gravity{{0, 0, 0}}; ///< scaled units
-    /// grain-wall restitution per side (2 d + upper); < 1: dissipative wall heat flux
+    /// grain-wall restitution per boundary id (2 d + upper for a box); < 1: dissipative wall heat flux
     std::array<double, 6> wall_restitution{{1, 1, 1, 1, 1, 1}};
     /// vibrated container (physics.md 5.3), scaled units: g_eff(t) = g + A w^2 sin(w t) e_s
     double       vibration_amplitude = 0, vibration_omega = 0;

@@ -19,8 +19,16 @@
  * the local storage of a vector built on partitioner() (owned + ghosts), so
  * the vector's memory is the beginning of a slot-indexed array.
  *
+ * Lattice subsets (mesh files, mesh/mesh_file.h): the lattice is the bounding
+ * box of the mesh divided into cells of the fine cell size; lattice points
+ * without a cell are solid. The ghost of a solid point (or of a point outside
+ * the lattice) mirrors the nearest fluid cell f across f's faces towards it,
+ * one reflection per direction with the wall type of that face's boundary id;
+ * for a box this is exactly the composed reflection at faces, edges, corners.
+ *
  * Limits (to be lifted by the AMR issue): uniform meshes only; the lattice to
- * DoF map is replicated on every rank (16 bytes per cell).
+ * DoF map and the boundary face ids are replicated on every rank (8 bytes per
+ * lattice point plus one per boundary face).
  */
 #include <granhydro/scene/scene.h>
 
@@ -50,14 +58,14 @@ namespace granhydro
       unsigned int slot, source, flip_mask;
       /// true if any wall this ghost lies behind is a no-slip wall
       bool no_slip = false;
-      /// the wall side (2 d + upper) this ghost lies behind (the last one), for the wall heat flux
-      unsigned int side = 0;
       /// the walls this ghost lies behind (1 at a face, 2 at an edge, 3 at a corner),
       /// applied in turn: slip wall flips the normal velocity, no-slip wall mirrors the
       /// velocity about the wall velocity u -> 2 u_w - u (scaled units); n and the
-      /// internal energy are copied (physics.md 5.1)
+      /// internal energy are copied (physics.md 5.1). wall_dir is the geometric normal
+      /// direction, wall_id the boundary id (index of the scene's Boundary entry)
       unsigned int n_walls = 0;
       std::array<unsigned int, 3>          wall_dir{{0, 0, 0}};
+      std::array<unsigned int, 3>          wall_id{{0, 0, 0}};
       std::array<bool, 3>                  wall_no_slip{{false, false, false}};
       std::array<std::array<double, 3>, 3> wall_velocity{};
     };
@@ -85,12 +93,31 @@ namespace granhydro
       return nb_[(std::size_t(s) * dim + d) * (2 * G + 1) + (o + int(G))];
     }
 
+    /// true for the slots of real cells (owned or MPI ghost), false for boundary ghosts
+    bool is_cell(const unsigned int s) const { return s < n_owned_ + n_mpi_ghost_; }
+
+    /// boundary id of the face on side f = 2 d + upper of the real-cell slot s (lattice
+    /// directions, not deal.II's face numbering), or -1 for an interior face
+    int face_boundary_id(const unsigned int s, const unsigned int f) const
+    {
+      return slot_face_id_[std::size_t(s) * 2 * dim + f];
+    }
+
+    /// the boundary condition of boundary id i
+    BoundaryType boundary_type(const unsigned int i) const { return btype_[i]; }
+
+    /// true if the face between slots l (low side) and r along d is a wall (slip or
+    /// no-slip): one real cell, one boundary ghost, and the cell's face has a wall id
+    bool wall_face(const unsigned int l, const unsigned int r, const unsigned int d) const;
+
     /// extended lattice coordinates of a slot (may lie outside [0,N) for boundary ghosts)
     const std::array<int, 3> &lattice(const unsigned int s) const { return lattice_[s]; }
     const std::vector<BoundaryGhost> &boundary_ghosts() const { return bghosts_; }
 
     double cell_size(const unsigned int d) const { return h_[d]; }
     double cell_volume() const;
+    /// lattice points per direction (the box, or the bounding box of a mesh file; a mesh
+    /// file may leave some of them without a cell)
     unsigned int cells(const unsigned int d) const { return N_[d]; }
     double lower(const unsigned int d) const { return lo_[d]; }
     dealii::Point<dim> center(const unsigned int s) const;
@@ -119,6 +146,8 @@ namespace granhydro
     std::vector<std::array<int, 3>> lattice_;
     std::vector<int> nb_;
     std::vector<BoundaryGhost> bghosts_;
+    std::vector<signed char> slot_face_id_; ///< 2 dim per real-cell slot
+    std::array<BoundaryType, 6> btype_{};
     std::vector<unsigned int> active_index_;
   };
 } // namespace granhydro

@@ -71,9 +71,14 @@ namespace granhydro
     unsigned int dimension = 1;
 
     // Domain
+    /// coarse mesh file (gmsh .msh or ucd .inp; empty: the box Lower/Upper corner, Cells),
+    /// a relative name resolved against the scene file's directory (mesh/mesh_file.h)
+    std::string  mesh_file;
+    unsigned int mesh_refinements = 0; ///< global refinements of the file's coarse mesh
     std::array<double, 3>       lower{{0, 0, 0}}, upper{{1, 1, 1}};
     std::array<unsigned int, 3> cells{{1, 1, 1}};
-    /// boundary[2*d] lower side, boundary[2*d+1] upper side of direction d
+    /// boundary[2*d] lower side, boundary[2*d+1] upper side of direction d; with a mesh
+    /// file, boundary[i] applies to the faces with boundary id i (whatever their direction)
     std::array<BoundaryType, 6> boundary{};
     /// tangential velocity of each wall [m/s] (no-slip walls), 3 components
     std::array<std::array<double, 3>, 6> wall_velocity{};

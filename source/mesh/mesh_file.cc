@@ -1,0 +1,220 @@
+#include <granhydro/mesh/mesh_file.h>
+
+#include <deal.II/base/exceptions.h>
+#include <deal.II/grid/grid_in.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+namespace granhydro
+{
+  using namespace dealii;
+
+  namespace
+  {
+    /// deal.II's exception text without the stack trace, on one line
+    std::string short_message(const std::string &what)
+    {
+      std::string msg = what;
+      const auto  pos = msg.find("Additional information:");
+      if (pos != std::string::npos)
+        msg = msg.substr(pos + 23);
+      const auto st = msg.find("Stacktrace:");
+      if (st != std::string::npos)
+        msg = msg.substr(0, st);
+      std::string out;
+      bool        space = false;
+      for (const char c : msg)
+        if (c == ' ' || c == '\n' || c == '\t')
+          space = true;
+        else
+          {
+            if (space && !out.empty())
+              out += ' ';
+            space = false;
+            out += c;
+          }
+      return out;
+    }
+
+    bool ends_with(const std::string &s, const std::string &suffix)
+    {
+      return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+    }
+  } // namespace
+
+  template <int dim>
+  void read_mesh_file(const std::string &filename, Triangulation<dim> &tria)
+  {
+    const bool msh = ends_with(filename, ".msh"), inp = ends_with(filename, ".inp");
+    if (!msh && !inp)
+      throw std::runtime_error("'" + filename + "' has an unknown extension (expected .msh for "
+                               "gmsh or .inp for ucd)");
+    std::ifstream in(filename);
+    if (!in)
+      throw std::runtime_error("cannot open '" + filename + "'");
+    GridIn<dim> gi;
+    gi.attach_triangulation(tria);
+    try
+      {
+        if (msh)
+          gi.read_msh(in);
+        else
+          gi.read_ucd(in);
+      }
+    catch (const std::exception &e)
+      {
+        throw std::runtime_error("cannot read '" + filename + "' as " +
+                                 (msh ? "a gmsh" : "a ucd") + " mesh: " + short_message(e.what()));
+      }
+    if (tria.n_active_cells() == 0)
+      throw std::runtime_error("'" + filename + "' has no cells");
+  }
+
+  template <int dim>
+  MeshFileInfo inspect_mesh(const Triangulation<dim> &tria)
+  {
+    MeshFileInfo info;
+    // bounding box of every cell; the first cell sets the size all others must have
+    struct Box
+    {
+      Point<dim> lo, hi;
+    };
+    std::vector<Box> boxes;
+    for (const auto &cell : tria.active_cell_iterators())
+      {
+        Box b{cell->vertex(0), cell->vertex(0)};
+        for (const unsigned int v : cell->vertex_indices())
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              b.lo[d] = std::min(b.lo[d], cell->vertex(v)[d]);
+              b.hi[d] = std::max(b.hi[d], cell->vertex(v)[d]);
+            }
+        boxes.push_back(b);
+      }
+    const Box   &ref = boxes[0];
+    double       tol = 1e300;
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        info.cell_size[d] = ref.hi[d] - ref.lo[d];
+        tol               = std::min(tol, 1e-8 * info.cell_size[d]);
+      }
+    if (!(tol > 0))
+      throw std::runtime_error("a cell has zero extent");
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        info.lower[d] = ref.lo[d];
+        info.upper[d] = ref.hi[d];
+      }
+    for (const auto &b : boxes)
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          info.lower[d] = std::min(info.lower[d], b.lo[d]);
+          info.upper[d] = std::max(info.upper[d], b.hi[d]);
+        }
+
+    auto where = [](const auto &cell) {
+      std::ostringstream os;
+      os << "the cell centred at (" << cell->center() << ")";
+      return os.str();
+    };
+    // every cell: a box (each vertex at its own corner) of the reference size on the lattice
+    std::map<std::array<long long, 3>, unsigned int> occupied;
+    unsigned int                                     index = 0;
+    for (const auto &cell : tria.active_cell_iterators())
+      {
+        const Box &b = boxes[index++];
+        for (unsigned int d = 0; d < dim; ++d)
+          if (std::abs((b.hi[d] - b.lo[d]) - info.cell_size[d]) > tol)
+            throw std::runtime_error(where(cell) + " is not congruent with the first cell: all "
+                                     "cells must be axis-aligned boxes of the same size");
+        std::set<unsigned int> corners;
+        for (const unsigned int v : cell->vertex_indices())
+          {
+            unsigned int mask = 0;
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                const double x = cell->vertex(v)[d];
+                if (std::abs(x - b.hi[d]) <= tol)
+                  mask |= 1u << d;
+                else if (std::abs(x - b.lo[d]) > tol)
+                  throw std::runtime_error(where(cell) + " is not an axis-aligned box");
+              }
+            corners.insert(mask);
+          }
+        double volume = 1;
+        for (unsigned int d = 0; d < dim; ++d)
+          volume *= info.cell_size[d];
+        // a wrong vertex order (a twisted box) has all corners but not the box's volume
+        if (corners.size() != cell->n_vertices() || std::abs(cell->measure() - volume) > 1e-6 * volume)
+          throw std::runtime_error(where(cell) + " is not an axis-aligned box (or its vertices "
+                                   "are not in the format's order)");
+        std::array<long long, 3> ijk{{0, 0, 0}};
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            const double q = (b.lo[d] - info.lower[d]) / info.cell_size[d];
+            ijk[d]         = std::llround(q);
+            if (std::abs(q - ijk[d]) > 1e-6)
+              throw std::runtime_error(where(cell) + " is not on the lattice of the other cells "
+                                       "(its corner is not a whole number of cell sizes from the "
+                                       "lower corner of the mesh)");
+          }
+        if (!occupied.emplace(ijk, 0).second)
+          throw std::runtime_error(where(cell) + " overlaps another cell");
+      }
+    for (unsigned int d = 0; d < dim; ++d)
+      info.lattice[d] = std::llround((info.upper[d] - info.lower[d]) / info.cell_size[d]);
+    info.n_cells = boxes.size();
+
+    // boundary faces: ids in range, and no boundary face between two cells (which would
+    // mean duplicated vertices, i.e. cells not connected)
+    for (const auto &cell : tria.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (cell->face(f)->at_boundary())
+          {
+            const types::boundary_id id = cell->face(f)->boundary_id();
+            const auto [d, upper]       = face_direction(cell, f);
+            if (id >= 2 * dim)
+              throw std::runtime_error("boundary id " + std::to_string(id) + " on a face of " +
+                                       where(cell) + ": ids must lie in 0 .. " +
+                                       std::to_string(2 * dim - 1) +
+                                       " (0 = 'Boundary x-', 1 = 'Boundary x+', 2 = 'Boundary y-', ...)");
+            std::array<long long, 3> n{{0, 0, 0}};
+            for (unsigned int k = 0; k < dim; ++k)
+              n[k] = std::llround((cell->center()[k] - 0.5 * info.cell_size[k] - info.lower[k]) /
+                                  info.cell_size[k]);
+            n[d] += upper ? 1 : -1;
+            if (occupied.count(n))
+              throw std::runtime_error(where(cell) + " and its neighbour do not share their face "
+                                       "(duplicated vertices?): the mesh must be conforming");
+            info.id_direction.emplace(id, d);
+          }
+    return info;
+  }
+
+  MeshFileInfo check_mesh_file(const std::string &filename, const unsigned int dim)
+  {
+    if (dim == 2)
+      {
+        Triangulation<2> tria;
+        read_mesh_file(filename, tria);
+        return inspect_mesh(tria);
+      }
+    if (dim == 3)
+      {
+        Triangulation<3> tria;
+        read_mesh_file(filename, tria);
+        return inspect_mesh(tria);
+      }
+    throw std::runtime_error("mesh files need 'Dimension' 2 or 3");
+  }
+
+  template void read_mesh_file(const std::string &, Triangulation<2> &);
+  template void read_mesh_file(const std::string &, Triangulation<3> &);
+  template MeshFileInfo inspect_mesh(const Triangulation<2> &);
+  template MeshFileInfo inspect_mesh(const Triangulation<3> &);
+} // namespace granhydro
