@@ -198,6 +198,13 @@ namespace granhydro
   } // namespace
 
   template <int dim, class Description>
+  std::int64_t Simulation<dim, Description>::lattice_key(const unsigned int s) const
+  {
+    const auto &e = patch_->lattice(s);
+    return e[0] + std::int64_t(patch_->cells(0)) * (e[1] + std::int64_t(patch_->cells(1)) * e[2]);
+  }
+
+  template <int dim, class Description>
   void Simulation<dim, Description>::write_checkpoint(const std::string &file, const double t,
                                                       const unsigned int step) const
   {
@@ -206,9 +213,7 @@ namespace granhydro
     std::vector<double>    mine(std::size_t(n) * (NC + 1));
     for (unsigned int s = 0; s < n; ++s)
       {
-        const auto &e = patch_->lattice(s);
-        mine[s * (NC + 1)] =
-          double(e[0] + std::int64_t(patch_->cells(0)) * (e[1] + std::int64_t(patch_->cells(1)) * e[2]));
+        mine[s * (NC + 1)] = double(lattice_key(s));
         for (unsigned int c = 0; c < NC; ++c)
           mine[s * (NC + 1) + 1 + c] = U.local_element(std::size_t(s) * NC + c);
       }
@@ -283,13 +288,9 @@ namespace granhydro
     const double sn = std::pow(units_.length / h.length, 3); // n' = n L'^3 / L^3
     const double sm = sn * units_.velocity / h.velocity;
     const double se = (h.mass * h.velocity * h.velocity / std::pow(h.length, 3)) / units_.pressure();
-    std::vector<std::int64_t> key_of(patch_->n_owned());
     std::map<std::int64_t, unsigned int> slot_of;
     for (unsigned int s = 0; s < patch_->n_owned(); ++s)
-      {
-        const auto &e = patch_->lattice(s);
-        slot_of[e[0] + std::int64_t(patch_->cells(0)) * (e[1] + std::int64_t(patch_->cells(1)) * e[2])] = s;
-      }
+      slot_of[lattice_key(s)] = s;
     std::size_t found = 0;
     double      v[NC];
     for (std::uint64_t i = 0; i < h.n_cells; ++i)
@@ -310,9 +311,7 @@ namespace granhydro
       }
     if (Utilities::MPI::sum(found, comm) != patch_->n_global_cells() || found != patch_->n_owned())
       throw SceneError(what + "does not hold every cell of the mesh");
-    start_time_ = h.time * h.length / h.velocity / units_.time();
-    if (same_units)
-      start_time_ = h.time;
+    start_time_ = same_units ? h.time : h.time * h.length / h.velocity / units_.time();
     start_step_ = h.step;
     output->resume(h.outputs, start_time());
     pcout << "  initial state: checkpoint " << file << " (t = " << start_time() << " s, step "

@@ -19,6 +19,7 @@
 #include <deal.II/lac/la_parallel_vector.h>
 
 #include <functional>
+#include <cstdint>
 #include <memory>
 #include <ostream>
 
@@ -98,6 +99,8 @@ namespace granhydro
 
   private:
     void print_header() const;
+    /// key of owned slot s in the checkpoint file (lattice index, x fastest)
+    std::int64_t lattice_key(const unsigned int s) const;
 
     Scene                     scene;
     MPI_Comm                  comm;
