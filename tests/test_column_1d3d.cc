@@ -18,16 +18,6 @@ using namespace granhydro::testing;
 
 namespace
 {
-  std::string read(const std::string &f)
-  {
-    std::ifstream     in(f);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    if (!in)
-      throw std::runtime_error("cannot read " + f);
-    return ss.str();
-  }
-
   const std::string overrides = "\nsubsection Numerics\n  set Fixed time step = 5e-4\n  set CFL number = 0.9\nend\n"
                                 "subsection Diffusion step\n  set Newton tolerance = 1e-13\nend\n"
                                 "subsection Time\n  set End time = 0.02\nend\n"
@@ -65,10 +55,10 @@ int main(int argc, char **argv)
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   Checker                                  chk;
   const std::string dir = argc > 1 ? argv[1] : "parameters";
-  const Scene s1 = parse_scene(read(dir + "/sedimentation_column_1d.prm") + overrides +
+  const Scene s1 = parse_scene(read_text_file(dir + "/sedimentation_column_1d.prm") + overrides +
                                  "subsection Domain\n  set Cells = 50\nend\n",
                                "sedimentation_column_1d.prm");
-  const Scene s3 = parse_scene(read(dir + "/sedimentation-ci.prm") + overrides, "sedimentation-ci.prm");
+  const Scene s3 = parse_scene(read_text_file(dir + "/sedimentation-ci.prm") + overrides, "sedimentation-ci.prm");
   unsigned int n1, n3;
   const auto   a1 = layers<1>(s1, 0, n1);
   const auto   a3 = layers<3>(s3, 1, n3);

@@ -9,12 +9,24 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
+#include <stdexcept>
 #include <sstream>
 #include <string>
 
 namespace granhydro::testing
 {
+  /// the whole text of a file (scene files read by tests)
+  inline std::string read_text_file(const std::string &f)
+  {
+    std::ifstream     in(f);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    if (!in)
+      throw std::runtime_error("cannot read " + f);
+    return ss.str();
+  }
   struct SceneSpec
   {
     unsigned int                dim = 1;

@@ -20,16 +20,6 @@ using namespace granhydro::testing;
 
 namespace
 {
-  std::string read(const std::string &f)
-  {
-    std::ifstream in(f);
-    if (!in)
-      throw std::runtime_error("cannot read " + f);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  }
-
   template <int dim, class Description>
   using StateMap = std::map<std::array<int, 3>, physics::State<dim>>;
 
@@ -211,7 +201,7 @@ int main(int argc, char **argv)
     }
   else if (mode == "closed" || mode == "discharge")
     {
-      std::string text = read(arg) + "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
+      std::string text = read_text_file(arg) + "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
                                       "  set Verbose = false\nend\n";
       if (mode == "closed") // outlet bottom closed by a no-slip wall; 40 steps
         text += "subsection Domain\n  set Boundary y- = no-slip wall\nend\nsubsection Time\n"

@@ -18,16 +18,6 @@ using namespace granhydro::testing;
 
 namespace
 {
-  std::string read(const std::string &f)
-  {
-    std::ifstream     in(f);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    if (!in)
-      throw std::runtime_error("cannot read " + f);
-    return ss.str();
-  }
-
   constexpr int dim = 3;
   using Sim         = Simulation<dim, physics::GranularGas<dim>>;
 
@@ -80,7 +70,7 @@ int main(int argc, char **argv)
     }
   const std::string kind = argv[2];
   const Scene       scene =
-    parse_scene(read(argv[1]) + "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n"
+    parse_scene(read_text_file(argv[1]) + "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n"
                                 "  set Verbose = false\nend\n",
                 argv[1]);
   AssertThrow(scene.dimension == 3, ExcMessage("the paper scenes are 3D"));
