@@ -52,6 +52,19 @@ namespace granhydro::diffusion
     const std::vector<double>              b_gl{0.5, 0.5};
     const std::vector<std::vector<double>> A_mp{{0.5}};
     const std::vector<double>              b_mp{1.};
+    {
+      // the explicit diffusive limit at the start of the step (diagnostic; one
+      // coefficient evaluation per cell, a few % of a Newton iteration)
+      patch.gather(U, W);
+      const double limit = 0.9 / op.explicit_rate(W.data());
+      explicit_limit     = limit;
+      if (limit < stats.min_explicit_dt)
+        {
+          stats.min_explicit_dt      = limit;
+          stats.min_explicit_dt_time = t;
+        }
+      stats.max_dt_over_explicit = std::max(stats.max_dt_over_explicit, dt / limit);
+    }
     switch (settings.method)
       {
         case ImplicitMethod::explicit_euler:
@@ -242,9 +255,8 @@ namespace granhydro::diffusion
   bool ImplicitIntegrator<dim>::explicit_step(Vector &U, const double t, const double dt)
   {
     const std::size_t n = std::size_t(patch.n_owned()) * (dim + 2);
-    patch.gather(U, W);
-    const double rate = op.explicit_rate(W.data());
-    const unsigned int m = std::max(1u, unsigned(std::ceil(dt * rate / 0.9)));
+    // W holds U's gather and explicit_limit its diffusive limit (both from step())
+    const unsigned int m = std::max(1u, unsigned(std::ceil(dt / explicit_limit)));
     const double       h = dt / m;
     f.resize(n);
     for (unsigned int k = 0; k < m; ++k)

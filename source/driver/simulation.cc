@@ -8,6 +8,8 @@
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
+#include <limits>
 #include <fstream>
 #include <cmath>
 #include <iomanip>
@@ -455,6 +457,9 @@ namespace granhydro
         write_checkpoint_now();
       }
     Vector backup(U);
+    const double mass0 = totals()[0];
+    double       min_dt = std::numeric_limits<double>::infinity(), max_dt = 0, min_cut_dt = min_dt;
+    double       min_cfl = std::numeric_limits<double>::infinity(), min_cfl_t = 0;
     while (t < t_end * (1 - 1e-12) && (scene.max_steps == 0 || step < scene.max_steps))
       {
         double dt = dt_fixed;
@@ -464,7 +469,13 @@ namespace granhydro
             if (!(rate > 0) || !std::isfinite(rate))
               throw RunError("no finite wave speed at t = " + std::to_string(t * t0) + " s");
             dt = dt_fixed > 0 ? std::min(scene.cfl / rate, dt_fixed) : scene.cfl / rate;
+            if (scene.cfl / rate < min_cfl)
+              {
+                min_cfl   = scene.cfl / rate;
+                min_cfl_t = t;
+              }
           }
+        const double dt_uncut = dt;
         dt = std::min(dt, t_end - t);
         dt = std::min(dt, next_output - t);
         backup          = U;
@@ -502,6 +513,13 @@ namespace granhydro
           }
         t += dt;
         ++step;
+        // a step cut short to land on an output or end time says nothing about the
+        // scheme's step; halved (retried) steps do and are kept
+        if (tries == 0 && dt < dt_uncut)
+          min_cut_dt = std::min(min_cut_dt, dt);
+        else
+          min_dt = std::min(min_dt, dt);
+        max_dt = std::max(max_dt, dt);
         if (t >= next_output * (1 - 1e-12))
           {
             if (t < t_end * (1 - 1e-12))
@@ -565,6 +583,13 @@ namespace granhydro
         write_checkpoint_now();
       }
     sum.steps              = step;
+    sum.min_dt_si          = (std::isfinite(min_dt) ? min_dt : (std::isfinite(min_cut_dt) ? min_cut_dt : 0)) * t0;
+    sum.max_dt_si          = max_dt * t0;
+    sum.min_cfl_dt_si      = std::isfinite(min_cfl) ? min_cfl * t0 : 0;
+    sum.min_cfl_dt_time_si = min_cfl_t * t0;
+    sum.mass_drift         = std::abs(totals()[0] - mass0) / mass0;
+    sum.cells              = patch_->n_global_cells();
+    sum.ranks              = Utilities::MPI::n_mpi_processes(comm);
     sum.time_si            = t * t0;
     sum.wall_seconds       = std::chrono::duration<double>(clock::now() - start).count();
     sum.convection_seconds = Utilities::MPI::max(conv_seconds, comm);
@@ -604,16 +629,77 @@ namespace granhydro
           pcout << ", " << ds.explicit_substeps << " explicit sub-steps";
         pcout << "\n";
       }
-    if (scene.write_vtu || scene.write_profiles)
+    if (sum.diffusion_active && std::isfinite(sum.diffusion.min_explicit_dt))
+      pcout << "  time step: " << sum.min_dt_si << " .. " << sum.max_dt_si
+            << " s; explicit diffusive limit down to " << sum.diffusion.min_explicit_dt * t0
+            << " s (at t = " << sum.diffusion.min_explicit_dt_time * t0 << " s); steps up to "
+            << sum.diffusion.max_dt_over_explicit << " x that limit\n";
+    pcout << "  mass drift " << sum.mass_drift << " (relative)\n";
+    if (scene.write_summary)
+      write_summary(sum);
+    if (scene.write_vtu || scene.write_profiles || scene.write_summary)
       {
         pcout << "  output in " << scene.output_directory << "/:";
         if (scene.write_vtu)
           pcout << " " << scene.base_name << ".pvd (ParaView)";
         if (scene.write_profiles)
           pcout << " profiles.csv";
+        if (scene.write_summary)
+          pcout << " summary.csv";
         pcout << "\n";
       }
     return sum;
+  }
+
+  template <int dim, class Description>
+  void Simulation<dim, Description>::write_summary(const RunSummary &sum) const
+  {
+    if (Utilities::MPI::this_mpi_process(comm) != 0)
+      return;
+    std::error_code ec;
+    std::filesystem::create_directories(scene.output_directory, ec);
+    const std::string file = scene.output_directory + "/summary.csv";
+    std::ofstream     out(file + ".tmp");
+    if (!out)
+      throw RunError("cannot write " + file + " (Output/Directory)");
+    const double t0 = units_.time();
+    const auto  &cs = sum.convection;
+    const auto  &ds = sum.diffusion;
+    out << std::setprecision(10) << "key,value\n"
+        << "dimension," << dim << "\n"
+        << "cells," << sum.cells << "\n"
+        << "ranks," << sum.ranks << "\n"
+        << "time," << sum.time_si << "\n"
+        << "steps," << sum.steps << "\n"
+        << "rejected_steps," << sum.rejected_steps << "\n"
+        << "steady," << (sum.steady ? 1 : 0) << "\n"
+        << "wall_seconds," << sum.wall_seconds << "\n"
+        << "convection_seconds," << sum.convection_seconds << "\n"
+        << "diffusion_seconds," << sum.diffusion_seconds << "\n"
+        << "min_dt," << sum.min_dt_si << "\n"
+        << "max_dt," << sum.max_dt_si << "\n"
+        << "min_cfl_dt," << sum.min_cfl_dt_si << "\n"
+        << "min_cfl_dt_time," << sum.min_cfl_dt_time_si << "\n"
+        << "mass_drift," << sum.mass_drift << "\n"
+        << "flux_points," << cs.flux.points << "\n"
+        << "musta_stages," << cs.flux.stages << "\n"
+        << "limited_reconstructions," << cs.limited_cells << "\n"
+        << "first_order_fallbacks," << cs.fallback_cells << "\n"
+        << "diffusion_steps," << ds.steps << "\n"
+        << "newton_iterations," << ds.newton_iterations << "\n"
+        << "gmres_iterations," << ds.linear_iterations << "\n"
+        << "newton_failures," << ds.newton_failures << "\n"
+        << "gmres_failures," << ds.linear_failures << "\n"
+        << "switches_to_midpoint," << ds.switches_to_midpoint << "\n"
+        << "full_jacobian_retries," << ds.full_jacobian_retries << "\n"
+        << "explicit_substeps," << ds.explicit_substeps << "\n"
+        << "min_explicit_dt," << (std::isfinite(ds.min_explicit_dt) ? ds.min_explicit_dt * t0 : 0) << "\n"
+        << "min_explicit_dt_time," << ds.min_explicit_dt_time * t0 << "\n"
+        << "max_dt_over_explicit," << ds.max_dt_over_explicit << "\n";
+    out.close();
+    std::filesystem::rename(file + ".tmp", file, ec);
+    if (ec)
+      throw RunError("cannot write " + file + ": " + ec.message());
   }
 
   template <int dim>

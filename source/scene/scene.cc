@@ -437,6 +437,11 @@ namespace granhydro
       prm.declare_entry("Write checkpoint", "true", Patterns::Bool(),
                         "Write <Directory>/<Base name>.checkpoint at every output time and at "
                         "the end (replaced atomically), for 'Initial state/Checkpoint'.");
+      prm.declare_entry("Write summary", "true", Patterns::Bool(),
+                        "Write summary.csv at the end of the run: one 'key,value' line per "
+                        "figure of the run summary (cells, steps, wall times, smallest and "
+                        "largest time step, the explicit diffusive limit, Newton/GMRES "
+                        "iterations, mass drift), for scripts such as tools/work_precision.py.");
       prm.declare_entry("Write profiles", "true", Patterns::Bool(),
                         "Write profiles.csv: averages over the directions other than the "
                         "profile direction.");
@@ -650,6 +655,7 @@ end
     s.write_vtu        = prm.get_bool("Write VTU");
     s.write_profiles   = prm.get_bool("Write profiles");
     s.write_checkpoint = prm.get_bool("Write checkpoint");
+    s.write_summary    = prm.get_bool("Write summary");
     {
       const std::string p = prm.get("Profile direction");
       s.profile_direction = p == "auto" ? -1 : (p == "x" ? 0 : (p == "y" ? 1 : 2));

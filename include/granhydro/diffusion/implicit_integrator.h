@@ -29,6 +29,7 @@
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/trilinos_vector.h>
 
+#include <limits>
 #include <string>
 
 namespace granhydro::diffusion
@@ -58,6 +59,12 @@ namespace granhydro::diffusion
     unsigned long long steps = 0, newton_iterations = 0, linear_iterations = 0, newton_failures = 0,
                        linear_failures = 0, switches_to_midpoint = 0, explicit_substeps = 0,
                        jacobians = 0, full_jacobian_retries = 0;
+    /// the explicit diffusive limit 0.9 / max_cells sum_d 2 D / dx_d^2 (scaled time), smallest
+    /// over all steps, and the time (scaled) where it was smallest: what an explicit code
+    /// would have been held to; measured in every step, whatever the integrator
+    double min_explicit_dt = std::numeric_limits<double>::infinity(), min_explicit_dt_time = 0;
+    /// largest ratio of the step taken to the explicit diffusive limit
+    double max_dt_over_explicit = 0;
   };
 
   template <int dim>
@@ -99,6 +106,7 @@ namespace granhydro::diffusion
     bool                                   have_pattern[3][2] = {};
     std::vector<double>                    W, U0, f;
     std::string                            last_failure;
+    double                                 explicit_limit = 0; ///< of the current step (scaled)
     Vector                                 Y;
   };
 } // namespace granhydro::diffusion

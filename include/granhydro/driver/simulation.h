@@ -41,6 +41,14 @@ namespace granhydro
     double                           diffusion_seconds = 0;
     bool                             diffusion_active  = false;
     bool                             steady            = false; ///< stopped at a steady state
+    /// smallest and largest step taken [s] (the last step before an output time or the
+    /// end time is cut short and is left out, unless it is the only one)
+    double min_dt_si = 0, max_dt_si = 0;
+    /// smallest convective CFL step [s] and the time it occurred [s]
+    double min_cfl_dt_si = 0, min_cfl_dt_time_si = 0;
+    /// relative change of the total mass over the run (|M_end - M_0| / M_0)
+    double       mass_drift = 0;
+    unsigned int cells = 0, ranks = 1;
   };
 
   /// the time loop of a scene with the constitutive description Description
@@ -99,6 +107,8 @@ namespace granhydro
 
   private:
     void print_header() const;
+    /// summary.csv in the output directory (rank 0; written to .tmp, then renamed)
+    void write_summary(const RunSummary &sum) const;
     /// key of owned slot s in the checkpoint file (lattice index, x fastest)
     std::int64_t lattice_key(const unsigned int s) const;
 

@@ -158,6 +158,7 @@ namespace granhydro
     bool         write_vtu        = true;
     bool         write_profiles   = true;
     bool         write_checkpoint = true;
+    bool         write_summary    = true;
     int          profile_direction = -1; // -1: last dimension
     int          section_direction = -1; // 3D: average along this direction into a 2D map, -1: off
     double       progress_interval = 5;  // wall seconds
