@@ -222,7 +222,7 @@ namespace granhydro::convection
                 {
                   physics::State<dim> U;
                   std::copy(vals + q * NC, vals + (q + 1) * NC, U.begin());
-                  ok = desc.admissible(U);
+                  ok = desc.convectively_admissible(U);
                 }
               if (!ok)
                 {
@@ -305,7 +305,7 @@ namespace granhydro::convection
           {
             physics::State<dim> S;
             std::copy(&cand[std::size_t(s) * NC], &cand[std::size_t(s + 1) * NC], S.begin());
-            const bool bad = !desc.admissible(S);
+            const bool bad = !desc.convectively_admissible(S);
             flags.local_element(std::size_t(s) * NC) = bad || low[s] ? 1. : 0.;
             if (bad && !low[s])
               ++new_flags;

@@ -256,7 +256,17 @@ namespace granhydro::diffusion
   {
     const std::size_t n = std::size_t(patch.n_owned()) * (dim + 2);
     // W holds U's gather and explicit_limit its diffusive limit (both from step())
-    const unsigned int m = std::max(1u, unsigned(std::ceil(dt / explicit_limit)));
+    const double m_needed = std::ceil(dt / explicit_limit);
+    if (!(m_needed <= 1e6)) // the baseline's time-step collapse: report it, do not hang
+      {
+        std::ostringstream os;
+        os << "explicit baseline: the diffusive limit collapsed to " << explicit_limit
+           << " (scaled time) at t = " << t << " (scaled); one step would need " << m_needed
+           << " sub-steps (cap 1e6)";
+        last_failure = os.str();
+        return false;
+      }
+    const unsigned int m = std::max(1u, unsigned(m_needed));
     const double       h = dt / m;
     f.resize(n);
     for (unsigned int k = 0; k < m; ++k)

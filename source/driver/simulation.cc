@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <type_traits>
 #include <limits>
 #include <fstream>
 #include <cmath>
@@ -386,10 +387,31 @@ namespace granhydro
   bool Simulation<dim, Description>::advance(const double t, const double dt)
   {
     using clock = std::chrono::steady_clock;
+    // a cooling pile under the dense closure may end a part of the step with T slightly
+    // below zero (GranularGas::admissible): set T to the floor there, counted
+    auto repair = [&]() {
+      if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
+        if (desc.contact.active)
+          for (unsigned int s = 0; s < patch_->n_owned(); ++s)
+            {
+              State S;
+              double *u = &U.local_element(std::size_t(s) * (dim + 2));
+              std::copy(u, u + dim + 2, S.begin());
+              const double added = desc.repair_temperature(S);
+              if (added > 0)
+                {
+                  ++temperature_repairs;
+                  max_repair = std::max(max_repair, added / S[0]);
+                  u[dim + 1] = S[dim + 1];
+                }
+            }
+    };
     auto convect = [&](const double h) {
       const auto c0 = clock::now();
       const bool ok = conv->ssp_rk3_step(U, h);
       conv_seconds += std::chrono::duration<double>(clock::now() - c0).count();
+      if (ok)
+        repair();
       return ok && conv->admissible(U);
     };
     if (!integrator)
@@ -406,6 +428,7 @@ namespace granhydro
             << dt * units_.time() << " s)\n";
     if (!ok)
       return false;
+    repair();
     if (scene.convection && !convect(0.5 * dt))
       return false;
     return true;
@@ -439,8 +462,10 @@ namespace granhydro
     while (interval > 0 && t >= next_output * (1 - 1e-12) && next_output < t_end)
       next_output = std::min(next_output + interval, t_end);
     conv_seconds = diff_seconds = 0;
+    temperature_repairs = 0;
+    max_repair          = 0;
     unsigned int step = start_step_;
-    bool         have_steady_reference = false;
+    bool         have_steady_reference = false, wall_limited = false;
     double       steady_ke = 0, steady_com = 0;
     const std::string checkpoint = scene.output_directory + "/" + scene.base_name + ".checkpoint";
     auto write_checkpoint_now = [&]() {
@@ -460,6 +485,88 @@ namespace granhydro
     const double mass0 = totals()[0];
     double       min_dt = std::numeric_limits<double>::infinity(), max_dt = 0, min_cut_dt = min_dt;
     double       min_cfl = std::numeric_limits<double>::infinity(), min_cfl_t = 0;
+    // final output, statistics, summary line and summary.csv: at the end time, at a
+    // steady state, or (status failed/overpacking) with the last admissible state
+    auto finish = [&](const std::string &status) {
+      if (!(status == "steady" && t < t_end * (1 - 1e-12))) // a steady stop has just written its output
+        {
+          output->write(U, t * t0, step);
+          write_checkpoint_now();
+        }
+      sum.steps              = step;
+      sum.min_dt_si          = (std::isfinite(min_dt) ? min_dt : (std::isfinite(min_cut_dt) ? min_cut_dt : 0)) * t0;
+      sum.max_dt_si          = max_dt * t0;
+      sum.min_cfl_dt_si      = std::isfinite(min_cfl) ? min_cfl * t0 : 0;
+      sum.min_cfl_dt_time_si = min_cfl_t * t0;
+      sum.mass_drift         = std::abs(totals()[0] - mass0) / mass0;
+      sum.cells              = patch_->n_global_cells();
+    sum.temperature_repairs = Utilities::MPI::sum(temperature_repairs, comm);
+    sum.max_temperature_repair = Utilities::MPI::max(max_repair, comm);
+      sum.ranks              = Utilities::MPI::n_mpi_processes(comm);
+      sum.time_si            = t * t0;
+      sum.wall_seconds       = std::chrono::duration<double>(clock::now() - start).count();
+      sum.convection_seconds = Utilities::MPI::max(conv_seconds, comm);
+      sum.convection         = conv->global_statistics();
+      sum.diffusion_active   = integrator != nullptr;
+      if (integrator)
+        {
+          sum.diffusion         = integrator->global_statistics();
+          sum.diffusion_seconds = Utilities::MPI::max(diff_seconds, comm);
+        }
+
+      const auto  &cs = sum.convection;
+      const double nr = Utilities::MPI::n_mpi_processes(comm);
+      pcout << "run summary: " << sum.steps << " steps to t = " << sum.time_si << " s, "
+            << sum.rejected_steps << " rejected (retried with half dt)\n"
+            << "  wall " << sum.wall_seconds << " s, convection " << sum.convection_seconds << " s, "
+            << cs.cell_updates / std::max(sum.convection_seconds, 1e-30) / nr
+            << " cell-updates/s per RK stage per core\n"
+            << "  flux points " << cs.flux.points;
+      if (scene.flux == FluxType::musta)
+        pcout << ", MUSTA stages/point " << double(cs.flux.stages) / std::max<double>(cs.flux.points, 1)
+              << ", MUSTA fallbacks to Rusanov " << cs.flux.fallbacks;
+      pcout << "\n  positivity: reconstructions reset to the cell average (cell x direction x stage) "
+            << cs.limited_cells << ", cell updates redone first order (a posteriori) "
+            << cs.fallback_cells << "\n";
+      if (integrator)
+        {
+          const auto &ds = sum.diffusion;
+          pcout << "  diffusion step: " << sum.diffusion_seconds << " s, " << ds.steps << " steps, "
+                << ds.newton_iterations << " Newton iterations ("
+                << double(ds.newton_iterations) / std::max<double>(ds.steps, 1) << "/step), "
+                << ds.linear_iterations << " GMRES iterations, " << ds.newton_failures
+                << " Newton failures, " << ds.linear_failures << " GMRES failures, "
+                << ds.switches_to_midpoint << " switches to implicit midpoint, "
+                << ds.full_jacobian_retries << " retries with the fully coupled Jacobian";
+          if (ds.explicit_substeps)
+            pcout << ", " << ds.explicit_substeps << " explicit sub-steps";
+          pcout << "\n";
+        }
+      if (sum.diffusion_active && std::isfinite(sum.diffusion.min_explicit_dt))
+        pcout << "  time step: " << sum.min_dt_si << " .. " << sum.max_dt_si
+              << " s; explicit diffusive limit down to " << sum.diffusion.min_explicit_dt * t0
+              << " s (at t = " << sum.diffusion.min_explicit_dt_time * t0 << " s); steps up to "
+              << sum.diffusion.max_dt_over_explicit << " x that limit\n";
+      pcout << "  mass drift " << sum.mass_drift << " (relative)\n";
+    if (sum.temperature_repairs > 0)
+      pcout << "  temperature floor: " << sum.temperature_repairs
+            << " cell updates of a cooling dense pile ended with T < " << physics::GranularGas<dim>::temperature_floor
+            << " (scaled) and were set to it; largest thermal-energy deficit "
+            << sum.max_temperature_repair * units_.energy() << " J per grain (README, 'Dense closure')\n";
+      if (scene.write_summary)
+        write_summary(sum, status);
+      if (scene.write_vtu || scene.write_profiles || scene.write_summary)
+        {
+          pcout << "  output in " << scene.output_directory << "/:";
+          if (scene.write_vtu)
+            pcout << " " << scene.base_name << ".pvd (ParaView)";
+          if (scene.write_profiles)
+            pcout << " profiles.csv";
+          if (scene.write_summary)
+            pcout << " summary.csv";
+          pcout << "\n";
+        }
+    };
     while (t < t_end * (1 - 1e-12) && (scene.max_steps == 0 || step < scene.max_steps))
       {
         double dt = dt_fixed;
@@ -482,6 +589,16 @@ namespace granhydro
         unsigned int tries = 0;
         while (true)
           {
+            if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
+              {
+                // the splitting-error allowance of the temperature repair (GranularGas)
+                const double g = std::sqrt(scene.gravity[0] * scene.gravity[0] +
+                                           scene.gravity[1] * scene.gravity[1] +
+                                           scene.gravity[2] * scene.gravity[2]) +
+                                 scene.vibration_amplitude *
+                                   std::pow(2 * M_PI * scene.vibration_frequency, 2);
+                desc.repair_energy = 10 * std::pow(g * dt * t0 / units_.velocity, 2);
+              }
             if (advance(t, dt) && conv->admissible(U, &why))
               break;
             why.clear();
@@ -504,7 +621,21 @@ namespace granhydro
                                   std::to_string(integrator->statistics().newton_failures) + ")" :
                                 std::string())
                << ".";
-                throw RunError(os.str());
+                // the run ends cleanly: the last admissible state (no mass lost) is written
+                // as the final output, checkpoint and summary, then the run stops
+                U = backup;
+                const std::string packing = overpacking_report(U);
+                std::string       message = os.str();
+                if (!packing.empty())
+                  message = "over-packing at t = " + std::to_string(t * t0) + " s: " + packing +
+                            " Kinetic theory gives no pressure to a pile at rest (T -> 0), so a "
+                            "settling layer reaches phi_c in finite time; switch on 'Dense "
+                            "closure/Model = johnson-jackson' (README, 'Dense closure'). Details: " +
+                            message;
+                finish(packing.empty() ? "failed" : "overpacking");
+                pcout << "  the last admissible state (t = " << t * t0
+                      << " s) is the final output\n";
+                throw RunError(message);
               }
             pcout << "  step " << step << ": inadmissible state, retrying with dt = " << dt * t0 / 2
                   << " s" << (why.empty() ? std::string() : " (" + why + ")") << "\n";
@@ -564,6 +695,15 @@ namespace granhydro
               }
           }
         const auto now = clock::now();
+        if (scene.max_wall_seconds > 0 &&
+            Utilities::MPI::max(std::chrono::duration<double>(now - start).count(), comm) >
+              scene.max_wall_seconds)
+          {
+            pcout << "  wall time limit (Time/Maximum wall time = " << scene.max_wall_seconds
+                  << " s) reached at t = " << t * t0 << " s, step " << step << "\n";
+            wall_limited = true;
+            break;
+          }
         if (std::chrono::duration<double>(now - last_progress).count() >= scene.progress_interval)
           {
             last_progress       = now;
@@ -577,82 +717,66 @@ namespace granhydro
                   << std::setprecision(6) << "\n";
           }
       }
-    if (!(sum.steady && t < t_end * (1 - 1e-12))) // a steady stop has just written its output
-      {
-        output->write(U, t * t0, step);
-        write_checkpoint_now();
-      }
-    sum.steps              = step;
-    sum.min_dt_si          = (std::isfinite(min_dt) ? min_dt : (std::isfinite(min_cut_dt) ? min_cut_dt : 0)) * t0;
-    sum.max_dt_si          = max_dt * t0;
-    sum.min_cfl_dt_si      = std::isfinite(min_cfl) ? min_cfl * t0 : 0;
-    sum.min_cfl_dt_time_si = min_cfl_t * t0;
-    sum.mass_drift         = std::abs(totals()[0] - mass0) / mass0;
-    sum.cells              = patch_->n_global_cells();
-    sum.ranks              = Utilities::MPI::n_mpi_processes(comm);
-    sum.time_si            = t * t0;
-    sum.wall_seconds       = std::chrono::duration<double>(clock::now() - start).count();
-    sum.convection_seconds = Utilities::MPI::max(conv_seconds, comm);
-    sum.convection         = conv->global_statistics();
-    sum.diffusion_active   = integrator != nullptr;
-    if (integrator)
-      {
-        sum.diffusion         = integrator->global_statistics();
-        sum.diffusion_seconds = Utilities::MPI::max(diff_seconds, comm);
-      }
-
-    const auto  &cs = sum.convection;
-    const double nr = Utilities::MPI::n_mpi_processes(comm);
-    pcout << "run summary: " << sum.steps << " steps to t = " << sum.time_si << " s, "
-          << sum.rejected_steps << " rejected (retried with half dt)\n"
-          << "  wall " << sum.wall_seconds << " s, convection " << sum.convection_seconds << " s, "
-          << cs.cell_updates / std::max(sum.convection_seconds, 1e-30) / nr
-          << " cell-updates/s per RK stage per core\n"
-          << "  flux points " << cs.flux.points;
-    if (scene.flux == FluxType::musta)
-      pcout << ", MUSTA stages/point " << double(cs.flux.stages) / std::max<double>(cs.flux.points, 1)
-            << ", MUSTA fallbacks to Rusanov " << cs.flux.fallbacks;
-    pcout << "\n  positivity: reconstructions reset to the cell average (cell x direction x stage) "
-          << cs.limited_cells << ", cell updates redone first order (a posteriori) "
-          << cs.fallback_cells << "\n";
-    if (integrator)
-      {
-        const auto &ds = sum.diffusion;
-        pcout << "  diffusion step: " << sum.diffusion_seconds << " s, " << ds.steps << " steps, "
-              << ds.newton_iterations << " Newton iterations ("
-              << double(ds.newton_iterations) / std::max<double>(ds.steps, 1) << "/step), "
-              << ds.linear_iterations << " GMRES iterations, " << ds.newton_failures
-              << " Newton failures, " << ds.linear_failures << " GMRES failures, "
-              << ds.switches_to_midpoint << " switches to implicit midpoint, "
-              << ds.full_jacobian_retries << " retries with the fully coupled Jacobian";
-        if (ds.explicit_substeps)
-          pcout << ", " << ds.explicit_substeps << " explicit sub-steps";
-        pcout << "\n";
-      }
-    if (sum.diffusion_active && std::isfinite(sum.diffusion.min_explicit_dt))
-      pcout << "  time step: " << sum.min_dt_si << " .. " << sum.max_dt_si
-            << " s; explicit diffusive limit down to " << sum.diffusion.min_explicit_dt * t0
-            << " s (at t = " << sum.diffusion.min_explicit_dt_time * t0 << " s); steps up to "
-            << sum.diffusion.max_dt_over_explicit << " x that limit\n";
-    pcout << "  mass drift " << sum.mass_drift << " (relative)\n";
-    if (scene.write_summary)
-      write_summary(sum);
-    if (scene.write_vtu || scene.write_profiles || scene.write_summary)
-      {
-        pcout << "  output in " << scene.output_directory << "/:";
-        if (scene.write_vtu)
-          pcout << " " << scene.base_name << ".pvd (ParaView)";
-        if (scene.write_profiles)
-          pcout << " profiles.csv";
-        if (scene.write_summary)
-          pcout << " summary.csv";
-        pcout << "\n";
-      }
+    finish(sum.steady ? "steady" : (wall_limited ? "wall time limit" : "completed"));
     return sum;
   }
 
   template <int dim, class Description>
-  void Simulation<dim, Description>::write_summary(const RunSummary &sum) const
+  std::string Simulation<dim, Description>::overpacking_report(const Vector &V) const
+  {
+    if constexpr (!std::is_same_v<Description, physics::GranularGas<dim>>)
+      {
+        (void)V;
+        return {};
+      }
+    else
+      {
+        constexpr unsigned int NC    = dim + 2;
+        const double           phi_c = desc.phi_c;
+        // local: max phi and its cell; grains in cells with phi >= 0.99 phi_c; all grains
+        double       max_phi = 0, dense = 0, all = 0;
+        unsigned int where = 0, n_dense = 0;
+        for (unsigned int s = 0; s < patch_->n_owned(); ++s)
+          {
+            const double n   = V.local_element(std::size_t(s) * NC);
+            const double phi = n * M_PI / 6;
+            all += n;
+            if (phi > max_phi)
+              {
+                max_phi = phi;
+                where   = s;
+              }
+            if (phi >= 0.99 * phi_c)
+              {
+                dense += n;
+                ++n_dense;
+              }
+          }
+        const auto mm = Utilities::MPI::min_max_avg(max_phi, comm);
+        if (mm.max < 0.99 * phi_c)
+          return {};
+        // the centre of the densest cell, from its owner
+        double x[3] = {0, 0, 0};
+        if (Utilities::MPI::this_mpi_process(comm) == mm.max_index)
+          for (unsigned int d = 0; d < dim; ++d)
+            x[d] = patch_->center(where)[d];
+        Utilities::MPI::sum(ArrayView<const double>(x, 3), comm, ArrayView<double>(x, 3));
+        const double dense_sum = Utilities::MPI::sum(dense, comm), all_sum = Utilities::MPI::sum(all, comm);
+        const unsigned int n_dense_sum = Utilities::MPI::sum(n_dense, comm);
+        std::ostringstream os;
+        os << "the packing fraction reached close packing (phi_c = " << phi_c
+           << "): the last admissible state has phi = " << std::setprecision(8) << mm.max
+           << std::setprecision(6) << " at x = (";
+        for (unsigned int d = 0; d < dim; ++d)
+          os << (d ? ", " : "") << x[d];
+        os << ") m, and " << n_dense_sum << " cell(s) at phi >= " << 0.99 * phi_c << " hold "
+           << 100 * dense_sum / all_sum << " % of the grains.";
+        return os.str();
+      }
+  }
+
+  template <int dim, class Description>
+  void Simulation<dim, Description>::write_summary(const RunSummary &sum, const std::string &status) const
   {
     if (Utilities::MPI::this_mpi_process(comm) != 0)
       return;
@@ -666,6 +790,7 @@ namespace granhydro
     const auto  &cs = sum.convection;
     const auto  &ds = sum.diffusion;
     out << std::setprecision(10) << "key,value\n"
+        << "status," << status << "\n"
         << "dimension," << dim << "\n"
         << "cells," << sum.cells << "\n"
         << "ranks," << sum.ranks << "\n"
@@ -681,6 +806,8 @@ namespace granhydro
         << "min_cfl_dt," << sum.min_cfl_dt_si << "\n"
         << "min_cfl_dt_time," << sum.min_cfl_dt_time_si << "\n"
         << "mass_drift," << sum.mass_drift << "\n"
+        << "temperature_repairs," << sum.temperature_repairs << "\n"
+        << "max_temperature_repair_J," << sum.max_temperature_repair * units_.energy() << "\n"
         << "flux_points," << cs.flux.points << "\n"
         << "musta_stages," << cs.flux.stages << "\n"
         << "limited_reconstructions," << cs.limited_cells << "\n"
@@ -692,6 +819,7 @@ namespace granhydro
         << "gmres_failures," << ds.linear_failures << "\n"
         << "switches_to_midpoint," << ds.switches_to_midpoint << "\n"
         << "full_jacobian_retries," << ds.full_jacobian_retries << "\n"
+
         << "explicit_substeps," << ds.explicit_substeps << "\n"
         << "min_explicit_dt," << (std::isfinite(ds.min_explicit_dt) ? ds.min_explicit_dt * t0 : 0) << "\n"
         << "min_explicit_dt_time," << ds.min_explicit_dt_time * t0 << "\n"

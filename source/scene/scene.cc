@@ -415,6 +415,10 @@ namespace granhydro
     {
       prm.declare_entry("End time", "0.2", Patterns::Double(0, Patterns::Double::max_double_value),
                         "Simulated end time [s].");
+      prm.declare_entry("Maximum wall time", "0", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Stop cleanly (final output, checkpoint, summary.csv with status "
+                        "'wall time limit') after this many wall-clock seconds; 0 = no limit. "
+                        "Restart from the checkpoint to go on.");
       prm.declare_entry("Maximum steps", "0", Patterns::Integer(0),
                         "Stop after this many steps (0 = no limit).");
       prm.declare_entry("Steady state tolerance", "0", Patterns::Double(0, 1),
@@ -645,6 +649,7 @@ end
     prm.enter_subsection("Time");
     s.end_time  = prm.get_double("End time");
     s.max_steps = prm.get_integer("Maximum steps");
+    s.max_wall_seconds = prm.get_double("Maximum wall time");
     s.steady_tolerance = prm.get_double("Steady state tolerance");
     prm.leave_subsection();
 

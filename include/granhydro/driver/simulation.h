@@ -49,6 +49,10 @@ namespace granhydro
     /// relative change of the total mass over the run (|M_end - M_0| / M_0)
     double       mass_drift = 0;
     unsigned int cells = 0, ranks = 1;
+    /// cell updates of a cooling dense pile set to the temperature floor, and the largest
+    /// thermal-energy deficit repaired per grain (scaled)
+    unsigned long long temperature_repairs = 0;
+    double             max_temperature_repair = 0;
   };
 
   /// the time loop of a scene with the constitutive description Description
@@ -108,7 +112,10 @@ namespace granhydro
   private:
     void print_header() const;
     /// summary.csv in the output directory (rank 0; written to .tmp, then renamed)
-    void write_summary(const RunSummary &sum) const;
+    void write_summary(const RunSummary &sum, const std::string &status) const;
+    /// empty unless the state is near close packing (max phi >= 0.99 phi_c, granular
+    /// model): then where, how dense and how much mass sits in the near-close-packed cells
+    std::string overpacking_report(const Vector &U) const;
     /// key of owned slot s in the checkpoint file (lattice index, x fastest)
     std::int64_t lattice_key(const unsigned int s) const;
 
@@ -123,6 +130,8 @@ namespace granhydro
     std::unique_ptr<diffusion::DiffusionOperator<dim>>  diff;
     std::unique_ptr<diffusion::ImplicitIntegrator<dim>> integrator;
     double conv_seconds = 0, diff_seconds = 0;
+    unsigned long long temperature_repairs = 0;
+    double             max_repair          = 0;
     double       start_time_ = 0; ///< scaled
     unsigned int start_step_ = 0;
     Vector                    U;

@@ -72,6 +72,9 @@ namespace granhydro::physics
       return p > 0. && std::isfinite(p);
     }
 
+    /// the same test inside the convective step (GranularGas distinguishes them)
+    bool convectively_admissible(const State<dim> &U) const { return admissible(U); }
+
     /// conservative state from n, velocity (first dim components used) and T
     State<dim> from_primitive(const double n, const double *u, const double T) const
     {

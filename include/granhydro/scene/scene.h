@@ -149,6 +149,7 @@ namespace granhydro
     // Time
     double       end_time  = 1;
     unsigned int max_steps = 0;
+    double       max_wall_seconds = 0; ///< 0 = no limit
     double       steady_tolerance = 0; // stop when KE and centre of mass change less per output interval
 
     // Output
