@@ -40,7 +40,9 @@ def main():
     header, blocks = read(path)
     col = {h: i for i, h in enumerate(header)}
     coord = header[1]
-    flux = [h for h in header if h.startswith("n*u_")][-1]
+    # the mass flux along the profile direction (coordinate column "y_m" -> "n*u_y...")
+    along = [h for h in header if h.startswith("n*u_" + coord[0])]
+    flux = along[0] if along else [h for h in header if h.startswith("n*u_")][-1]
     panels = [("packing_fraction", "packing fraction"), ("temperature_J", "T [J]"),
               (flux, flux), ("n*E_J/m3", "nE [J/m^3]")]
     fig, axes = plt.subplots(1, 4, figsize=(16, 4.5), sharey=True)

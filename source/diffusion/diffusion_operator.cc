@@ -77,6 +77,15 @@ namespace granhydro::diffusion
   {
     const double n = U[0], T = desc.temperature(U);
     auto         c = desc.model.transport(n, std::max(T, 0.), 1., 1.);
+    if (settings.max_free_path > 0)
+      {
+        // Knudsen cap: l = 1/(sqrt(2) pi n) > L scales the fluxes' coefficients by L/l
+        const double f = std::min(1., std::sqrt(2.) * M_PI * n * settings.max_free_path);
+        c.eta *= f;
+        c.gamma *= f;
+        c.kappa *= f;
+        c.mu *= f;
+      }
     c.eta += desc.contact.viscosity(n); // dense closure: frictional shear viscosity (0 if off)
     if (!settings.viscous)
       c.eta = c.gamma = 0;

@@ -62,7 +62,12 @@ namespace granhydro
       pcout << " (gamma_a = " << desc.gamma << "; no transport, cooling or body force)\n";
     else
       pcout << " (eps = " << scene.restitution << ", Torquato chi with phi_f = "
-            << scene.phi_freezing << ", phi_c = " << scene.phi_close_packing << ")\n";
+            << scene.phi_freezing << ", phi_c = " << scene.phi_close_packing
+            << (scene.max_free_path > 0 ?
+                  "; Knudsen cap: transport coefficients scaled where the mean free path exceeds " +
+                    std::to_string(scene.max_free_path) + " m" :
+                  std::string())
+            << ")\n";
     pcout << "  active effects (only these operators are built and run):\n";
     for (const auto &[effect, why] : active_effects(scene))
       pcout << "    " << effect << "  [" << why << "]\n";
@@ -106,6 +111,7 @@ namespace granhydro
           ds.heat          = scene.heat_conduction;
           ds.cooling       = scene.cooling;
           ds.diagonal_only = scene.diagonal_flux;
+          ds.max_free_path = scene.max_free_path / units_.length;
           ds.wall_restitution = scene.wall_restitution;
           // vibrated container, scaled: A / L0, omega t0
           ds.vibration_amplitude = scene.vibration_amplitude / units_.length;

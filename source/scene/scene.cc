@@ -289,6 +289,13 @@ namespace granhydro
       prm.declare_entry("Close packing guard", "1e-3", Patterns::Double(0, 0.1),
                         "delta: chi is continued linearly (C1) beyond phi_c - delta, so "
                         "coefficients stay finite (physics.md 2, guard).");
+      prm.declare_entry("Maximum mean free path", "0", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Knudsen cap L [m] (granular model; 0 = off, the paper's model): where "
+                        "the mean free path l = 1/(sqrt(2) pi n sigma^2) exceeds L, the "
+                        "transport coefficients eta, gamma, kappa, mu are scaled by L/l, so the "
+                        "diffusivities stay below ~L sqrt(T/m) instead of diverging as n -> 0 "
+                        "(physics.md P14). Hydrodynamics has no meaning there anyway; use a few "
+                        "cell sizes for scenes with near-vacuum.");
       prm.declare_entry("Grain diameter", "1e-3", Patterns::Double(0, Patterns::Double::max_double_value),
                         "Grain diameter sigma [m].");
       prm.declare_entry("Material density", "2600", Patterns::Double(0, Patterns::Double::max_double_value),
@@ -580,6 +587,7 @@ end
     s.phi_freezing      = prm.get_double("Freezing packing fraction");
     s.phi_close_packing = prm.get_double("Close packing fraction");
     s.guard_delta       = prm.get_double("Close packing guard");
+    s.max_free_path     = prm.get_double("Maximum mean free path");
     prm.leave_subsection();
 
     prm.enter_subsection("Dense closure");

@@ -46,6 +46,9 @@ namespace granhydro::diffusion
   {
     bool                  viscous = true, heat = true, cooling = true;
     bool                  diagonal_only = false;
+    /// Knudsen cap (scaled, grain diameters; 0 = off): eta, gamma, kappa, mu times
+    /// min(1, L / l) with the dilute mean free path l = 1/(sqrt(2) pi n)
+    double                max_free_path = 0;
     std::array<double, 3> gravity{{0, 0, 0}}; ///< scaled units
     /// grain-wall restitution per boundary id (2 d + upper for a box); < 1: dissipative wall heat flux
     std::array<double, 6> wall_restitution{{1, 1, 1, 1, 1, 1}};

@@ -94,6 +94,7 @@ namespace granhydro
     double phi_freezing     = 0.49;  // phi_f of Torquato's chi
     double phi_close_packing = 0.64; // phi_c
     double guard_delta      = 1e-3;  // C1 continuation of chi beyond phi_c - delta
+    double max_free_path    = 0;     // [m] Knudsen cap of the transport coefficients; 0 = off
 
     // Dense closure (optional, off by default; physics/contact_pressure.h)
     std::string dense_closure = "none"; // none | johnson-jackson
