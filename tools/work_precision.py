@@ -672,9 +672,12 @@ class Runner:
         for k in range(5):
             text = sod_scene(10, "first order", "rusanov", 1, "@RUNDIR@").replace(
                 "  set End time", "  set Maximum steps = 1\n  set End time")
-            status, cpu, _, _ = self.run("startup", text)
+            status, cpu, _, rundir = self.run("startup", text)
             if status != "ok":
-                raise RuntimeError("granhydro does not run: " + status)
+                raise RuntimeError("%s does not run a scene: %s" % (self.exe, status))
+            if not os.path.isfile(os.path.join(rundir, "summary.csv")):
+                raise RuntimeError("%s wrote no summary.csv: is it granhydro (with "
+                                   "Output/Write summary)?" % self.exe)
             best = min(best, cpu)
         self.startup = best
         return best
@@ -734,7 +737,7 @@ def study_plan(quick):
         for N in vN:
             plan.append(("vortex", "%s + %s" % (rec, q), N, ("vortex", N, rec, q)))
     # --- Haff: integrators x fixed time step (steps per t_end)
-    hsteps = [8, 32, 128, 512] if quick else [4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048]
+    hsteps = [8, 32, 128] if quick else [4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048]
     for integ in INTEGRATORS:
         for s in hsteps:
             if integ == "explicit euler" and s < 8:
@@ -1113,9 +1116,10 @@ def parse_args(argv, repo):
                    help="comma-separated subset of sod, vortex, haff, column")
     p.add_argument("--timeout", type=float, default=900.0,
                    help="wall-clock limit per run in seconds (default 900)")
-    p.add_argument("--repeat-below", type=float, default=1.0,
+    p.add_argument("--repeat-below", type=float, default=None,
                    help="repeat runs cheaper than this many CPU seconds (up to 3 times in "
-                        "all) and keep the smallest CPU time (default 1.0; 0 = never)")
+                        "all) and keep the smallest CPU time (default 1.0, with --quick 0; "
+                        "0 = never)")
     p.add_argument("--keep-runs", action="store_true",
                    help="keep the checkpoints in OUT/runs (removed by default)")
     p.add_argument("--report-only", action="store_true",
@@ -1128,6 +1132,8 @@ def parse_args(argv, repo):
     if bad or not o.problems:
         p.error("--problems: unknown problem(s) %s (allowed: sod, vortex, haff, column)" %
                 ", ".join(repr(b) for b in bad) if bad else "--problems: empty list")
+    if o.repeat_below is None:
+        o.repeat_below = 0.0 if o.quick else 1.0
     if not (o.repeat_below >= 0):
         p.error("--repeat-below must be >= 0")
     if not (o.timeout > 0):
