@@ -1009,7 +1009,8 @@ def markdown(rows, out, info):
         L += ["## %s" % TITLES[problem], ""]
         meas = next((r["error_measure"] for r in prow if r["error_measure"]), "")
         ref = next((r["reference"] for r in prow if r["reference"] and r["status"] == "ok"), "")
-        L += ["Error: %s. Reference: %s." % (meas, ref), "",
+        L += ["Error: %s. Reference: %s. Mesh: uniform only (uniform vs adaptive is not "
+              "possible: granhydro has no AMR)." % (meas, ref), "",
               "![%s](work_precision_%s.png)" % (problem, problem), ""]
         levels = target_levels(fams)
         if levels:
