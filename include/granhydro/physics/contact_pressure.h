@@ -73,10 +73,11 @@ namespace granhydro::physics
       const double ph = std::min(phi, pm);
       const double y = ph - phi_min, x = phi_c - ph, a = A();
       const double g = (r + 1) * x + (s - 1) * y, gp = s - r - 2;
-      w  = a * std::pow(y, r + 1) / std::pow(x, s - 1);
-      w1 = a * std::pow(y, r) * g / std::pow(x, s);
-      w2 = a * (r * std::pow(y, r - 1) * g / std::pow(x, s) + std::pow(y, r) * gp / std::pow(x, s) +
-                s * std::pow(y, r) * g / std::pow(x, s + 1));
+      // two pow calls (y > 0, x >= delta > 0 here): y^r / x^s, the rest by products
+      const double q = a * std::pow(y, r) / std::pow(x, s); // a y^r / x^s
+      w  = q * y * x;
+      w1 = q * g;
+      w2 = q * (r * g / y + gp + s * g / x);
       if (phi > pm)
         {
           w += w1 * (phi - pm);
@@ -113,6 +114,20 @@ namespace granhydro::physics
       double       w, w1, w2;
       potential(phi, w, w1, w2);
       return 2 * phi * w1 + phi * phi * w2;
+    }
+
+    /// n w, p_f and dp_f/dn from one evaluation of the potential (the flux hot loop)
+    void evaluate(const double n, double &energy, double &p, double &dp_dn) const
+    {
+      energy = p = dp_dn = 0;
+      if (!active)
+        return;
+      const double phi = n * v;
+      double       w, w1, w2;
+      potential(phi, w, w1, w2);
+      energy = n * w;
+      p      = n * phi * w1;
+      dp_dn  = 2 * phi * w1 + phi * phi * w2;
     }
 
     /// frictional shear viscosity mu_f = t_f sin(theta_f) p_f

@@ -51,7 +51,11 @@ namespace granhydro::physics
     double pressure(const State<dim> &U) const
     {
       const double n = U[0];
-      return n * temperature(U) * model.Z(n * phi_per_n) + contact.pressure(n);
+      if (!contact.active)
+        return n * temperature(U) * model.Z(n * phi_per_n);
+      double W, pf, dpf;
+      contact.evaluate(n, W, pf, dpf);
+      return (2. / 3.) * (U[energy] - kinetic_energy(U) - W) * model.Z(n * phi_per_n) + pf;
     }
 
     /// c^2 = T [Z + phi dZ/dphi + (2/3) Z^2] (physics.md 1.1) (+ dp_f/dn), from n and p
@@ -65,8 +69,18 @@ namespace granhydro::physics
 
     double max_wave_speed(const State<dim> &U, const unsigned int d) const
     {
-      const double p = pressure(U);
-      return std::abs(U[1 + d] / U[0]) + sound_speed(U[0], p > 0 ? p : 0.);
+      if (!contact.active)
+        {
+          const double p = pressure(U);
+          return std::abs(U[1 + d] / U[0]) + sound_speed(U[0], p > 0 ? p : 0.);
+        }
+      // with the closure: one evaluation of the contact potential for p_f, n w and dp_f/dn
+      const double n = U[0], phi = n * phi_per_n, Z = model.Z(phi);
+      double       W, pf, dpf;
+      contact.evaluate(n, W, pf, dpf);
+      const double T = std::max((2. / 3.) * (U[energy] - kinetic_energy(U) - W) / n, 0.);
+      return std::abs(U[1 + d] / n) +
+             std::sqrt(T * (Z + phi * model.dZ_dphi(phi) + (2. / 3.) * Z * Z) + dpf);
     }
 
     double flux(const State<dim> &U, const unsigned int d, State<dim> &F) const
