@@ -3,7 +3,7 @@
 vertical mass flux and energy density against the profile coordinate, one curve
 per output time.  Debian: apt-get install python3-matplotlib python3-numpy
 
-    /usr/bin/python3 tools/plot_profiles.py OUTPUT_DIR [--out profiles.png]
+    /usr/bin/python3 tools/plot_profiles.py OUTPUT_DIR [--out profiles.png] [--spacetime] [--title T]
 """
 import argparse
 import csv
@@ -33,6 +33,10 @@ def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("directory", help="the scene's Output/Directory")
     p.add_argument("--out", default=None, help="PNG file (default DIRECTORY/profiles.png)")
+    p.add_argument("--spacetime", action="store_true",
+                   help="draw packing fraction and temperature as maps over (time, coordinate) "
+                        "instead of one curve per output time (many outputs, e.g. a vibrated bed)")
+    p.add_argument("--title", default=None, help="figure title (default: the directory)")
     a = p.parse_args()
     path = os.path.join(a.directory, "profiles.csv")
     if not os.path.exists(path):
@@ -45,6 +49,26 @@ def main():
     flux = along[0] if along else [h for h in header if h.startswith("n*u_")][-1]
     panels = [("packing_fraction", "packing fraction"), ("temperature_J", "T [J]"),
               (flux, flux), ("n*E_J/m3", "nE [J/m^3]")]
+    if a.spacetime:
+        import numpy as np
+        times = sorted(t for t, rows in blocks.items() if len(rows) == len(blocks[min(blocks)]))
+        y = [r[1] for r in blocks[times[0]]]
+        fig, axes = plt.subplots(2, 1, figsize=(12, 7), sharex=True)
+        for ax, (name, label), log in zip(axes, panels[:2], (False, True)):
+            z = np.array([[r[col[name]] for r in blocks[t]] for t in times]).T
+            if log:
+                z = np.log10(np.maximum(z, 1e-30))
+                label = "log10 " + label
+            m = ax.pcolormesh(times, y, z, shading="nearest", cmap="viridis")
+            fig.colorbar(m, ax=ax, label=label)
+            ax.set_ylabel(coord)
+        axes[1].set_xlabel("time [s]")
+        fig.suptitle(a.title or os.path.abspath(a.directory))
+        fig.tight_layout()
+        out = a.out or os.path.join(a.directory, "profiles.png")
+        fig.savefig(out, dpi=110)
+        print(f"plot_profiles: wrote {out}")
+        return
     fig, axes = plt.subplots(1, 4, figsize=(16, 4.5), sharey=True)
     for t, rows in sorted(blocks.items()):
         y = [r[1] for r in rows]
@@ -54,7 +78,7 @@ def main():
     axes[1].set_xscale("log")
     axes[0].set_ylabel(coord)
     axes[0].legend(fontsize=7)
-    fig.suptitle(os.path.abspath(a.directory))
+    fig.suptitle(a.title or os.path.abspath(a.directory))
     fig.tight_layout()
     out = a.out or os.path.join(a.directory, "profiles.png")
     fig.savefig(out, dpi=110)
