@@ -27,6 +27,16 @@ namespace granhydro::testing
       throw std::runtime_error("cannot read " + f);
     return ss.str();
   }
+  /// a scene file as a test runs it: the file's text with every output (VTU, profiles,
+  /// checkpoint, summary, log) switched off
+  inline Scene read_scene_quietly(const std::string &file)
+  {
+    return parse_scene(read_text_file(file) +
+                         "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
+                         "  set Write checkpoint = false\n  set Write summary = false\n  set Verbose = false\nend\n",
+                       file);
+  }
+
   struct SceneSpec
   {
     unsigned int                dim = 1;

@@ -69,10 +69,7 @@ int main(int argc, char **argv)
       return 2;
     }
   const std::string kind = argv[2];
-  const Scene       scene =
-    parse_scene(read_text_file(argv[1]) + "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n"
-                                "  set Verbose = false\nend\n",
-                argv[1]);
+  const Scene       scene = read_scene_quietly(argv[1]);
   AssertThrow(scene.dimension == 3, ExcMessage("the paper scenes are 3D"));
   Sim sim(scene, MPI_COMM_WORLD, std::cout);
   sim.setup();

@@ -212,10 +212,7 @@ int main(int argc, char **argv)
       std::cerr << "usage: test_stability <scene.prm> <case>\n";
       return 2;
     }
-  const Scene scene =
-    parse_scene(read_text_file(argv[1]) + "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
-                                          "  set Write checkpoint = false\n  set Write summary = false\n  set Verbose = false\nend\n",
-                argv[1]);
+  const Scene scene = read_scene_quietly(argv[1]);
   AssertThrow(scene.model == "granular", ExcMessage("the hard cases are granular scenes"));
   switch (scene.dimension)
     {
