@@ -195,14 +195,20 @@ namespace granhydro::diffusion
           }
         stats.linear_iterations += control.last_step();
         ++stats.newton_iterations;
-        double dmax = 0;
+        double      dmax = 0;
+        std::size_t imax = 0;
         for (std::size_t i = 0; i < n; ++i)
           for (unsigned int k = 0; k < stages; ++k)
             {
               const double d = delta[part.local_to_global(i) * stages + k];
               K[i * stages + k] += d;
-              dmax = std::max(dmax, std::abs(d));
+              if (std::abs(d) > dmax)
+                {
+                  dmax = std::abs(d);
+                  imax = i;
+                }
             }
+        const double dmax_local = dmax;
         dmax = Utilities::MPI::max(dmax, comm) * dt;
         if (!std::isfinite(dmax))
           break;
@@ -238,6 +244,13 @@ namespace granhydro::diffusion
             std::ostringstream os;
             os << "modified Newton stalled after " << it + 1 << " iterations (update "
                << dmax / scale << " of max|U|, tolerance " << settings.newton_tolerance << ")";
+            if (dmax_local * dt == dmax && n > 0) // this rank holds the largest update: where
+              {
+                const unsigned int c = imax / (dim + 2);
+                os << ", largest in component " << imax % (dim + 2) << " of the cell at x = "
+                   << patch.center(c) << " m (packing fraction " << U0[c * (dim + 2)] * M_PI / 6
+                   << ")";
+              }
             last_failure = os.str();
             break;
           }
