@@ -73,18 +73,18 @@ def main():
             print("%s: ours min dt %s s (%s), explicit limit %s s; baseline %s at t = %s s" % (
                 name, imp["min_dt"], imp["status"], imp["min_explicit_dt"], exp["status"], exp["time"]),
                 file=sys.stderr)
-    out = ["| hard case | our smallest dt [s] | steps, rejected | wall [s] | smallest explicit limit met [s] (at t [s]) | ratio | explicit baseline: reached t [s] of | its sub-steps | its smallest sub-step [s] | how it ended |",
-           "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    out = ["| hard case | our smallest dt [s] | steps, rejected | wall [s] | smallest explicit limit met [s] (at t [s]) | ratio | explicit baseline: reached t [s] of | its sub-steps | its smallest sub-step [s] | its wall [s] | how it ended |",
+           "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for name, imp, exp in rows:
         lim = float(imp["min_explicit_dt"])
         ratio = float(imp["min_dt"]) / lim if lim > 0 else float("nan")
         how = exp["status"]
         if exp["message"]:
             how += ": " + exp["message"].replace("|", "/")[:160]
-        out.append("| %s | %.3g | %s, %s | %.1f | %.3g (%.3g) | %.3g | %.3g of %s | %s | %.3g | %s |" % (
+        out.append("| %s | %.3g | %s, %s | %.1f | %.3g (%.3g) | %.3g | %.3g of %s | %s | %.3g | %.1f | %s |" % (
             name, float(imp["min_dt"]), imp["steps"], imp["rejected_steps"], float(imp["wall_seconds"]), lim,
             float(imp["min_explicit_dt_time"]), ratio, float(exp["time"]), imp["time"], exp["explicit_substeps"],
-            float(exp["min_explicit_dt"]), how))
+            float(exp["min_explicit_dt"]), float(exp["wall_seconds"]), how))
     text = "\n".join(out) + "\n"
     if a.out:
         with open(a.out, "w") as f:
