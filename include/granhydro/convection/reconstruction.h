@@ -70,11 +70,12 @@ namespace granhydro::convection
     Weno3();
     double c[2][2][2][2]; // [pair][side][candidate][j]
     double d[2][2][2];    // linear weights [pair][side][candidate]
-    double eps = 1e-6;
+    double eps = 1e-6; ///< relative to the stencil's mean square (see Weno5::scaled_eps)
     void pair(const double *v, const unsigned int p, double &lo, double &hi) const
     {
       const double b0 = (v[1] - v[0]) * (v[1] - v[0]);
       const double b1 = (v[2] - v[1]) * (v[2] - v[1]);
+      const double eps = this->eps * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) / 3. + 1e-100;
       double out[2];
       for (unsigned int s = 0; s < 2; ++s)
         {
@@ -103,9 +104,18 @@ namespace granhydro::convection
     double cc[3][3];          // centre: candidate coefficients
     double gp[3], gm[3];      // centre: split positive weights, normalised
     double sp = 1, sm = 0;    // centre: their sums
+    /// epsilon of the Jiang-Shu weights relative to the stencil's mean square, so the
+    /// weights do not depend on the internal units: the smoothness indicators scale as
+    /// v^2, and a fixed 1e-6 made results depend on 'Numerics/Reference velocity'
+    /// (L1 error of Sod 2.825e-3 / 2.997e-3 / 2.936e-3 for three reference velocities)
     double eps = 1e-6;
+    double scaled_eps(const double *v) const
+    {
+      return eps * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3] + v[4] * v[4]) / 5. + 1e-100; // 1e-100: (eps + b)^2 must not underflow for v = 0
+    }
     double center(const double *v) const
     {
+      const double eps = scaled_eps(v);
       const double t0 = v[0] - 2 * v[1] + v[2], t1 = v[1] - 2 * v[2] + v[3], t2 = v[2] - 2 * v[3] + v[4];
       const double s0 = v[0] - 4 * v[1] + 3 * v[2], s1 = v[1] - v[3], s2 = 3 * v[2] - 4 * v[3] + v[4];
       const double b[3] = {13. / 12. * t0 * t0 + 0.25 * s0 * s0, 13. / 12. * t1 * t1 + 0.25 * s1 * s1,
@@ -129,6 +139,7 @@ namespace granhydro::convection
       const double b0 = 13. / 12. * t0 * t0 + 0.25 * s0 * s0;
       const double b1 = 13. / 12. * t1 * t1 + 0.25 * s1 * s1;
       const double b2 = 13. / 12. * t2 * t2 + 0.25 * s2 * s2;
+      const double eps = scaled_eps(v);
       const double i0 = 1. / ((eps + b0) * (eps + b0)), i1 = 1. / ((eps + b1) * (eps + b1)),
                    i2 = 1. / ((eps + b2) * (eps + b2));
       double out[2];
