@@ -489,6 +489,10 @@ namespace granhydro
       }
     Vector backup(U);
     const double mass0 = totals()[0];
+    // largest body force per unit mass [m/s^2]: gravity plus the container's acceleration
+    const double g_eff = std::sqrt(scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
+                                   scene.gravity[2] * scene.gravity[2]) +
+                         scene.vibration_amplitude * std::pow(2 * M_PI * scene.vibration_frequency, 2);
     double       min_dt = std::numeric_limits<double>::infinity(), max_dt = 0, min_cut_dt = min_dt;
     double       min_cfl = std::numeric_limits<double>::infinity(), min_cfl_t = 0;
     // final output, statistics, summary line and summary.csv: at the end time, at a
@@ -598,12 +602,7 @@ namespace granhydro
             if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
               {
                 // the splitting-error allowance of the temperature repair (GranularGas)
-                const double g = std::sqrt(scene.gravity[0] * scene.gravity[0] +
-                                           scene.gravity[1] * scene.gravity[1] +
-                                           scene.gravity[2] * scene.gravity[2]) +
-                                 scene.vibration_amplitude *
-                                   std::pow(2 * M_PI * scene.vibration_frequency, 2);
-                desc.repair_energy = 10 * std::pow(g * dt * t0 / units_.velocity, 2);
+                desc.repair_energy = 10 * std::pow(g_eff * dt * t0 / units_.velocity, 2);
               }
             if (advance(t, dt) && conv->admissible(U, &why))
               break;

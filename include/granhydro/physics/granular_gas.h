@@ -44,7 +44,13 @@ namespace granhydro::physics
     /// potential per grain of the optional dense closure, 0 without it)
     double temperature(const State<dim> &U) const
     {
-      return (2. / 3.) * (U[energy] - kinetic_energy(U) - contact.energy_density(U[0])) / U[0];
+      return temperature(U, contact.energy_density(U[0]));
+    }
+
+    /// the same with the contact energy density n w already evaluated
+    double temperature(const State<dim> &U, const double nw) const
+    {
+      return (2. / 3.) * (U[energy] - kinetic_energy(U) - nw) / U[0];
     }
 
     /// p = n T Z(phi) (+ p_f(n) with the dense closure)
@@ -55,16 +61,17 @@ namespace granhydro::physics
         return n * temperature(U) * model.Z(n * phi_per_n);
       double W, pf, dpf;
       contact.evaluate(n, W, pf, dpf);
-      return (2. / 3.) * (U[energy] - kinetic_energy(U) - W) * model.Z(n * phi_per_n) + pf;
+      return n * temperature(U, W) * model.Z(n * phi_per_n) + pf;
     }
 
     /// c^2 = T [Z + phi dZ/dphi + (2/3) Z^2] (physics.md 1.1) (+ dp_f/dn), from n and p
     double sound_speed(const double n, const double p) const
     {
       const double phi = n * phi_per_n, Z = model.Z(phi);
-      const double T   = (p - contact.pressure(n)) / (n * Z);
-      return std::sqrt(std::max(T, 0.) * (Z + phi * model.dZ_dphi(phi) + (2. / 3.) * Z * Z) +
-                       contact.dpressure_dn(n));
+      double       W, pf, dpf; // one evaluation of the contact potential
+      contact.evaluate(n, W, pf, dpf);
+      const double T = (p - pf) / (n * Z);
+      return std::sqrt(std::max(T, 0.) * (Z + phi * model.dZ_dphi(phi) + (2. / 3.) * Z * Z) + dpf);
     }
 
     double max_wave_speed(const State<dim> &U, const unsigned int d) const
@@ -78,7 +85,7 @@ namespace granhydro::physics
       const double n = U[0], phi = n * phi_per_n, Z = model.Z(phi);
       double       W, pf, dpf;
       contact.evaluate(n, W, pf, dpf);
-      const double T = std::max((2. / 3.) * (U[energy] - kinetic_energy(U) - W) / n, 0.);
+      const double T = std::max(temperature(U, W), 0.);
       return std::abs(U[1 + d] / n) +
              std::sqrt(T * (Z + phi * model.dZ_dphi(phi) + (2. / 3.) * Z * Z) + dpf);
     }
@@ -105,6 +112,12 @@ namespace granhydro::physics
     /// scaled units (m g sigma, ~1e-8 J for 1 mm glass): 1e-12 of it, thermal speed ~1e-7 m/s
     static constexpr double temperature_floor = 1e-12;
 
+    /// the largest thermal-energy deficit per volume that is repaired (see above)
+    double repair_allowance(const double n, const double nw) const
+    {
+      return temperature_repair_tolerance * nw + n * repair_energy;
+    }
+
     bool admissible(const State<dim> &U) const
     {
       if (!(U[0] > 0.) || !std::isfinite(U[energy]) || !(U[0] * phi_per_n < phi_c))
@@ -113,7 +126,7 @@ namespace granhydro::physics
       if (!contact.active)
         return e > 0. && std::isfinite(e);
       const double w = contact.energy_density(U[0]);
-      return e - w > -(temperature_repair_tolerance * w + U[0] * repair_energy) && std::isfinite(e);
+      return e - w > -repair_allowance(U[0], w) && std::isfinite(e);
     }
 
     /// the test inside the convective step (reconstructed face states, a-posteriori
@@ -143,7 +156,7 @@ namespace granhydro::physics
         return 0.;
       const double w = contact.energy_density(U[0]), ke = kinetic_energy(U);
       const double e = U[energy] - ke - w, e_min = 1.5 * U[0] * temperature_floor;
-      if (e >= e_min || !(e > -(temperature_repair_tolerance * w + U[0] * repair_energy)))
+      if (e >= e_min || !(e > -repair_allowance(U[0], w)))
         return 0.;
       U[energy] = ke + w + e_min;
       return e_min - e;
