@@ -75,3 +75,21 @@ add_test(NAME mpi.silo_closed_2ranks COMMAND ${DEAL_II_MPIEXEC} -n 2 $<TARGET_FI
 set_tests_properties(mpi.silo_closed_2ranks PROPERTIES LABELS "stability;mpi" TIMEOUT 300 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)
 add_test(NAME stability.scene_silo-ci COMMAND test_mesh_files discharge ${CMAKE_SOURCE_DIR}/parameters/silo-ci.prm)
 set_tests_properties(stability.scene_silo-ci PROPERTIES LABELS stability TIMEOUT 600)
+# adaptive octree refinement (tests/test_amr.cc): conservation with refinement and coarsening
+# every 5 steps for 500 steps (1 and 2 ranks); 1 rank vs 2 ranks with AMR; restart with AMR
+granhydro_test_executable(test_amr test_amr.cc)
+add_test(NAME verify.amr_conservation COMMAND test_amr conservation)
+set_tests_properties(verify.amr_conservation PROPERTIES LABELS verify TIMEOUT 600)
+add_test(NAME mpi.amr_conservation_2ranks COMMAND ${DEAL_II_MPIEXEC} -n 2 $<TARGET_FILE:test_amr> conservation)
+set_tests_properties(mpi.amr_conservation_2ranks PROPERTIES LABELS mpi TIMEOUT 600 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)
+add_test(NAME mpi.amr_equivalence_2ranks COMMAND ${DEAL_II_MPIEXEC} -n 2 $<TARGET_FILE:test_amr> mpi)
+set_tests_properties(mpi.amr_equivalence_2ranks PROPERTIES LABELS mpi TIMEOUT 600 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)
+add_test(NAME verify.amr_restart_after_kill
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/restart_after_kill.sh $<TARGET_FILE:granhydro>
+          ${CMAKE_CURRENT_SOURCE_DIR}/data/restart_amr_2d.prm ${CMAKE_CURRENT_BINARY_DIR}/restart_amr_1rank)
+add_test(NAME mpi.amr_restart_after_kill_2ranks
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/restart_after_kill.sh $<TARGET_FILE:granhydro>
+          ${CMAKE_CURRENT_SOURCE_DIR}/data/restart_amr_2d.prm ${CMAKE_CURRENT_BINARY_DIR}/restart_amr_2ranks
+          ${DEAL_II_MPIEXEC} -n 2)
+set_tests_properties(verify.amr_restart_after_kill PROPERTIES LABELS verify TIMEOUT 300)
+set_tests_properties(mpi.amr_restart_after_kill_2ranks PROPERTIES LABELS mpi TIMEOUT 300 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)

@@ -24,9 +24,7 @@ namespace granhydro::convection
     , transverse(dim > 1 && scene.reconstruction != ReconstructionType::first_order)
     , P(scene.face_quadrature == FaceQuadrature::gauss ? 2 : 1)
   {
-    // the patch geometry is in SI; the operator works in scaled units (length sigma)
-    for (unsigned int d = 0; d < dim; ++d)
-      inv_h[d] = scene.units().length / patch.cell_size(d);
+    length_unit = scene.units().length;
   }
 
   template <int dim, class Description>
@@ -55,26 +53,27 @@ namespace granhydro::convection
       AssertThrow(t >= 0, ExcMessage("stencil leaves the ghost patch (internal error)"));
       return unsigned(t);
     };
+    // the patch geometry is in SI; the operator works in scaled units (length sigma)
     for (unsigned int d = 0; d < dim; ++d)
       {
-        faces[d].clear();
+        inv_h[d].resize(n_owned);
         for (unsigned int s = 0; s < n_owned; ++s)
-          {
-            faces[d].emplace_back(s, nb(s, d, 1));
-            const unsigned int l = nb(s, d, -1);
-            if (l >= n_owned)
-              faces[d].emplace_back(l, s);
-          }
-        wall[d].resize(faces[d].size());
-        for (std::size_t k = 0; k < faces[d].size(); ++k)
-          wall[d][k] = patch.wall_face(faces[d][k].first, faces[d][k].second, d);
+          inv_h[d][s] = length_unit / patch.cell_size(s, d);
+      }
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        const auto &faces = patch.faces(d);
+        wall[d].resize(faces.size());
+        for (std::size_t k = 0; k < faces.size(); ++k)
+          wall[d][k] = patch.wall_face(faces[k].l, faces[k].r, d);
+        // face cells: uniform ones are reconstructed, the others keep their average
         std::vector<unsigned int> fin;
-        for (const auto &f : faces[d])
-          {
-            fin.push_back(f.first);
-            fin.push_back(f.second);
-          }
+        flat[d].clear();
+        for (const auto &f : faces)
+          for (const unsigned int s : {f.l, f.r})
+            (patch.uniform(s) || r == 0 ? fin : flat[d]).push_back(s);
         unique_sort(fin);
+        unique_sort(flat[d]);
         auto widen = [&](const std::vector<unsigned int> &in, unsigned int dir) {
           std::vector<unsigned int> out;
           for (const unsigned int s : in)
@@ -232,16 +231,22 @@ namespace granhydro::convection
                     ++stats.limited_cells;
                 }
             }
-        // fluxes, stored at the + face of the low-side slot; each owned cell then
-        // takes the difference in a fixed order, so the result does not depend
-        // on the numbering (1 rank and N ranks agree bit for bit)
-        std::vector<double> &Fpd = Fp[d];
-        Fpd.resize(std::size_t(patch.n_slots()) * NC);
-        for (std::size_t k = 0; k < faces[d].size(); ++k)
+        // cells next to a level change (stencil not uniform): first order
+        for (const unsigned int s : flat[d])
+          for (unsigned int q = 0; q < 2 * npts; ++q)
+            std::copy(Wp + std::size_t(s) * NC, Wp + std::size_t(s + 1) * NC,
+                      finw + (std::size_t(s) * 2 * npts + q) * NC);
+        // fluxes per face (a hanging face is a fine sub-face); each owned cell then sums
+        // its faces in a fixed geometric order, so the result does not depend on the
+        // numbering (1 rank and N ranks agree bit for bit)
+        const auto          &faces = patch.faces(d);
+        std::vector<double> &Fpd   = Fp[d];
+        Fpd.resize(faces.size() * NC);
+        for (std::size_t k = 0; k < faces.size(); ++k)
           {
-            const auto [sl, sr] = faces[d][k];
+            const unsigned int sl = faces[k].l, sr = faces[k].r;
             physics::State<dim> UL, UR, F;
-            double *Fsum = &Fpd[std::size_t(sl) * NC];
+            double *Fsum = &Fpd[k * NC];
             std::fill(Fsum, Fsum + NC, 0.);
             const double *vl = fin + (std::size_t(sl) * 2 + 1) * npts * NC;
             const double *vr = fin + (std::size_t(sr) * 2 + 0) * npts * NC;
@@ -267,11 +272,21 @@ namespace granhydro::convection
     std::fill(rhs, rhs + std::size_t(n_owned) * NC, 0.);
     for (unsigned int d = 0; d < dim; ++d)
       {
-        const double ih = inv_h[d];
+        const auto &faces = patch.faces(d);
         for (unsigned int s = 0; s < n_owned; ++s)
           {
-            const double *fw = &Fp[d][std::size_t(patch.neighbor(s, d, -1)) * NC];
-            const double *fe = &Fp[d][std::size_t(s) * NC];
+            double     fw[NC] = {}, fe[NC] = {};
+            const auto [b, e] = patch.cell_faces(d, s);
+            for (auto cf = b; cf != e; ++cf)
+              {
+                const auto   &f    = faces[cf->face];
+                const double *F    = &Fp[d][std::size_t(cf->face) * NC];
+                double       *sum  = cf->upper ? fe : fw;
+                const double  frac = cf->upper ? f.frac_l : f.frac_r;
+                for (unsigned int c = 0; c < NC; ++c)
+                  sum[c] += frac * F[c];
+              }
+            const double ih = inv_h[d][s];
             for (unsigned int c = 0; c < NC; ++c)
               rhs[std::size_t(s) * NC + c] += ih * (fw[c] - fe[c]);
           }
@@ -336,8 +351,8 @@ namespace granhydro::convection
                 ++stats.fallback_cells;
             }
         for (unsigned int d = 0; d < dim; ++d)
-          for (std::size_t k = 0; k < faces[d].size(); ++k)
-            if (const auto [sl, sr] = faces[d][k]; low[sl] || low[sr])
+          for (std::size_t k = 0; k < patch.faces(d).size(); ++k)
+            if (const unsigned int sl = patch.faces(d)[k].l, sr = patch.faces(d)[k].r; low[sl] || low[sr])
               {
                 physics::State<dim> UL, UR, F;
                 std::copy(&W[std::size_t(sl) * NC], &W[std::size_t(sl + 1) * NC], UL.begin());
@@ -345,7 +360,7 @@ namespace granhydro::convection
                 numflux.rusanov(UL, UR, d, F);
                 if (wall[d][k])
                   F[0] = F[NC - 1] = 0.;
-                std::copy(F.begin(), F.end(), &Fp[d][std::size_t(sl) * NC]);
+                std::copy(F.begin(), F.end(), &Fp[d][k * NC]);
               }
         assemble_rhs(rhs0.data());
       }
@@ -364,7 +379,7 @@ namespace granhydro::convection
           S[c] = U.local_element(std::size_t(s) * NC + c);
         double rate = 0;
         for (unsigned int d = 0; d < dim; ++d)
-          rate += desc.max_wave_speed(S, d) * inv_h[d];
+          rate += desc.max_wave_speed(S, d) * inv_h[d][s];
         m = std::max(m, rate);
       }
     return Utilities::MPI::max(m, patch.communicator());

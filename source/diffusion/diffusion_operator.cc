@@ -19,26 +19,23 @@ namespace granhydro::diffusion
     : patch(patch)
     , desc(desc)
     , settings(settings)
-  {
-    for (unsigned int d = 0; d < dim; ++d)
-      inv_h[d] = length_unit / patch.cell_size(d);
-  }
+    , length_unit(length_unit)
+  {}
 
   template <int dim>
   void DiffusionOperator<dim>::setup()
   {
     const unsigned int n_owned = patch.n_owned();
+    // scaled geometry: 1/dx of each owned cell, 1/(centre distance) of each face
     for (unsigned int d = 0; d < dim; ++d)
       {
-        faces[d].clear();
+        inv_h[d].resize(n_owned);
         for (unsigned int s = 0; s < n_owned; ++s)
-          {
-            const int r = patch.neighbor(s, d, 1), l = patch.neighbor(s, d, -1);
-            AssertThrow(r >= 0 && l >= 0, ExcMessage("diffusion stencil leaves the patch"));
-            faces[d].emplace_back(s, unsigned(r));
-            if (unsigned(l) >= n_owned)
-              faces[d].emplace_back(unsigned(l), s);
-          }
+          inv_h[d][s] = length_unit / patch.cell_size(s, d);
+        const auto &faces = patch.faces(d);
+        inv_dist[d].resize(faces.size());
+        for (std::size_t k = 0; k < faces.size(); ++k)
+          inv_dist[d][k] = length_unit / (0.5 * (patch.cell_size(faces[k].l, d) + patch.cell_size(faces[k].r, d)));
       }
     src.resize(patch.n_slots());
     flip.assign(patch.n_slots(), 0u);
@@ -58,10 +55,11 @@ namespace granhydro::diffusion
     // the geometry (which side the cell is on), not from the id (mesh files)
     for (unsigned int d = 0; d < dim; ++d)
       {
-        walls[d].assign(faces[d].size(), WallFace());
-        for (std::size_t k = 0; k < faces[d].size(); ++k)
+        const auto &faces = patch.faces(d);
+        walls[d].assign(faces.size(), WallFace());
+        for (std::size_t k = 0; k < faces.size(); ++k)
           {
-            const auto [l, r] = faces[d][k];
+            const unsigned int l = faces[k].l, r = faces[k].r;
             if (!patch.wall_face(l, r, d))
               continue;
             const bool cell_low = patch.is_cell(l);
@@ -95,31 +93,38 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
-  void DiffusionOperator<dim>::face_flux(const double *W, const unsigned int d, const unsigned int l,
-                                         const unsigned int r, const State<dim> &UL,
-                                         const State<dim> &UR, const WallFace &wall,
-                                         State<dim> &F) const
+  void DiffusionOperator<dim>::face_flux(const double *W, const unsigned int d, const double ihn,
+                                         const unsigned int l, const unsigned int r,
+                                         const State<dim> &UL, const State<dim> &UR,
+                                         const WallFace &wall, State<dim> &F) const
   {
     State<dim> Uf;
     physics::StateGradient<dim> dU;
     for (unsigned int c = 0; c < NC; ++c)
       {
         Uf[c]    = 0.5 * (UL[c] + UR[c]);
-        dU[d][c] = (UR[c] - UL[c]) * inv_h[d];
+        dU[d][c] = (UR[c] - UL[c]) * ihn;
       }
     for (unsigned int j = 0; j < dim; ++j)
       if (j != d)
         {
+          dU[j].fill(0.);
           if (settings.diagonal_only)
-            dU[j].fill(0.);
-          else
+            continue;
+          // the average of the two cells' differences along j over their gradient
+          // neighbours (central on a uniform mesh; one-sided next to a finer region)
+          for (const unsigned int s : {l, r})
             {
-              const double *lp = W + std::size_t(patch.neighbor(l, j, 1)) * NC,
-                           *lm = W + std::size_t(patch.neighbor(l, j, -1)) * NC,
-                           *rp = W + std::size_t(patch.neighbor(r, j, 1)) * NC,
-                           *rm = W + std::size_t(patch.neighbor(r, j, -1)) * NC;
+              const int    p = patch.gradient_neighbor(s, j, 1), m = patch.gradient_neighbor(s, j, 0);
+              const double span = (p >= 0 ? patch.gradient_offset(s, j, 1) : 0.) -
+                                  (m >= 0 ? patch.gradient_offset(s, j, 0) : 0.);
+              if (span <= 0)
+                continue;
+              const double *up = W + std::size_t(p >= 0 ? p : s) * NC,
+                           *um = W + std::size_t(m >= 0 ? m : s) * NC;
+              const double  w  = 0.5 * length_unit / span;
               for (unsigned int c = 0; c < NC; ++c)
-                dU[j][c] = 0.25 * inv_h[j] * ((lp[c] - lm[c]) + (rp[c] - rm[c]));
+                dU[j][c] += w * (up[c] - um[c]);
             }
         }
     F = physics::viscous_flux<dim>(Uf, dU, coefficients(Uf), 1., d);
@@ -170,15 +175,16 @@ namespace granhydro::diffusion
     const unsigned int n_owned = patch.n_owned();
     for (unsigned int d = 0; d < dim; ++d)
       {
-        Fp[d].resize(std::size_t(patch.n_slots()) * NC);
-        for (std::size_t k = 0; k < faces[d].size(); ++k)
+        const auto &faces = patch.faces(d);
+        Fp[d].resize(faces.size() * NC);
+        for (std::size_t k = 0; k < faces.size(); ++k)
           {
-            const auto [l, r] = faces[d][k];
+            const unsigned int l = faces[k].l, r = faces[k].r;
             State<dim> UL, UR, F;
             std::copy(W + std::size_t(l) * NC, W + std::size_t(l + 1) * NC, UL.begin());
             std::copy(W + std::size_t(r) * NC, W + std::size_t(r + 1) * NC, UR.begin());
-            face_flux(W, d, l, r, UL, UR, walls[d][k], F);
-            std::copy(F.begin(), F.end(), &Fp[d][std::size_t(l) * NC]);
+            face_flux(W, d, inv_dist[d][k], l, r, UL, UR, walls[d][k], F);
+            std::copy(F.begin(), F.end(), &Fp[d][k * NC]);
           }
       }
     for (unsigned int s = 0; s < n_owned; ++s)
@@ -190,10 +196,19 @@ namespace granhydro::diffusion
           f[std::size_t(s) * NC + c] = S[c];
         for (unsigned int d = 0; d < dim; ++d) // d_i F_i^v, fixed order: partition independent
           {
-            const double *fe = &Fp[d][std::size_t(s) * NC];
-            const double *fw = &Fp[d][std::size_t(patch.neighbor(s, d, -1)) * NC];
+            double     fw[NC] = {}, fe[NC] = {};
+            const auto [b, e] = patch.cell_faces(d, s);
+            for (auto cf = b; cf != e; ++cf)
+              {
+                const auto   &fc   = patch.faces(d)[cf->face];
+                const double *F    = &Fp[d][std::size_t(cf->face) * NC];
+                double       *sum  = cf->upper ? fe : fw;
+                const double  frac = cf->upper ? fc.frac_l : fc.frac_r;
+                for (unsigned int c = 0; c < NC; ++c)
+                  sum[c] += frac * F[c];
+              }
             for (unsigned int c = 0; c < NC; ++c)
-              f[std::size_t(s) * NC + c] += inv_h[d] * (fe[c] - fw[c]);
+              f[std::size_t(s) * NC + c] += inv_h[d][s] * (fe[c] - fw[c]);
           }
       }
   }
@@ -216,19 +231,21 @@ namespace granhydro::diffusion
       {
         std::vector<unsigned int> cells{s};
         for (unsigned int d = 0; d < dim; ++d)
-          for (const int o : {-1, 1})
-            {
-              const unsigned int f = patch.neighbor(s, d, o);
-              cells.push_back(src[f]);
-              for (unsigned int j = 0; j < dim; ++j) // edge neighbours (cross terms)
-                if (j != d && edge_neighbours)
-                  for (const int o2 : {-1, 1})
-                    {
-                      const int e = patch.neighbor(f, j, o2);
-                      AssertThrow(e >= 0, ExcMessage("edge neighbour outside the patch"));
-                      cells.push_back(src[e]);
-                    }
-            }
+          {
+            const auto [b, e] = patch.cell_faces(d, s);
+            for (auto cf = b; cf != e; ++cf)
+              {
+                const auto        &fc = patch.faces(d)[cf->face];
+                const unsigned int f  = cf->upper ? fc.r : fc.l;
+                cells.push_back(src[f]);
+                for (const unsigned int c : {s, f}) // gradient neighbours (cross terms)
+                  for (unsigned int j = 0; j < dim; ++j)
+                    if (j != d && edge_neighbours)
+                      for (const unsigned int side : {0u, 1u})
+                        if (const int g = patch.gradient_neighbor(c, j, side); g >= 0)
+                          cells.push_back(src[g]);
+              }
+          }
         cols.clear();
         for (const unsigned int t : cells)
           for (unsigned int c = 0; c < NC; ++c)
@@ -280,14 +297,19 @@ namespace granhydro::diffusion
     };
     // face fluxes: derivative of the normal part w.r.t. U_L and U_R (tangential frozen)
     for (unsigned int d = 0; d < dim; ++d)
-      for (std::size_t k = 0; k < faces[d].size(); ++k)
+      for (std::size_t k = 0; k < patch.faces(d).size(); ++k)
         {
-          const auto [l, r] = faces[d][k];
+          const auto        &fc = patch.faces(d)[k];
+          const unsigned int l = fc.l, r = fc.r;
           const auto &wall  = walls[d][k];
+          const double ihn  = inv_dist[d][k];
+          // f[l] += frac_l F / h_l, f[r] -= frac_r F / h_r
+          const double wl = l < n_own ? fc.frac_l * inv_h[d][l] : 0.;
+          const double wr = r < n_own ? fc.frac_r * inv_h[d][r] : 0.;
           State<dim> UL, UR, F0, F1;
           std::copy(W + std::size_t(l) * NC, W + std::size_t(l + 1) * NC, UL.begin());
           std::copy(W + std::size_t(r) * NC, W + std::size_t(r + 1) * NC, UR.begin());
-          face_flux(W, d, l, r, UL, UR, wall, F0);
+          face_flux(W, d, ihn, l, r, UL, UR, wall, F0);
           std::array<double, NC * NC> BL{}, BR{};
           for (unsigned int b = 0; b < NC; ++b)
             for (const int side : {0, 1})
@@ -296,17 +318,20 @@ namespace granhydro::diffusion
                 State<dim> &P = side == 0 ? L2 : R2;
                 const double e = 1e-7 * std::max(std::abs(P[b]), std::max(1e-3 * std::abs(P[0]), 1e-10));
                 P[b] += e;
-                face_flux(W, d, l, r, L2, R2, wall, F1);
+                face_flux(W, d, ihn, l, r, L2, R2, wall, F1);
                 for (unsigned int a = 0; a < NC; ++a)
-                  (side == 0 ? BL : BR)[a * NC + b] = (F1[a] - F0[a]) / e * inv_h[d];
+                  (side == 0 ? BL : BR)[a * NC + b] = (F1[a] - F0[a]) / e;
               }
           if (cross_terms && !settings.diagonal_only)
             for (unsigned int j = 0; j < dim; ++j)
               if (j != d)
                 for (const unsigned int c : {l, r})
-                  for (const int o : {-1, 1})
+                  for (const unsigned int side : {0u, 1u})
                     {
-                      const unsigned int t = patch.neighbor(c, j, o);
+                      const int tg = patch.gradient_neighbor(c, j, side);
+                      if (tg < 0)
+                        continue;
+                      const unsigned int t = tg;
                       std::array<double, NC * NC> B{};
                       for (unsigned int b = 0; b < NC; ++b)
                         {
@@ -314,26 +339,25 @@ namespace granhydro::diffusion
                           const double P0 = P;
                           const double e  = 1e-7 * std::max(std::abs(P0), std::max(1e-3 * std::abs(Wc[std::size_t(t) * NC]), 1e-10));
                           P += e;
-                          face_flux(Wc.data(), d, l, r, UL, UR, wall, F1);
+                          face_flux(Wc.data(), d, ihn, l, r, UL, UR, wall, F1);
                           P = P0;
                           for (unsigned int a = 0; a < NC; ++a)
-                            B[a * NC + b] = (F1[a] - F0[a]) / e * inv_h[d];
+                            B[a * NC + b] = (F1[a] - F0[a]) / e;
                         }
                       if (l < n_own)
-                        add_block(l, t, B, 1.);
+                        add_block(l, t, B, wl);
                       if (r < n_own)
-                        add_block(r, t, B, -1.);
+                        add_block(r, t, B, -wr);
                     }
-          // f[l] += F/h, f[r] -= F/h
           if (l < n_own)
             {
-              add_block(l, l, BL, 1.);
-              add_block(l, r, BR, 1.);
+              add_block(l, l, BL, wl);
+              add_block(l, r, BR, wl);
             }
           if (r < n_own)
             {
-              add_block(r, l, BL, -1.);
-              add_block(r, r, BR, -1.);
+              add_block(r, l, BL, -wr);
+              add_block(r, r, BR, -wr);
             }
         }
     // sources
@@ -397,7 +421,7 @@ namespace granhydro::diffusion
         const double D = std::max((c.gamma + 4. / 3. * c.eta) / n, 2. * c.kappa / (3. * n));
         double       rate = 0;
         for (unsigned int d = 0; d < dim; ++d)
-          rate += 2 * D * inv_h[d] * inv_h[d];
+          rate += 2 * D * inv_h[d][s] * inv_h[d][s];
         m = std::max(m, rate);
       }
     return Utilities::MPI::max(m, patch.communicator());

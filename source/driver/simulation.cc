@@ -155,8 +155,7 @@ namespace granhydro
     vel.initialize(vars, vexpr, constants);
     const double m = scene.grain_mass(), sigma = scene.grain_diameter;
     bool         bad_phi = false, bad_T = false;
-    set_initial_state(
-      [&](const Point<dim> &x) {
+    const auto initial_state = [&](const Point<dim> &x) {
         const double p = phi.value(x), t = T.value(x);
         bad_phi        = bad_phi || !(p > 0);
         bad_T          = bad_T || !(t > 0);
@@ -180,8 +179,24 @@ namespace granhydro
         for (unsigned int d = 0; d < dim; ++d)
           Us[1 + d] /= m;
         return Us;
-      },
-      scene.initial_quadrature);
+      };
+    set_initial_state(initial_state, scene.initial_quadrature);
+    // initial refinement: adapt to the initial state, then evaluate it anew on the finer
+    // cells (no interpolation), up to the maximum level
+    for (unsigned int k = 0; k < scene.max_level; ++k)
+      {
+        if (!adapt_mesh(true))
+          break;
+        set_initial_state(initial_state, scene.initial_quadrature);
+      }
+    if (scene.max_level > 0)
+      pcout << "  initial refinement: " << patch_->n_global_cells() << " cells, levels 0.."
+            << scene.max_level << " above " << [&]() {
+                 std::string c;
+                 for (unsigned int d = 0; d < dim; ++d)
+                   c += (d ? " x " : "") + std::to_string(scene.cells[d]);
+                 return c;
+               }() << "\n";
     if (Utilities::MPI::logical_or(bad_phi, comm))
       throw SceneError("in " + scene.source + ": parameter 'Initial state/Packing fraction' "
                        "must be positive everywhere in the domain");
@@ -209,8 +224,7 @@ namespace granhydro
   template <int dim, class Description>
   std::int64_t Simulation<dim, Description>::lattice_key(const unsigned int s) const
   {
-    const auto &e = patch_->lattice(s);
-    return e[0] + std::int64_t(patch_->cells(0)) * (e[1] + std::int64_t(patch_->cells(1)) * e[2]);
+    return patch_->leaf_key(s);
   }
 
   template <int dim, class Description>
@@ -281,13 +295,32 @@ namespace granhydro
     if (!in || !in.read(&magic[0], magic.size()) || magic != checkpoint_magic() ||
         !in.read(reinterpret_cast<char *>(&h), sizeof(h)))
       throw SceneError(what + "is not a readable granhydro checkpoint file");
+    // all rows first: an adaptive mesh is rebuilt from the leaves in the file
+    std::vector<std::int64_t> keys;
+    std::vector<double>       values;
+    if (h.n_components == int(NC) && h.n_cells < (1ull << 40))
+      {
+        keys.resize(h.n_cells);
+        values.resize(h.n_cells * NC);
+        for (std::uint64_t i = 0; i < h.n_cells; ++i)
+          if (!in.read(reinterpret_cast<char *>(&keys[i]), sizeof(std::int64_t)) ||
+              !in.read(reinterpret_cast<char *>(&values[i * NC]), NC * sizeof(double)))
+            throw SceneError(what + "is truncated");
+      }
+    if (scene.max_level > 0 && h.dim == dim)
+      {
+        patch_->refine_to(std::vector<long long>(keys.begin(), keys.end()));
+        mesh_changed();
+        U.reinit(patch_->partitioner());
+      }
     bool same_mesh = h.dim == dim && h.n_components == int(NC) && h.n_cells == patch_->n_global_cells();
     for (unsigned int d = 0; d < dim; ++d)
       same_mesh = same_mesh && h.cells[d] == scene.cells[d] &&
                   std::abs(h.lower[d] - scene.lower[d]) <= 1e-12 * std::abs(scene.upper[d] - scene.lower[d]) &&
                   std::abs(h.upper[d] - scene.upper[d]) <= 1e-12 * std::abs(scene.upper[d] - scene.lower[d]);
     if (!same_mesh)
-      throw SceneError(what + "was written for another mesh (dimension, Domain/Cells or corners differ)");
+      throw SceneError(what + "was written for another mesh (dimension, Domain/Cells, corners or "
+                              "Adaptivity/Maximum level differ)");
     if (std::string(h.model, strnlen(h.model, sizeof(h.model))) != scene.model)
       throw SceneError(what + "was written with 'Material/Model = " +
                        std::string(h.model, strnlen(h.model, sizeof(h.model))) + "'");
@@ -301,21 +334,16 @@ namespace granhydro
     for (unsigned int s = 0; s < patch_->n_owned(); ++s)
       slot_of[lattice_key(s)] = s;
     std::size_t found = 0;
-    double      v[NC];
     for (std::uint64_t i = 0; i < h.n_cells; ++i)
       {
-        std::int64_t k;
-        if (!in.read(reinterpret_cast<char *>(&k), sizeof(k)) ||
-            !in.read(reinterpret_cast<char *>(v), sizeof(v)))
-          throw SceneError(what + "is truncated");
-        const auto it = slot_of.find(k);
+        const auto it = slot_of.find(keys[i]);
         if (it == slot_of.end())
           continue;
         ++found;
         for (unsigned int c = 0; c < NC; ++c)
           {
             const double f = same_units ? 1. : (c == 0 ? sn : (c == NC - 1 ? se : sm));
-            U.local_element(std::size_t(it->second) * NC + c) = v[c] * f;
+            U.local_element(std::size_t(it->second) * NC + c) = values[i * NC + c] * f;
           }
       }
     if (Utilities::MPI::sum(found, comm) != patch_->n_global_cells() || found != patch_->n_owned())
@@ -350,7 +378,7 @@ namespace granhydro
                 double             w     = 1;
                 for (unsigned int d = 0; d < dim; ++d)
                   {
-                    x[d] = patch_->lower(d) + (ijk[d] + q1.point(id[d])[0]) * patch_->cell_size(d);
+                    x[d] = patch_->lower(d) + (ijk[d] + q1.point(id[d])[0]) * patch_->cell_size(s, d);
                     w *= q1.weight(id[d]);
                   }
                 const State v = f(x);
@@ -382,11 +410,99 @@ namespace granhydro
     State t;
     t.fill(0.);
     for (unsigned int s = 0; s < patch_->n_owned(); ++s)
-      for (unsigned int c = 0; c < dim + 2; ++c)
-        t[c] += U.local_element(std::size_t(s) * (dim + 2) + c);
+      {
+        const double v = patch_->cell_volume(s) / std::pow(units_.length, dim);
+        for (unsigned int c = 0; c < dim + 2; ++c)
+          t[c] += U.local_element(std::size_t(s) * (dim + 2) + c) * v;
+      }
     for (unsigned int c = 0; c < dim + 2; ++c)
-      t[c] = Utilities::MPI::sum(t[c], comm) * patch_->cell_volume() / std::pow(units_.length, dim);
+      t[c] = Utilities::MPI::sum(t[c], comm);
     return t;
+  }
+
+  template <int dim, class Description>
+  void Simulation<dim, Description>::mesh_changed()
+  {
+    conv->setup();
+    if (diff)
+      diff->setup();
+    if (integrator)
+      integrator->mesh_changed();
+  }
+
+  template <int dim, class Description>
+  bool Simulation<dim, Description>::adapt_mesh(const bool initial)
+  {
+    constexpr unsigned int NC = dim + 2;
+    const CartesianPatch<dim> &P = *patch_;
+    const unsigned int n_owned = P.n_owned();
+    std::vector<double> W;
+    P.gather(U, W);
+    // indicator: largest normalised jump of n and p across the cell's faces
+    std::vector<double> n(P.n_slots()), p(P.n_slots());
+    for (unsigned int s = 0; s < P.n_slots(); ++s)
+      {
+        State S;
+        std::copy(&W[std::size_t(s) * NC], &W[std::size_t(s + 1) * NC], S.begin());
+        n[s] = S[0];
+        p[s] = desc.pressure(S);
+      }
+    auto jump = [](const double a, const double b) {
+      const double lo = std::min(a, b);
+      return lo > 0 ? std::abs(a - b) / lo : std::numeric_limits<double>::infinity();
+    };
+    Vector mark(P.partitioner()); // component 0: 1 = refine
+    std::vector<double> eta(n_owned, 0.);
+    for (unsigned int s = 0; s < n_owned; ++s)
+      {
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            const auto [b, e] = P.cell_faces(d, s);
+            for (auto cf = b; cf != e; ++cf)
+              {
+                const auto        &f = P.faces(d)[cf->face];
+                const unsigned int t = cf->upper ? f.r : f.l;
+                eta[s] = std::max({eta[s], jump(n[s], n[t]), jump(p[s], p[t])});
+              }
+          }
+        mark.local_element(std::size_t(s) * NC) = eta[s] > scene.refine_threshold ? 1. : 0.;
+      }
+    // buffer: the refine mark spreads over face neighbours, one layer per pass
+    for (unsigned int pass = 0; pass < scene.adapt_buffer; ++pass)
+      {
+        mark.update_ghost_values();
+        std::vector<char> next(n_owned, 0);
+        for (unsigned int s = 0; s < n_owned; ++s)
+          for (unsigned int d = 0; d < dim && !next[s]; ++d)
+            {
+              const auto [b, e] = P.cell_faces(d, s);
+              for (auto cf = b; cf != e; ++cf)
+                {
+                  const auto        &f = P.faces(d)[cf->face];
+                  const unsigned int t = cf->upper ? f.r : f.l;
+                  if (P.is_cell(t) && mark.local_element(std::size_t(t) * NC) > 0)
+                    next[s] = 1;
+                }
+            }
+        mark.zero_out_ghost_values();
+        for (unsigned int s = 0; s < n_owned; ++s)
+          if (next[s])
+            mark.local_element(std::size_t(s) * NC) = 1.;
+      }
+    std::vector<signed char> flags(n_owned, 0);
+    for (unsigned int s = 0; s < n_owned; ++s)
+      if (mark.local_element(std::size_t(s) * NC) > 0)
+        flags[s] = 1;
+      else if (!initial && eta[s] < scene.coarsen_threshold)
+        flags[s] = -1;
+    if (!patch_->adapt(flags, U))
+      return false;
+    mesh_changed();
+    ++adaptations;
+    refined_cells += patch_->last_refined();
+    coarsened_cells += patch_->last_coarsened();
+    max_cells = std::max<unsigned long long>(max_cells, patch_->n_global_cells());
+    return true;
   }
 
   template <int dim, class Description>
@@ -510,6 +626,10 @@ namespace granhydro
       sum.min_cfl_dt_time_si = min_cfl_t * t0;
       sum.mass_drift         = std::abs(totals()[0] - mass0) / mass0;
       sum.cells              = patch_->n_global_cells();
+      sum.max_cells          = std::max<unsigned long long>(max_cells, sum.cells);
+      sum.adaptations        = adaptations;
+      sum.refined_cells      = refined_cells;
+      sum.coarsened_cells    = coarsened_cells;
     sum.temperature_repairs = Utilities::MPI::sum(temperature_repairs, comm);
     sum.max_temperature_repair = Utilities::MPI::max(max_repair, comm);
       sum.ranks              = Utilities::MPI::n_mpi_processes(comm);
@@ -558,11 +678,15 @@ namespace granhydro
               << " s (at t = " << sum.diffusion.min_explicit_dt_time * t0 << " s); steps up to "
               << sum.diffusion.max_dt_over_explicit << " x that limit\n";
       pcout << "  mass drift " << sum.mass_drift << " (relative)\n";
-    if (sum.temperature_repairs > 0)
-      pcout << "  temperature floor: " << sum.temperature_repairs
-            << " cell updates of a cooling dense pile ended with T < " << physics::GranularGas<dim>::temperature_floor
-            << " (scaled) and were set to it; largest thermal-energy deficit "
-            << sum.max_temperature_repair * units_.energy() << " J per grain (README, 'Dense closure')\n";
+      if (scene.max_level > 0)
+        pcout << "  adaptive mesh: " << sum.adaptations << " adaptations, " << sum.refined_cells
+              << " cells refined, " << sum.coarsened_cells << " coarsened; " << sum.cells
+              << " cells at the end, at most " << sum.max_cells << "\n";
+      if (sum.temperature_repairs > 0)
+        pcout << "  temperature floor: " << sum.temperature_repairs
+              << " cell updates of a cooling dense pile ended with T < " << physics::GranularGas<dim>::temperature_floor
+              << " (scaled) and were set to it; largest thermal-energy deficit "
+              << sum.max_temperature_repair * units_.energy() << " J per grain (README, 'Dense closure')\n";
       if (scene.write_summary)
         write_summary(sum, status);
       if (scene.write_vtu || scene.write_profiles || scene.write_summary)
@@ -579,6 +703,10 @@ namespace granhydro
     };
     while (t < t_end * (1 - 1e-12) && (scene.max_steps == 0 || step < scene.max_steps))
       {
+        // adaptation on absolute step numbers: a restarted run adapts where the
+        // uninterrupted one did
+        if (scene.max_level > 0 && step % scene.adapt_interval == 0 && step > 0)
+          adapt_mesh(false);
         double dt = dt_fixed;
         if (scene.convection) // the convective CFL limits the step; diffusion never does
           {
@@ -595,6 +723,8 @@ namespace granhydro
         const double dt_uncut = dt;
         dt = std::min(dt, t_end - t);
         dt = std::min(dt, next_output - t);
+        if (backup.get_partitioner() != U.get_partitioner())
+          backup.reinit(U.get_partitioner()); // the mesh changed
         backup          = U;
         unsigned int tries = 0;
         while (true)
@@ -673,12 +803,13 @@ namespace granhydro
                 for (unsigned int s = 0; s < patch_->n_owned(); ++s)
                   {
                     const double *u = &U.local_element(std::size_t(s) * (dim + 2));
+                    const double  vol = patch_->cell_volume(s);
                     double        m2 = 0;
                     for (unsigned int d = 0; d < dim; ++d)
                       m2 += u[1 + d] * u[1 + d];
-                    v[0] += 0.5 * m2 / u[0];
-                    v[1] += u[0] * patch_->center(s)[pd];
-                    v[2] += u[0];
+                    v[0] += 0.5 * m2 / u[0] * vol;
+                    v[1] += u[0] * patch_->center(s)[pd] * vol;
+                    v[2] += u[0] * vol;
                   }
                 Utilities::MPI::sum(ArrayView<const double>(v, 3), comm, ArrayView<double>(v, 3));
                 const double ke = v[0], com = v[1] / v[2];
@@ -798,6 +929,10 @@ namespace granhydro
         << "status," << status << "\n"
         << "dimension," << dim << "\n"
         << "cells," << sum.cells << "\n"
+        << "max_cells," << sum.max_cells << "\n"
+        << "adaptations," << sum.adaptations << "\n"
+        << "refined_cells," << sum.refined_cells << "\n"
+        << "coarsened_cells," << sum.coarsened_cells << "\n"
         << "ranks," << sum.ranks << "\n"
         << "time," << sum.time_si << "\n"
         << "steps," << sum.steps << "\n"

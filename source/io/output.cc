@@ -160,6 +160,20 @@ namespace granhydro::io
     for (const unsigned int i : patch.owned_active_cell_index())
       rank[i] = me;
     data_out.add_data_vector(rank, "mpi_rank");
+    // refinement level above Domain/Cells, and the order of the reconstruction each cell
+    // used: the scheme's, or 1 next to a level change (non-uniform stencil)
+    const float order = scene.reconstruction == ReconstructionType::weno5 ? 5 :
+                        scene.reconstruction == ReconstructionType::weno3 ? 3 :
+                        scene.reconstruction == ReconstructionType::muscl ? 2 : 1;
+    dealii::Vector<float> level(rank.size()), recon(rank.size());
+    for (unsigned int s = 0; s < patch.n_owned(); ++s)
+      {
+        const unsigned int i = patch.owned_active_cell_index()[s];
+        level[i]             = patch.level(s);
+        recon[i]             = patch.uniform(s) ? order : 1.f;
+      }
+    data_out.add_data_vector(level, "refinement_level");
+    data_out.add_data_vector(recon, "reconstruction_order");
     data_out.build_patches();
     DataOutBase::VtkFlags flags(time_si, step);
     data_out.set_flags(flags);
@@ -177,7 +191,9 @@ namespace granhydro::io
   void Output<dim, Description>::write_profiles(const Vector &U, const double time_si)
   {
     const unsigned int pd   = scene.profile_direction < 0 ? dim - 1 : scene.profile_direction;
-    const unsigned int nl   = patch.cells(pd);
+    // layers of the finest lattice; a cell adds to each layer it spans with the weight
+    // of its volume there (on a uniform mesh: one layer, weight 1)
+    const unsigned int nl   = patch.cells(pd) << patch.max_level();
     constexpr unsigned NC   = dim + 2;
     const unsigned int ncol = NC + 2; // conserved, phi, T
     std::vector<double> sum(std::size_t(nl) * ncol, 0.), count(nl, 0.);
@@ -186,12 +202,17 @@ namespace granhydro::io
         physics::State<dim> S;
         for (unsigned int c = 0; c < NC; ++c)
           S[c] = U.local_element(std::size_t(s) * NC + c);
-        const unsigned int l = patch.lattice(s)[pd];
-        for (unsigned int c = 0; c < NC; ++c)
-          sum[l * ncol + c] += S[c];
-        sum[l * ncol + NC]     += S[0] * M_PI / 6.;
-        sum[l * ncol + NC + 1] += desc.temperature(S);
-        count[l] += 1;
+        const unsigned int span = patch.fine_span(s);
+        const double       w    = std::pow(double(span), dim - 1);
+        const double       T    = desc.temperature(S);
+        for (unsigned int l = patch.fine_begin(s, pd); l < patch.fine_begin(s, pd) + span; ++l)
+          {
+            for (unsigned int c = 0; c < NC; ++c)
+              sum[l * ncol + c] += w * S[c];
+            sum[l * ncol + NC]     += w * S[0] * M_PI / 6.;
+            sum[l * ncol + NC + 1] += w * T;
+            count[l] += w;
+          }
       }
     Utilities::MPI::sum(sum, patch.communicator(), sum);
     Utilities::MPI::sum(count, patch.communicator(), count);
@@ -220,7 +241,7 @@ namespace granhydro::io
         const double  k = count[l];
         if (k == 0) // a layer of solid lattice points (mesh file)
           continue;
-        out << time_si << ',' << patch.lower(pd) + (l + 0.5) * patch.cell_size(pd) << ','
+        out << time_si << ',' << patch.lower(pd) + (l + 0.5) * patch.cell_size(pd) / (1u << patch.max_level()) << ','
             << a[0] / k * nu;
         for (unsigned int d = 0; d < dim; ++d)
           out << ',' << a[1 + d] / k * nu * units.velocity + a[0] / k * nu * frame_velocity(time_si)[d];
@@ -236,7 +257,8 @@ namespace granhydro::io
       {
         const unsigned int sd = scene.section_direction, a = (sd + 1) % 3, b = (sd + 2) % 3;
         const unsigned int ia = std::min(a, b), ib = std::max(a, b);
-        const unsigned int na = patch.cells(ia), nb = patch.cells(ib);
+        const unsigned int ml = patch.max_level();
+        const unsigned int na = patch.cells(ia) << ml, nb = patch.cells(ib) << ml;
         constexpr unsigned int ncol = 7; // n, n u (3), phi, T, count
         std::vector<double> sum(std::size_t(na) * nb * ncol, 0.);
         const auto          fv = frame_velocity(time_si);
@@ -245,14 +267,20 @@ namespace granhydro::io
             physics::State<3> S;
             for (unsigned int c = 0; c < 5; ++c)
               S[c] = U.local_element(std::size_t(s) * 5 + c);
-            const auto &l = patch.lattice(s);
-            double     *v = &sum[(std::size_t(l[ia]) + std::size_t(na) * l[ib]) * ncol];
-            v[0] += S[0];
-            for (unsigned int d = 0; d < 3; ++d)
-              v[1 + d] += S[1 + d];
-            v[4] += S[0] * M_PI / 6.;
-            v[5] += desc.temperature(S);
-            v[6] += 1;
+            const unsigned int span = patch.fine_span(s);
+            const double       T    = desc.temperature(S), w = span;
+            for (unsigned int j = 0; j < span; ++j)
+              for (unsigned int i = 0; i < span; ++i)
+                {
+                  double *v = &sum[(std::size_t(patch.fine_begin(s, ia) + i) +
+                                    std::size_t(na) * (patch.fine_begin(s, ib) + j)) * ncol];
+                  v[0] += w * S[0];
+                  for (unsigned int d = 0; d < 3; ++d)
+                    v[1 + d] += w * S[1 + d];
+                  v[4] += w * S[0] * M_PI / 6.;
+                  v[5] += w * T;
+                  v[6] += w;
+                }
           }
         Utilities::MPI::sum(sum, patch.communicator(), sum);
         if (Utilities::MPI::this_mpi_process(patch.communicator()) != 0)
@@ -275,8 +303,8 @@ namespace granhydro::io
               const double  k = v[6], n = v[0] / k;
               if (k == 0) // only solid lattice points (mesh file)
                 continue;
-              out << time_si << ',' << patch.lower(ia) + (i + 0.5) * patch.cell_size(ia) << ','
-                  << patch.lower(ib) + (j + 0.5) * patch.cell_size(ib) << ',' << n * units.number_density();
+              out << time_si << ',' << patch.lower(ia) + (i + 0.5) * patch.cell_size(ia) / (1u << ml) << ','
+                  << patch.lower(ib) + (j + 0.5) * patch.cell_size(ib) / (1u << ml) << ',' << n * units.number_density();
               for (unsigned int d = 0; d < 3; ++d)
                 out << ',' << v[1 + d] / k / n * units.velocity + fv[d];
               out << ',' << v[4] / k << ',' << v[5] / k * units.energy() << '\n';

@@ -2,6 +2,9 @@
 #include <granhydro/mesh/mesh_file.h>
 
 #include <deal.II/distributed/shared_tria.h>
+#include <deal.II/distributed/solution_transfer.h>
+#include <deal.II/dofs/dof_renumbering.h>
+#include <deal.II/dofs/dof_tools.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/fe/fe_dgq.h>
 #include <deal.II/grid/grid_generator.h>
@@ -9,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -30,11 +34,11 @@ namespace granhydro
   }
 
   template <int dim>
-  double CartesianPatch<dim>::cell_volume() const
+  double CartesianPatch<dim>::cell_volume(const unsigned int s) const
   {
     double v = 1;
     for (unsigned int d = 0; d < dim; ++d)
-      v *= h_[d];
+      v *= cell_size(s, d);
     return v;
   }
 
@@ -43,7 +47,7 @@ namespace granhydro
   {
     Point<dim> p;
     for (unsigned int d = 0; d < dim; ++d)
-      p[d] = lo_[d] + (lattice_[s][d] + 0.5) * h_[d];
+      p[d] = lo_[d] + (lattice_[s][d] + 0.5) * cell_size(s, d);
     return p;
   }
 
@@ -75,11 +79,26 @@ namespace granhydro
     G = ghost_width;
     for (unsigned int i = 0; i < 6; ++i)
       btype_[i] = scene.boundary[i];
+    scene_boundary_      = scene.boundary;
+    scene_wall_velocity_ = scene.wall_velocity;
+    velocity_unit_       = scene.units().velocity;
+    max_level_           = scene.mesh_file.empty() ? scene.max_level : 0;
     dofh.reset();
     tria = make_triangulation<dim>(comm);
-
+    fe   = std::make_unique<FESystem<dim>>(FE_DGQ<dim>(0), n_components);
     if (scene.mesh_file.empty())
       {
+        make_box_mesh(scene);
+        rebuild_box();
+      }
+    else
+      build_lattice_subset(scene);
+  }
+
+  template <int dim>
+  void CartesianPatch<dim>::make_box_mesh(const Scene &scene)
+  {
+
         // ---- mesh: coarse box refined globally L times (p4est) -----------------
         for (unsigned int d = 0; d < 3; ++d)
           {
@@ -119,8 +138,12 @@ namespace granhydro
               ptria.add_periodicity(pairs);
           }
         tria->refine_global(L);
-      }
-    else
+        base_tria_level_ = L;
+  }
+
+  template <int dim>
+  void CartesianPatch<dim>::build_lattice_subset(const Scene &scene)
+  {
       {
         // ---- mesh file: the lattice is the bounding box at the fine cell size ----
         if constexpr (dim == 1)
@@ -148,7 +171,6 @@ namespace granhydro
     const long long n_lattice = 1ll * N_[0] * N_[1] * N_[2];
     n_global_                 = tria->n_global_active_cells();
 
-    fe   = std::make_unique<FESystem<dim>>(FE_DGQ<dim>(0), n_components);
     dofh = std::make_unique<DoFHandler<dim>>(*tria);
     dofh->distribute_dofs(*fe);
     for (unsigned int c = 0; c < n_components; ++c)
@@ -476,6 +498,631 @@ namespace granhydro
                 e2 = t;
               }
           }
+      }
+
+    // ---- uniform lattice: every slot at level 0, complete stencils, one face a side --
+    level_.assign(lattice_.size(), 0);
+    uniform_.assign(lattice_.size(), 1);
+    gnb_.assign(std::size_t(lattice_.size()) * dim * 2, -1);
+    goff_.assign(std::size_t(lattice_.size()) * dim * 2, 0.);
+    for (unsigned int s = 0; s < lattice_.size(); ++s)
+      for (unsigned int j = 0; j < dim; ++j)
+        for (unsigned int side = 0; side < 2; ++side)
+          {
+            gnb_[(std::size_t(s) * dim + j) * 2 + side]  = neighbor(s, j, side ? 1 : -1);
+            goff_[(std::size_t(s) * dim + j) * 2 + side] = side ? h_[j] : -h_[j];
+          }
+    std::vector<std::vector<unsigned int>> lists(std::size_t(n_owned_) * dim * 2);
+    for (unsigned int s = 0; s < n_owned_; ++s)
+      for (unsigned int d = 0; d < dim; ++d)
+        for (unsigned int side = 0; side < 2; ++side)
+          {
+            const int t = neighbor(s, d, side ? 1 : -1);
+            AssertThrow(t >= 0, ExcMessage("face neighbour outside the patch (internal error)"));
+            lists[(std::size_t(s) * dim + d) * 2 + side].push_back(t);
+          }
+    make_faces(lists);
+  }
+
+  template <int dim>
+  void CartesianPatch<dim>::make_faces(const std::vector<std::vector<unsigned int>> &lists)
+  {
+    const double sub = 1. / double(1u << (dim - 1)); // share of a fine sub-face
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        faces_[d].clear();
+        cell_face_[d].clear();
+        cell_face_start_[d].assign(n_owned_ + 1, 0);
+        std::map<std::pair<unsigned int, unsigned int>, unsigned int> index;
+        for (unsigned int s = 0; s < n_owned_; ++s)
+          {
+            cell_face_start_[d][s] = cell_face_[d].size();
+            for (unsigned int side = 0; side < 2; ++side)
+              for (const unsigned int t : lists[(std::size_t(s) * dim + d) * 2 + side])
+                {
+                  const unsigned int l = side ? s : t, r = side ? t : s;
+                  auto [it, fresh] = index.emplace(std::make_pair(l, r), faces_[d].size());
+                  if (fresh)
+                    {
+                      const double fl = level_[l] < level_[r] ? sub : 1.;
+                      const double fr = level_[r] < level_[l] ? sub : 1.;
+                      faces_[d].push_back({l, r, fl, fr});
+                    }
+                  cell_face_[d].push_back({it->second, side == 1});
+                }
+          }
+        cell_face_start_[d][n_owned_] = cell_face_[d].size();
+      }
+  }
+
+  // ------------------------------------------------------------------------------
+  // Box domains, uniform or adaptive
+  // ------------------------------------------------------------------------------
+  namespace
+  {
+    constexpr long long no_slot_key = std::numeric_limits<long long>::min();
+  }
+
+  template <int dim>
+  void CartesianPatch<dim>::rebuild_box()
+  {
+    const unsigned int m = max_level_;
+    AssertThrow(m <= 7, ExcMessage("at most 7 refinement levels"));
+    if (!dofh)
+      dofh = std::make_unique<DoFHandler<dim>>(*tria);
+    dofh->distribute_dofs(*fe);
+    // adaptive meshes: number the cells along the octree's z-order, which depends on the
+    // leaves only, not on the history of refinement and coarsening (deal.II's own cell
+    // order does): a restart that rebuilds the mesh gets the same numbering, hence the
+    // same block-ILU preconditioner and bitwise the same run
+    if (max_level_ > 0)
+      DoFRenumbering::hierarchical(*dofh);
+    for (unsigned int c = 0; c < n_components; ++c)
+      AssertThrow(fe->system_to_component_index(c).first == c, ExcInternalError());
+    const IndexSet owned_dofs = dofh->locally_owned_dofs();
+    AssertThrow(owned_dofs.is_contiguous(), ExcMessage("owned DoFs must be contiguous"));
+    n_global_ = tria->n_global_active_cells();
+
+    // fine lattice (level m)
+    std::array<long long, 3> Nf{{1, 1, 1}};
+    for (unsigned int d = 0; d < dim; ++d)
+      Nf[d] = (long long)(N_[d]) << m;
+    const long long n_fine = Nf[0] * Nf[1] * Nf[2];
+    auto fine_key = [&](const std::array<long long, 3> &c) { return c[0] + Nf[0] * (c[1] + Nf[1] * c[2]); };
+    auto Nk = [&](const unsigned int k, const unsigned int d) -> long long {
+      return d < dim ? (long long)(N_[d]) << k : 1;
+    };
+
+    // ---- owned cells --------------------------------------------------------------
+    struct Owned
+    {
+      types::global_dof_index first;
+      long long               key; ///< fine corner key * 8 + level
+      unsigned int            active, level;
+      std::array<int, 3>      ijk;
+    };
+    std::vector<Owned> owned;
+    std::vector<types::global_dof_index> dofs(n_components);
+    for (const auto &cell : dofh->active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell->get_dof_indices(dofs);
+          for (unsigned int c = 1; c < n_components; ++c)
+            AssertThrow(dofs[c] == dofs[0] + c, ExcMessage("DG0 DoFs of a cell must be consecutive"));
+          const unsigned int k = cell->level() - base_tria_level_;
+          AssertThrow(k <= m, ExcMessage("cell above the maximum level"));
+          const Point<dim>   x = cell->center();
+          std::array<int, 3> ijk{{0, 0, 0}};
+          std::array<long long, 3> corner{{0, 0, 0}};
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              ijk[d]    = static_cast<int>(std::floor((x[d] - lo_[d]) / (h_[d] / double(1u << k))));
+              corner[d] = (long long)(ijk[d]) << (m - k);
+            }
+          owned.push_back({dofs[0], fine_key(corner) * 8 + k, cell->active_cell_index(), k, ijk});
+        }
+    std::sort(owned.begin(), owned.end(), [](const Owned &a, const Owned &b) { return a.first < b.first; });
+    n_owned_ = owned.size();
+
+    // ---- replicated fine lattice -> (first DoF, level) of the covering leaf ----------
+    const int nranks = Utilities::MPI::n_mpi_processes(comm);
+    std::vector<long long> mine(2 * n_owned_);
+    for (unsigned int i = 0; i < n_owned_; ++i)
+      {
+        mine[2 * i]     = owned[i].key;
+        mine[2 * i + 1] = owned[i].first;
+      }
+    std::vector<int> counts(nranks), displs(nranks);
+    int              mycount = mine.size();
+    MPI_Allgather(&mycount, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+    long long total = 0;
+    for (int r = 0; r < nranks; ++r)
+      {
+        displs[r] = total;
+        total += counts[r];
+      }
+    std::vector<long long> all(total);
+    MPI_Allgatherv(mine.data(), mycount, MPI_LONG_LONG, all.data(), counts.data(), displs.data(),
+                   MPI_LONG_LONG, comm);
+    AssertThrow(all.size() == 2 * n_global_, ExcMessage("mesh is not the expected octree"));
+    std::vector<long long>   cover_first(n_fine, -1);
+    std::vector<signed char> cover_level(n_fine, -1);
+    for (std::size_t i = 0; i < all.size(); i += 2)
+      {
+        const long long    fk = all[i] >> 3;
+        const unsigned int k  = all[i] & 7;
+        const long long    span = 1ll << (m - k);
+        std::array<long long, 3> c{{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}};
+        for (long long z = 0; z < (dim > 2 ? span : 1); ++z)
+          for (long long y = 0; y < (dim > 1 ? span : 1); ++y)
+            for (long long x = 0; x < span; ++x)
+              {
+                const long long q = fine_key({{c[0] + x, c[1] + y, c[2] + z}});
+                AssertThrow(cover_first[q] < 0, ExcMessage("two cells on one lattice point"));
+                cover_first[q] = all[i + 1];
+                cover_level[q] = k;
+              }
+      }
+
+    // ---- positions: same-level keys of cells and wall ghosts --------------------------
+    // real cell: fine corner key * 8 + level (>= 0); wall ghost: -1 - (extended key * 8 +
+    // level), extended coordinates at the ghost's level shifted by E
+    const long long E = 2 * G + 2; // the farthest position looked at: 2 G outside
+    auto ext_n = [&](const unsigned int k, const unsigned int d) { return d < dim ? Nk(k, d) + 2 * E : 1; };
+    struct GhostInfo
+    {
+      BoundaryGhost      bg;
+      long long          source_key;
+      std::array<int, 3> pos;
+      unsigned int       level;
+    };
+    std::map<long long, GhostInfo> ghost_info;
+    // wrap periodic directions; false if outside a non-periodic side
+    auto wrap = [&](const unsigned int k, std::array<long long, 3> &p) {
+      bool inside = true;
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          const long long n = Nk(k, d);
+          if (periodic_[d])
+            p[d] = ((p[d] % n) + n) % n;
+          else if (p[d] < 0 || p[d] >= n)
+            inside = false;
+        }
+      return inside;
+    };
+    auto corner_key = [&](const unsigned int k, const std::array<long long, 3> &p) {
+      std::array<long long, 3> c{{0, 0, 0}};
+      for (unsigned int d = 0; d < dim; ++d)
+        c[d] = p[d] << (m - k);
+      return fine_key(c);
+    };
+    // the key of the same-level cell or wall ghost at position p of level k, or no_slot_key
+    auto same_level = [&](const unsigned int k, std::array<long long, 3> p) -> long long {
+      if (wrap(k, p))
+        {
+          const long long fk = corner_key(k, p);
+          return cover_level[fk] == int(k) ? fk * 8 + k : no_slot_key;
+        }
+      // a wall (or outflow) ghost: mirror (copy) of the same-level cell inside
+      std::array<long long, 3> q = p;
+      GhostInfo gi;
+      BoundaryGhost &bg = gi.bg;
+      unsigned int   flip = 0;
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          const long long n = Nk(k, d);
+          if (periodic_[d] || (p[d] >= 0 && p[d] < n))
+            continue;
+          const unsigned int   id = 2 * d + (p[d] >= n ? 1 : 0);
+          const BoundaryType   t  = scene_boundary_[id];
+          if (t == BoundaryType::slip_wall || t == BoundaryType::no_slip_wall)
+            {
+              q[d] = p[d] < 0 ? -1 - p[d] : 2 * n - 1 - p[d];
+              q[d] = std::min(std::max(q[d], 0ll), n - 1);
+              flip |= 1u << d;
+              const unsigned int w = bg.n_walls++;
+              bg.wall_dir[w]       = d;
+              bg.wall_id[w]        = id;
+              bg.wall_no_slip[w]   = t == BoundaryType::no_slip_wall;
+              if (t == BoundaryType::no_slip_wall)
+                {
+                  bg.no_slip = true;
+                  for (unsigned int c = 0; c < 3; ++c)
+                    bg.wall_velocity[w][c] = scene_wall_velocity_[id][c] / velocity_unit_;
+                }
+            }
+          else
+            q[d] = p[d] < 0 ? 0 : n - 1; // outflow: copy
+        }
+      const long long qk = corner_key(k, q);
+      if (cover_level[qk] != int(k))
+        return no_slot_key;
+      long long ek = 0;
+      for (int d = dim - 1; d >= 0; --d)
+        ek = ek * ext_n(k, d) + (p[d] + E);
+      const long long key = -1 - (ek * 8 + k);
+      if (!ghost_info.count(key))
+        {
+          bg.flip_mask  = flip;
+          gi.source_key = qk * 8 + k;
+          for (unsigned int d = 0; d < 3; ++d)
+            gi.pos[d] = p[d];
+          gi.level = k;
+          ghost_info[key] = gi;
+        }
+      return key;
+    };
+    // level and position of a key
+    auto decode = [&](const long long key, unsigned int &k, std::array<long long, 3> &p) {
+      if (key >= 0)
+        {
+          k                  = key & 7;
+          const long long fk = key >> 3;
+          p                  = {{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}};
+          for (unsigned int d = 0; d < dim; ++d)
+            p[d] >>= (m - k);
+        }
+      else
+        {
+          const auto &gi = ghost_info.at(key);
+          k              = gi.level;
+          p              = {{gi.pos[0], gi.pos[1], gi.pos[2]}};
+        }
+    };
+    // the leaf covering position p of level k (any level), or no_slot_key outside
+    auto covering = [&](const unsigned int k, std::array<long long, 3> p) -> long long {
+      if (!wrap(k, p))
+        return no_slot_key;
+      const long long          fk = corner_key(k, p);
+      const unsigned int       l  = cover_level[fk];
+      std::array<long long, 3> c{{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}};
+      for (unsigned int d = 0; d < dim; ++d)
+        c[d] = (c[d] >> (m - l)) << (m - l);
+      return fine_key(c) * 8 + l;
+    };
+    // gradient neighbour: same level, else a coarser leaf, else none
+    auto gradient_key = [&](const long long key, const unsigned int j, const int o) -> long long {
+      unsigned int             k;
+      std::array<long long, 3> p;
+      decode(key, k, p);
+      p[j] += o;
+      const long long t = same_level(k, p);
+      if (t != no_slot_key)
+        return t;
+      const long long c = covering(k, p);
+      return (c != no_slot_key && int(c & 7) < int(k)) ? c : no_slot_key;
+    };
+
+    // ---- the slots each owned cell needs ------------------------------------------------
+    std::set<long long> needed;
+    std::map<long long, unsigned int> slot_of;
+    for (unsigned int i = 0; i < n_owned_; ++i)
+      slot_of[owned[i].key] = i;
+    // face neighbour keys of owned cell i per direction and side (canonical order)
+    std::vector<std::vector<long long>> face_keys(std::size_t(n_owned_) * dim * 2);
+    const int Gi = G;
+    for (unsigned int i = 0; i < n_owned_; ++i)
+      {
+        const unsigned int       k = owned[i].level;
+        std::array<long long, 3> p0{{owned[i].ijk[0], owned[i].ijk[1], owned[i].ijk[2]}};
+        // the same-level box of Chebyshev radius G (reconstruction stencils)
+        for (int z = (dim > 2 ? -Gi : 0); z <= (dim > 2 ? Gi : 0); ++z)
+          for (int y = (dim > 1 ? -Gi : 0); y <= (dim > 1 ? Gi : 0); ++y)
+            for (int x = -Gi; x <= Gi; ++x)
+              {
+                const long long t = same_level(k, {{p0[0] + x, p0[1] + y, p0[2] + z}});
+                if (t != no_slot_key)
+                  needed.insert(t);
+              }
+        // faces: same level, one coarser leaf, or 2^(dim-1) finer leaves
+        for (unsigned int d = 0; d < dim; ++d)
+          for (unsigned int side = 0; side < 2; ++side)
+            {
+              auto &fk = face_keys[(std::size_t(i) * dim + d) * 2 + side];
+              std::array<long long, 3> q = p0;
+              q[d] += side ? 1 : -1;
+              const long long t = same_level(k, q);
+              if (t != no_slot_key)
+                fk.push_back(t);
+              else
+                {
+                  const long long c = covering(k, q);
+                  AssertThrow(c != no_slot_key, ExcInternalError());
+                  const unsigned int l = c & 7;
+                  if (l < k)
+                    fk.push_back(c);
+                  else
+                    {
+                      // q is refined (its corner may be finer still, away from s's face):
+                      // 2:1 balance puts level k+1 cells along the face
+                      wrap(k, q);
+                      const unsigned int t1 = (d + 1) % dim, t2 = (d + 2) % dim;
+                      const unsigned int n1 = dim > 1 ? 2 : 1, n2 = dim > 2 ? 2 : 1;
+                      for (unsigned int b = 0; b < n2; ++b) // t1 fastest
+                        for (unsigned int a = 0; a < n1; ++a)
+                          {
+                            std::array<long long, 3> f{{2 * q[0], 2 * q[1], 2 * q[2]}};
+                            for (unsigned int e = dim; e < 3; ++e)
+                              f[e] = 0;
+                            f[d] += side ? 0 : 1;
+                            if (dim > 1)
+                              f[t1] += a;
+                            if (dim > 2)
+                              f[t2] += b;
+                            const long long ft = same_level(k + 1, f);
+                            AssertThrow(ft != no_slot_key, ExcMessage("the mesh is not 2:1 balanced"));
+                            fk.push_back(ft);
+                          }
+                    }
+                }
+              for (const long long t : fk)
+                needed.insert(t);
+            }
+      }
+    // gradient stencils of the owned cells and of their face neighbours
+    {
+      std::set<long long> centres;
+      for (unsigned int i = 0; i < n_owned_; ++i)
+        {
+          centres.insert(owned[i].key);
+          for (unsigned int f = 0; f < dim * 2; ++f)
+            for (const long long t : face_keys[std::size_t(i) * dim * 2 + f])
+              centres.insert(t);
+        }
+      for (const long long c : centres)
+        for (unsigned int j = 0; j < dim; ++j)
+          for (const int o : {-1, 1})
+            {
+              const long long t = gradient_key(c, j, o);
+              if (t != no_slot_key)
+                needed.insert(t);
+            }
+    }
+    // wall ghosts need their source cells
+    for (const long long t : std::vector<long long>(needed.begin(), needed.end()))
+      if (t < 0)
+        needed.insert(ghost_info.at(t).source_key);
+
+    // ---- slots: owned, MPI ghosts (by DoF), wall ghosts (by key) -----------------------
+    lattice_.clear();
+    level_.clear();
+    active_index_.clear();
+    for (const auto &o : owned)
+      {
+        lattice_.push_back(o.ijk);
+        level_.push_back(o.level);
+        active_index_.push_back(o.active);
+      }
+    std::vector<std::pair<long long, long long>> mpi_ghosts; // (first dof, key)
+    for (const long long t : needed)
+      if (t >= 0 && !slot_of.count(t))
+        mpi_ghosts.emplace_back(cover_first[t >> 3], t);
+    std::sort(mpi_ghosts.begin(), mpi_ghosts.end());
+    IndexSet ghost_dofs(dofh->n_dofs());
+    std::vector<long long> slot_keys;
+    for (const auto &o : owned)
+      slot_keys.push_back(o.key);
+    for (const auto &[first, key] : mpi_ghosts)
+      {
+        slot_of[key] = lattice_.size();
+        unsigned int             k;
+        std::array<long long, 3> p;
+        decode(key, k, p);
+        lattice_.push_back({{int(p[0]), int(p[1]), int(p[2])}});
+        level_.push_back(k);
+        slot_keys.push_back(key);
+        ghost_dofs.add_range(first, first + n_components);
+      }
+    n_mpi_ghost_ = mpi_ghosts.size();
+    ghost_dofs.compress();
+    part = std::make_shared<Utilities::MPI::Partitioner>(owned_dofs, ghost_dofs, comm);
+    bghosts_.clear();
+    for (const long long t : needed)
+      if (t < 0)
+        {
+          const auto &gi = ghost_info.at(t);
+          slot_of[t]     = lattice_.size();
+          lattice_.push_back(gi.pos);
+          level_.push_back(gi.level);
+          slot_keys.push_back(t);
+        }
+    for (const long long t : needed)
+      if (t < 0)
+        {
+          BoundaryGhost bg = ghost_info.at(t).bg;
+          bg.slot          = slot_of.at(t);
+          bg.source        = slot_of.at(ghost_info.at(t).source_key);
+          bghosts_.push_back(bg);
+        }
+    const unsigned int ns = lattice_.size();
+
+    // boundary ids of the real cells' faces: box faces are colorized (id 2 d + upper)
+    slot_face_id_.assign(std::size_t(n_owned_ + n_mpi_ghost_) * 2 * dim, -1);
+    for (unsigned int s = 0; s < n_owned_ + n_mpi_ghost_; ++s)
+      for (unsigned int d = 0; d < dim; ++d)
+        if (!periodic_[d])
+          {
+            if (lattice_[s][d] == 0)
+              slot_face_id_[std::size_t(s) * 2 * dim + 2 * d] = 2 * d;
+            if (lattice_[s][d] == Nk(level_[s], d) - 1)
+              slot_face_id_[std::size_t(s) * 2 * dim + 2 * d + 1] = 2 * d + 1;
+          }
+
+    auto slot_or = [&](const long long key) -> int {
+      if (key == no_slot_key)
+        return -1;
+      const auto it = slot_of.find(key);
+      return it == slot_of.end() ? -1 : int(it->second);
+    };
+
+    // ---- same-level neighbour table, uniform flags -----------------------------------
+    const unsigned int W = 2 * G + 1;
+    nb_.assign(std::size_t(ns) * dim * W, -1);
+    uniform_.assign(ns, 0);
+    const int r = int(G) - 1;
+    for (unsigned int s = 0; s < ns; ++s)
+      {
+        const unsigned int       k = level_[s];
+        std::array<long long, 3> p0{{lattice_[s][0], lattice_[s][1], lattice_[s][2]}};
+        for (unsigned int d = 0; d < dim; ++d)
+          for (int o = -int(G); o <= int(G); ++o)
+            {
+              std::array<long long, 3> q = p0;
+              q[d] += o;
+              nb_[(std::size_t(s) * dim + d) * W + (o + int(G))] = slot_or(same_level(k, q));
+            }
+        bool ok = true;
+        for (int z = (dim > 2 ? -r : 0); z <= (dim > 2 ? r : 0) && ok; ++z)
+          for (int y = (dim > 1 ? -r : 0); y <= (dim > 1 ? r : 0) && ok; ++y)
+            for (int x = -r; x <= r && ok; ++x)
+              ok = slot_or(same_level(k, {{p0[0] + x, p0[1] + y, p0[2] + z}})) >= 0;
+        uniform_[s] = ok ? 1 : 0;
+      }
+
+    // ---- gradient neighbours --------------------------------------------------------------
+    gnb_.assign(std::size_t(ns) * dim * 2, -1);
+    goff_.assign(std::size_t(ns) * dim * 2, 0.);
+    for (unsigned int s = 0; s < ns; ++s)
+      for (unsigned int j = 0; j < dim; ++j)
+        for (unsigned int side = 0; side < 2; ++side)
+          {
+            const int t = slot_or(gradient_key(slot_keys[s], j, side ? 1 : -1));
+            gnb_[(std::size_t(s) * dim + j) * 2 + side] = t;
+            if (t >= 0)
+              goff_[(std::size_t(s) * dim + j) * 2 + side] =
+                (side ? 0.5 : -0.5) * (cell_size(s, j) + cell_size(t, j));
+          }
+
+    // ---- faces ----------------------------------------------------------------------------
+    std::vector<std::vector<unsigned int>> lists(face_keys.size());
+    for (std::size_t f = 0; f < face_keys.size(); ++f)
+      for (const long long t : face_keys[f])
+        lists[f].push_back(slot_of.at(t));
+    make_faces(lists);
+  }
+
+  template <int dim>
+  long long CartesianPatch<dim>::leaf_key(const unsigned int s) const
+  {
+    long long key = 0;
+    for (int d = dim - 1; d >= 0; --d)
+      key = key * ((long long)(N_[d]) << max_level_) + fine_begin(s, d);
+    return key * 8 + level_[s];
+  }
+
+  template <int dim>
+  bool CartesianPatch<dim>::adapt(const std::vector<signed char> &flags,
+                                  LinearAlgebra::distributed::Vector<double> &U)
+  {
+    if constexpr (dim == 1)
+      {
+        (void)flags;
+        (void)U;
+        AssertThrow(false, ExcMessage("adaptive meshes need 2 or 3 dimensions"));
+        return false;
+      }
+    else
+      {
+        auto &ptria = dynamic_cast<parallel::distributed::Triangulation<dim> &>(*tria);
+        AssertThrow(flags.size() == n_owned_, ExcMessage("one flag per owned cell"));
+        std::vector<int> slot_of_active(tria->n_active_cells(), -1);
+        for (unsigned int s = 0; s < n_owned_; ++s)
+          slot_of_active[active_index_[s]] = s;
+        unsigned int changes = 0;
+        for (const auto &cell : tria->active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              const int s = slot_of_active[cell->active_cell_index()];
+              cell->clear_refine_flag();
+              cell->clear_coarsen_flag();
+              if (flags[s] > 0 && level_[s] < max_level_)
+                {
+                  cell->set_refine_flag();
+                  ++changes;
+                }
+              else if (flags[s] < 0 && level_[s] > 0)
+                {
+                  cell->set_coarsen_flag();
+                  ++changes;
+                }
+            }
+        if (Utilities::MPI::sum(changes, comm) == 0)
+          return false;
+        const unsigned long long before = n_global_;
+        // the state with the ghost values deal.II expects (locally relevant = one layer)
+        IndexSet relevant;
+        DoFTools::extract_locally_relevant_dofs(*dofh, relevant);
+        LinearAlgebra::distributed::Vector<double> old(dofh->locally_owned_dofs(), relevant, comm);
+        for (std::size_t i = 0; i < std::size_t(n_owned_) * n_components; ++i)
+          old.local_element(i) = U.local_element(i);
+        old.update_ghost_values();
+        tria->prepare_coarsening_and_refinement();
+        unsigned long long nr = 0, nc = 0;
+        for (const auto &cell : tria->active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              nr += cell->refine_flag_set() ? 1 : 0;
+              nc += cell->coarsen_flag_set() ? 1 : 0;
+            }
+        last_refined_   = Utilities::MPI::sum(nr, comm);
+        last_coarsened_ = Utilities::MPI::sum(nc, comm);
+        parallel::distributed::SolutionTransfer<dim, LinearAlgebra::distributed::Vector<double>> st(*dofh);
+        st.prepare_for_coarsening_and_refinement(old);
+        ptria.execute_coarsening_and_refinement();
+        rebuild_box();
+        LinearAlgebra::distributed::Vector<double> fresh(dofh->locally_owned_dofs(), comm);
+        st.interpolate(fresh);
+        U.reinit(part);
+        for (std::size_t i = 0; i < std::size_t(n_owned_) * n_components; ++i)
+          U.local_element(i) = fresh.local_element(i);
+        (void)before;
+        return true;
+      }
+  }
+
+  template <int dim>
+  void CartesianPatch<dim>::refine_to(const std::vector<long long> &cells)
+  {
+    if constexpr (dim == 1)
+      {
+        AssertThrow(cells.empty() || max_level_ == 0, ExcMessage("adaptive meshes need 2 or 3 dimensions"));
+      }
+    else
+      {
+        // a leaf of the target at level l inside an active cell of level k < l: refine it
+        std::set<long long> target(cells.begin(), cells.end());
+        for (unsigned int pass = 0; pass < max_level_; ++pass)
+          {
+            unsigned int n = 0;
+            for (const auto &cell : tria->active_cell_iterators())
+              if (cell->is_locally_owned())
+                {
+                  // this cell's leaf key; refine unless it is a target leaf or contains none
+                  const unsigned int k = cell->level() - base_tria_level_;
+                  long long          key = 0;
+                  bool               refine = false;
+                  for (int d = dim - 1; d >= 0; --d)
+                    key = key * ((long long)(N_[d]) << max_level_) +
+                          ((long long)(std::floor((cell->center()[d] - lo_[d]) / (h_[d] / double(1u << k))))
+                           << (max_level_ - k));
+                  if (k < max_level_ && !target.count(key * 8 + k))
+                    {
+                      // is any target leaf of a finer level at this corner? (leaves of a
+                      // refined cell include one at its lower corner)
+                      for (unsigned int l = k + 1; l <= max_level_ && !refine; ++l)
+                        refine = target.count(key * 8 + l) > 0;
+                    }
+                  if (refine)
+                    {
+                      cell->set_refine_flag();
+                      ++n;
+                    }
+                }
+            if (Utilities::MPI::sum(n, comm) == 0)
+              break;
+            tria->execute_coarsening_and_refinement();
+          }
+        rebuild_box();
       }
   }
 

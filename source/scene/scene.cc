@@ -118,6 +118,9 @@ namespace granhydro
     };
     if (s.convection)
       e.emplace_back("convection", "Effects/Convection = true");
+    if (s.max_level > 0)
+      e.emplace_back("adaptive mesh refinement", "Adaptivity/Maximum level = " + std::to_string(s.max_level) +
+                                                   ", every " + std::to_string(s.adapt_interval) + " steps");
     if (s.model != "granular")
       return e;
     if (s.viscosity)
@@ -153,7 +156,7 @@ namespace granhydro
 
   const std::string &checkpoint_magic()
   {
-    static const std::string m = "granhydro checkpoint v1\n";
+    static const std::string m = "granhydro checkpoint v2\n";
     return m;
   }
 
@@ -418,6 +421,26 @@ namespace granhydro
     }
     prm.leave_subsection();
 
+    prm.enter_subsection("Adaptivity");
+    {
+      prm.declare_entry("Maximum level", "0", Patterns::Integer(0, 7),
+                        "Adaptive octree refinement (p4est): cells may be refined this many "
+                        "levels above Domain/Cells; 0 = uniform mesh. Box domains in 2D and 3D.");
+      prm.declare_entry("Refine threshold", "0.05", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Refine a cell where the indicator exceeds this. The indicator is the "
+                        "largest normalised jump across the cell's faces of the number density "
+                        "and the pressure, |a_L - a_R| / min(a_L, a_R).");
+      prm.declare_entry("Coarsen threshold", "0.01", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Coarsen a family of cells where the indicator of all of them stays below "
+                        "this (must be below the refine threshold).");
+      prm.declare_entry("Interval", "5", Patterns::Integer(1),
+                        "Time steps between adaptations.");
+      prm.declare_entry("Buffer", "2", Patterns::Integer(0, 8),
+                        "Layers of cells around a cell flagged for refinement that are refined too, "
+                        "so that a shock stays in the fine region until the next adaptation.");
+    }
+    prm.leave_subsection();
+
     prm.enter_subsection("Time");
     {
       prm.declare_entry("End time", "0.2", Patterns::Double(0, Patterns::Double::max_double_value),
@@ -654,6 +677,14 @@ end
     s.full_jacobian         = prm.get("Jacobian") == "full";
     prm.leave_subsection();
 
+    prm.enter_subsection("Adaptivity");
+    s.max_level         = prm.get_integer("Maximum level");
+    s.refine_threshold  = prm.get_double("Refine threshold");
+    s.coarsen_threshold = prm.get_double("Coarsen threshold");
+    s.adapt_interval    = prm.get_integer("Interval");
+    s.adapt_buffer      = prm.get_integer("Buffer");
+    prm.leave_subsection();
+
     prm.enter_subsection("Time");
     s.end_time  = prm.get_double("End time");
     s.max_steps = prm.get_integer("Maximum steps");
@@ -734,6 +765,24 @@ end
           total *= 1u << dim;
         if (total > 5e7)
           fail("Domain/Mesh refinements", "more than 5e7 cells in total");
+      }
+    if (s.max_level > 0)
+      {
+        if (mesh)
+          fail("Adaptivity/Maximum level", "adaptive meshes need a box domain (no 'Domain/Mesh "
+                                           "file'); set it to 0 for a mesh file");
+        if (dim == 1)
+          fail("Adaptivity/Maximum level", "adaptive meshes need 'Dimension' 2 or 3; set it to 0 "
+                                           "in 1D");
+        if (!(s.coarsen_threshold < s.refine_threshold))
+          fail("Adaptivity/Coarsen threshold", "must be below 'Adaptivity/Refine threshold' (" +
+                                                 std::to_string(s.refine_threshold) + ")");
+        double total = 1;
+        for (unsigned int d = 0; d < dim; ++d)
+          total *= double(s.cells[d]) * double(1u << s.max_level);
+        if (total > 2e8)
+          fail("Adaptivity/Maximum level", "the finest lattice (Domain/Cells times 2^level per "
+                                           "direction) would have more than 2e8 points");
       }
     for (unsigned int d = 0; d < dim && !mesh; ++d)
       {

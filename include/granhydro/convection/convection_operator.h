@@ -16,6 +16,10 @@
  * inadmissible, all of that cell's point values in direction d fall back to
  * the cell average (first order), counted in the statistics.
  *
+ * Adaptive meshes: a cell whose stencil box is not uniform (patch.uniform())
+ * is first order (cell average at its faces); hanging faces are fine
+ * sub-faces whose flux the coarse cell takes with weight 1/2^(dim-1).
+ *
  * Hot loops run over flat slot lists with precomputed neighbour indices.
  */
 #include <granhydro/convection/numerical_flux.h>
@@ -86,7 +90,8 @@ namespace granhydro::convection
     ReconstructionType         rtype;
     bool                       transverse; // transverse reconstruction stages B (and C in 3D)
     unsigned int               P;          // points per transverse direction: 2 Gauss, 1 centre
-    double                     inv_h[dim]; // 1/dx_d in scaled units
+    double                     length_unit;
+    std::vector<double>        inv_h[dim]; // 1/dx_d of each owned cell in scaled units
     FirstOrder                 rec1;
     Muscl                      rec_muscl;
     Weno3                      rec3;
@@ -94,15 +99,16 @@ namespace granhydro::convection
 
     // slot lists per direction
     std::vector<unsigned int> listA[dim], listB[dim], listC[dim];
-    std::vector<std::pair<unsigned int, unsigned int>> faces[dim];
-    /// per face: 1 if it lies on a (slip or no-slip) wall; walls do not move normally, so
+    /// face cells whose stencil is not uniform (next to a level change): cell average
+    std::vector<unsigned int> flat[dim];
+    /// per face of patch.faces(d): 1 if it lies on a (slip or no-slip) wall; walls do not move normally, so
     /// the mass and energy fluxes there are exactly 0 whatever the ghost state (at concave
     /// corners of a mesh file the nearest-fluid ghost is not an exact mirror for every
     /// stencil): closed domains conserve mass to round-off
     std::vector<char> wall[dim];
 
     mutable std::vector<double> A, B, C; // stage arrays (one direction at a time)
-    mutable std::vector<double> Fp[dim];  // flux at the + face of each slot, per direction
+    mutable std::vector<double> Fp[dim];  // flux per face of patch.faces(d)
     mutable std::vector<double> cand;
     mutable Vector              flags;
     mutable std::vector<double> W, rhs0, U0;

@@ -11,6 +11,11 @@
  *    two cells' central differences; "diagonal only" keeps D_ii d_i U (paper 5.6);
  *  - sources: gravity n g, m n u.g and inelastic cooling -(3/2) n T zeta0
  *    (physics.md 1, 3.5).
+ * Adaptive meshes: a hanging face is a fine sub-face; its normal derivative is
+ * the two-point difference over the true centre distance (h_coarse + h_fine)/2
+ * and the coarse cell takes 1/2^(dim-1) of the flux; the tangential
+ * derivatives use each cell's gradient neighbours (one-sided where the
+ * neighbour is finer). The Jacobian is assembled the same way.
  * Walls: the mirror ghost states of the patch give exactly the slip-wall flux
  * of physics.md 5.1 (no tangential stress, q = 0); no-slip ghosts (velocity
  * mirrored about the wall velocity) give the wall shear stress from the
@@ -108,18 +113,21 @@ namespace granhydro::diffusion
       double eps_w = 1;
       int    sign  = 0;
     };
-    void face_flux(const double *W, const unsigned int d, const unsigned int l, const unsigned int r,
-                   const physics::State<dim> &UL, const physics::State<dim> &UR,
-                   const WallFace &wall, physics::State<dim> &F) const;
+    /// flux through a face normal to d between slots l and r; ihn: 1/(centre distance)
+    void face_flux(const double *W, const unsigned int d, const double ihn, const unsigned int l,
+                   const unsigned int r, const physics::State<dim> &UL,
+                   const physics::State<dim> &UR, const WallFace &wall,
+                   physics::State<dim> &F) const;
     void source(const physics::State<dim> &U, physics::State<dim> &S) const;
     physics::TransportCoefficients coefficients(const physics::State<dim> &U) const;
 
     const CartesianPatch<dim>       &patch;
     const physics::GranularGas<dim> &desc;
     DiffusionSettings                settings;
-    double                           inv_h[dim];
-    std::vector<std::pair<unsigned int, unsigned int>> faces[dim];
-    std::vector<WallFace> walls[dim]; ///< parallel to faces
+    double                           length_unit;
+    std::vector<double>              inv_h[dim];    ///< 1/dx_d of each owned cell (scaled)
+    std::vector<double>              inv_dist[dim]; ///< per face: 1/(centre distance) (scaled)
+    std::vector<WallFace> walls[dim]; ///< parallel to patch.faces(d)
     std::vector<unsigned int> src;  ///< slot -> real slot carrying its data
     std::vector<unsigned int> flip; ///< slot -> momentum sign flips relative to src
     mutable std::vector<double> Fp[dim];

@@ -80,6 +80,14 @@ namespace granhydro::diffusion
     /// Time-dependent sources are evaluated at the stage times t + c_i dt.
     bool step(Vector &U, const double t, const double dt);
 
+    /// forget the sparsity patterns and work vectors after the mesh changed
+    void mesh_changed()
+    {
+      for (auto &row : have_pattern)
+        row[0] = row[1] = false;
+      Y.reinit(0);
+    }
+
     const IntegratorStatistics &statistics() const { return stats; }
 
     /// why the last failed step failed (this rank's view)

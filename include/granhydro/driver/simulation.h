@@ -49,6 +49,11 @@ namespace granhydro
     /// relative change of the total mass over the run (|M_end - M_0| / M_0)
     double       mass_drift = 0;
     unsigned int cells = 0, ranks = 1;
+    /// adaptive meshes: the most cells the mesh had, and how often it was adapted
+    unsigned long long max_cells = 0;
+    unsigned int       adaptations = 0;
+    /// cells flagged for refinement and coarsening over the run
+    unsigned long long refined_cells = 0, coarsened_cells = 0;
     /// cell updates of a cooling dense pile set to the temperature floor, and the largest
     /// thermal-energy deficit repaired per grain (scaled)
     unsigned long long temperature_repairs = 0;
@@ -109,7 +114,17 @@ namespace granhydro
     double       start_time() const { return start_time_ * units_.time(); }
     unsigned int start_step() const { return start_step_; }
 
+    /// adapt the mesh to the state (Adaptivity section of the scene): refine where the
+    /// indicator exceeds the refine threshold (plus a buffer), coarsen where it stays
+    /// below the coarsen threshold (not when initial); true if the mesh changed
+    bool adapt_mesh(const bool initial);
+
+    /// number of mesh adaptations so far
+    unsigned int n_adaptations() const { return adaptations; }
+
   private:
+    /// rebuild the operators' tables after the patch changed
+    void mesh_changed();
     void print_header() const;
     /// summary.csv in the output directory (rank 0; written to .tmp, then renamed)
     void write_summary(const RunSummary &sum, const std::string &status) const;
@@ -135,6 +150,8 @@ namespace granhydro
     double       start_time_ = 0; ///< scaled
     unsigned int start_step_ = 0;
     Vector                    U;
+    unsigned int              adaptations = 0;
+    unsigned long long        max_cells = 0, refined_cells = 0, coarsened_cells = 0;
   };
 
   /// read the scene's dimension and run it; returns the process exit code

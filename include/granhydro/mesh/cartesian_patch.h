@@ -26,9 +26,26 @@
  * one reflection per direction with the wall type of that face's boundary id;
  * for a box this is exactly the composed reflection at faces, edges, corners.
  *
- * Limits (to be lifted by the AMR issue): uniform meshes only; the lattice to
- * DoF map and the boundary face ids are replicated on every rank (8 bytes per
- * lattice point plus one per boundary face).
+ * Adaptive boxes (scene 'Adaptivity/Maximum level' m > 0): the cells of the
+ * p4est octree have levels 0..m above the scene's 'Domain/Cells'. Every slot
+ * has a level k and lattice coordinates at its own level; neighbor(s, d, o)
+ * is the *same-level* neighbour (or -1 where the neighbourhood is refined or
+ * coarser). A slot is uniform() when its whole (r)-box (Chebyshev radius r =
+ * ghost_width - 1) consists of same-level cells or wall ghosts: only uniform
+ * cells are reconstructed at high order, the others use their cell average
+ * (first order), which the output shows as field 'reconstruction_order'.
+ * Faces are explicit lists per direction (faces(d)); a face between a coarse
+ * and a fine cell is a fine sub-face, and the coarse cell takes 1/2^(dim-1)
+ * of its flux per sub-face (conservative to round-off). cell_faces(d, s)
+ * lists an owned cell's faces in a fixed geometric order, so a cell's update
+ * does not depend on the partition. gradient_neighbor(s, j, side) is the face
+ * neighbour used for cell gradients: the same-level cell, else a coarser one
+ * (never a finer one; then the gradient is one-sided).
+ *
+ * Limits: the fine-lattice to DoF map and the boundary face ids are
+ * replicated on every rank (9 bytes per fine lattice point plus one per
+ * boundary face); adaptive meshes need a box domain (no mesh file) and 2 or
+ * 3 dimensions.
  */
 #include <granhydro/scene/scene.h>
 
@@ -76,6 +93,81 @@ namespace granhydro
     /// build mesh, DoFs and tables; ghost_width = r + 1 for a stencil half width r
     void build(const Scene &scene, const unsigned int ghost_width);
 
+    /// a face normal to direction d between slots l (low side) and r; frac_l/frac_r: the
+    /// share of l's/r's whole face this face is (1, or 1/2^(dim-1) on the coarse side of
+    /// a hanging face)
+    struct Face
+    {
+      unsigned int l, r;
+      double       frac_l, frac_r;
+    };
+    /// a face of an owned cell: index into faces(d), and whether the cell is the face's
+    /// low side (the face is on the cell's upper side)
+    struct CellFace
+    {
+      unsigned int face;
+      bool         upper;
+    };
+    const std::vector<Face> &faces(const unsigned int d) const { return faces_[d]; }
+    /// faces of owned slot s normal to d: lower ones first, then upper ones, each in
+    /// a fixed geometric order
+    std::pair<const CellFace *, const CellFace *> cell_faces(const unsigned int d,
+                                                            const unsigned int s) const
+    {
+      const auto &st = cell_face_start_[d];
+      return {cell_face_[d].data() + st[s], cell_face_[d].data() + st[s + 1]};
+    }
+    /// neighbour used for the gradient of slot s along j (side 0: lower, 1: upper):
+    /// same level, else coarser, else -1; offset: its centre minus s's centre along j [m]
+    int gradient_neighbor(const unsigned int s, const unsigned int j, const unsigned int side) const
+    {
+      return gnb_[(std::size_t(s) * dim + j) * 2 + side];
+    }
+    double gradient_offset(const unsigned int s, const unsigned int j, const unsigned int side) const
+    {
+      return goff_[(std::size_t(s) * dim + j) * 2 + side];
+    }
+    /// true if the slot's reconstruction stencil box is complete at its own level
+    bool uniform(const unsigned int s) const { return uniform_[s] != 0; }
+    /// refinement level of a slot above the scene's Domain/Cells (0 on uniform meshes)
+    unsigned int level(const unsigned int s) const { return level_[s]; }
+    unsigned int max_level() const { return max_level_; }
+    /// edge of slot s along d [m], and its volume [m^dim]
+    double cell_size(const unsigned int s, const unsigned int d) const
+    {
+      return h_[d] / double(1u << level_[s]);
+    }
+    double cell_volume(const unsigned int s) const;
+    /// first fine-lattice index along d covered by slot s and how many it covers
+    /// (the fine lattice has cells(d) << max_level() points along d)
+    int          fine_begin(const unsigned int s, const unsigned int d) const
+    {
+      return lattice_[s][d] << (max_level_ - level_[s]);
+    }
+    unsigned int fine_span(const unsigned int s) const { return 1u << (max_level_ - level_[s]); }
+
+    /**
+     * Adapt the mesh: flags per owned slot (+1 refine, -1 coarsen, 0 keep; p4est adds
+     * refinements for 2:1 balance and coarsens only whole families), transfer U
+     * (children take the parent's average; a parent takes the mean of its children:
+     * conservative), repartition and rebuild all tables. U is reinitialised on the new
+     * partitioner(). Returns true if the mesh changed.
+     */
+    bool adapt(const std::vector<signed char> &flags,
+               dealii::LinearAlgebra::distributed::Vector<double> &U);
+    /// cells refined and coarsened (global) by the last adapt(), after 2:1 balance
+    unsigned long long last_refined() const { return last_refined_; }
+    unsigned long long last_coarsened() const { return last_coarsened_; }
+
+    /**
+     * Refine the mesh so that it has the leaves in `cells` (fine-lattice corner key * 8 +
+     * level, see leaf_key()), e.g. from a checkpoint; keys not matching a leaf are ignored.
+     */
+    void refine_to(const std::vector<long long> &cells);
+    /// fine-lattice corner key * 8 + level of owned slot s: names a leaf independently of
+    /// the partition and numbering
+    long long leaf_key(const unsigned int s) const;
+
     const dealii::parallel::TriangulationBase<dim> &triangulation() const { return *tria; }
     const dealii::DoFHandler<dim> &dof_handler() const { return *dofh; }
     std::shared_ptr<const dealii::Utilities::MPI::Partitioner> partitioner() const { return part; }
@@ -114,8 +206,8 @@ namespace granhydro
     const std::array<int, 3> &lattice(const unsigned int s) const { return lattice_[s]; }
     const std::vector<BoundaryGhost> &boundary_ghosts() const { return bghosts_; }
 
+    /// edge of a level-0 cell along d [m] (the scene's Domain/Cells)
     double cell_size(const unsigned int d) const { return h_[d]; }
-    double cell_volume() const;
     /// lattice points per direction (the box, or the bounding box of a mesh file; a mesh
     /// file may leave some of them without a cell)
     unsigned int cells(const unsigned int d) const { return N_[d]; }
@@ -131,6 +223,13 @@ namespace granhydro
     const std::vector<unsigned int> &owned_active_cell_index() const { return active_index_; }
 
   private:
+    void build_lattice_subset(const Scene &scene);
+    void make_box_mesh(const Scene &scene);
+    /// DoFs, slots, tables of the current box mesh (uniform or adaptive)
+    void rebuild_box();
+    /// faces_, cell faces from each owned cell's neighbour lists per direction and side
+    void make_faces(const std::vector<std::vector<unsigned int>> &lists);
+
     MPI_Comm comm;
     std::unique_ptr<dealii::parallel::TriangulationBase<dim>> tria;
     std::unique_ptr<dealii::FESystem<dim>> fe;
@@ -149,5 +248,17 @@ namespace granhydro
     std::vector<signed char> slot_face_id_; ///< 2 dim per real-cell slot
     std::array<BoundaryType, 6> btype_{};
     std::vector<unsigned int> active_index_;
+
+    std::array<BoundaryType, 6> scene_boundary_{};
+    std::array<std::array<double, 3>, 6> scene_wall_velocity_{};
+    double velocity_unit_ = 1;
+    unsigned int max_level_ = 0, base_tria_level_ = 0;
+    std::vector<unsigned char> level_, uniform_;
+    std::vector<Face> faces_[3];
+    std::vector<unsigned int> cell_face_start_[3];
+    std::vector<CellFace> cell_face_[3];
+    std::vector<int> gnb_;
+    unsigned long long last_refined_ = 0, last_coarsened_ = 0;
+    std::vector<double> goff_;
   };
 } // namespace granhydro

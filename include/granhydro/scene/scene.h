@@ -147,6 +147,13 @@ namespace granhydro
     /// true if the implicit diffusion/source step V runs (granular model only)
     bool diffusion_active() const;
 
+    // Adaptivity (box domains in 2D/3D)
+    unsigned int max_level         = 0;    ///< refinement levels above Domain/Cells; 0 = uniform
+    double       refine_threshold  = 0.05; ///< refine where the indicator exceeds this
+    double       coarsen_threshold = 0.01; ///< coarsen where it stays below this
+    unsigned int adapt_interval    = 5;    ///< steps between adaptations
+    unsigned int adapt_buffer      = 2;    ///< the refine flag spreads over this many cell layers
+
     // Time
     double       end_time  = 1;
     unsigned int max_steps = 0;
