@@ -66,14 +66,12 @@ namespace granhydro::convection
         wall[d].resize(faces.size());
         for (std::size_t k = 0; k < faces.size(); ++k)
           wall[d][k] = patch.wall_face(faces[k].l, faces[k].r, d);
-        // face cells: uniform ones are reconstructed, the others keep their average
+        // face cells (their neighbourhoods are uniform, partly virtual on adaptive meshes)
         std::vector<unsigned int> fin;
-        flat[d].clear();
         for (const auto &f : faces)
           for (const unsigned int s : {f.l, f.r})
-            (patch.uniform(s) || r == 0 ? fin : flat[d]).push_back(s);
+            fin.push_back(s);
         unique_sort(fin);
-        unique_sort(flat[d]);
         auto widen = [&](const std::vector<unsigned int> &in, unsigned int dir) {
           std::vector<unsigned int> out;
           for (const unsigned int s : in)
@@ -231,11 +229,6 @@ namespace granhydro::convection
                     ++stats.limited_cells;
                 }
             }
-        // cells next to a level change (stencil not uniform): first order
-        for (const unsigned int s : flat[d])
-          for (unsigned int q = 0; q < 2 * npts; ++q)
-            std::copy(Wp + std::size_t(s) * NC, Wp + std::size_t(s + 1) * NC,
-                      finw + (std::size_t(s) * 2 * npts + q) * NC);
         // fluxes per face (a hanging face is a fine sub-face); each owned cell then sums
         // its faces in a fixed geometric order, so the result does not depend on the
         // numbering (1 rank and N ranks agree bit for bit)
@@ -250,10 +243,15 @@ namespace granhydro::convection
             std::fill(Fsum, Fsum + NC, 0.);
             const double *vl = fin + (std::size_t(sl) * 2 + 1) * npts * NC;
             const double *vr = fin + (std::size_t(sr) * 2 + 0) * npts * NC;
+            // a hanging (fine sub-) face: the coarse side's Gauss point in this sub-face
+            const int  cp      = npts > 1 ? faces[k].coarse_point : -1;
+            const bool l_fixed = cp >= 0 && patch.level(sl) < patch.level(sr);
+            const bool r_fixed = cp >= 0 && patch.level(sr) < patch.level(sl);
             for (unsigned int q = 0; q < npts; ++q)
               {
-                std::copy(vl + q * NC, vl + (q + 1) * NC, UL.begin());
-                std::copy(vr + q * NC, vr + (q + 1) * NC, UR.begin());
+                const unsigned int ql = l_fixed ? cp : q, qr = r_fixed ? cp : q;
+                std::copy(vl + ql * NC, vl + (ql + 1) * NC, UL.begin());
+                std::copy(vr + qr * NC, vr + (qr + 1) * NC, UR.begin());
                 numflux(UL, UR, d, F, stats.flux);
                 for (unsigned int c = 0; c < NC; ++c)
                   Fsum[c] += wq * F[c];

@@ -451,20 +451,36 @@ namespace granhydro
       const double lo = std::min(a, b);
       return lo > 0 ? std::abs(a - b) / lo : std::numeric_limits<double>::infinity();
     };
+    // Loehner's indicator: the second difference over the first differences along each
+    // direction (gradient neighbours: same level or coarser), in [0, 1], ~1 at
+    // discontinuities and kinks, ~h |a''| / |a'| in smooth regions
+    auto loehner = [&](const std::vector<double> &a, const unsigned int s, const unsigned int d) {
+      const int m = P.gradient_neighbor(s, d, 0), q = P.gradient_neighbor(s, d, 1);
+      if (m < 0 || q < 0)
+        return 0.;
+      // the neighbours' values at the distance h_s (linear along the line of centres)
+      const double h = P.cell_size(s, d), dm = -P.gradient_offset(s, d, 0), dq = P.gradient_offset(s, d, 1);
+      const double sm = (a[s] - a[m]) * h / dm, sq = (a[q] - a[s]) * h / dq;
+      const double den = std::abs(sq) + std::abs(sm) + 0.05 * (std::abs(a[q]) + 2 * std::abs(a[s]) + std::abs(a[m]));
+      return den > 0 ? std::abs(sq - sm) / den : 0.;
+    };
     Vector mark(P.partitioner()); // component 0: 1 = refine
     std::vector<double> eta(n_owned, 0.);
     for (unsigned int s = 0; s < n_owned; ++s)
       {
         for (unsigned int d = 0; d < dim; ++d)
-          {
-            const auto [b, e] = P.cell_faces(d, s);
-            for (auto cf = b; cf != e; ++cf)
-              {
-                const auto        &f = P.faces(d)[cf->face];
-                const unsigned int t = cf->upper ? f.r : f.l;
-                eta[s] = std::max({eta[s], jump(n[s], n[t]), jump(p[s], p[t])});
-              }
-          }
+          if (scene.adapt_indicator == "second differences")
+            eta[s] = std::max({eta[s], loehner(n, s, d), loehner(p, s, d)});
+          else
+            {
+              const auto [b, e] = P.cell_faces(d, s);
+              for (auto cf = b; cf != e; ++cf)
+                {
+                  const auto        &f = P.faces(d)[cf->face];
+                  const unsigned int t = cf->upper ? f.r : f.l;
+                  eta[s] = std::max({eta[s], jump(n[s], n[t]), jump(p[s], p[t])});
+                }
+            }
         mark.local_element(std::size_t(s) * NC) = eta[s] > scene.refine_threshold ? 1. : 0.;
       }
     // buffer: the refine mark spreads over face neighbours, one layer per pass

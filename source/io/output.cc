@@ -160,20 +160,17 @@ namespace granhydro::io
     for (const unsigned int i : patch.owned_active_cell_index())
       rank[i] = me;
     data_out.add_data_vector(rank, "mpi_rank");
-    // refinement level above Domain/Cells, and the order of the reconstruction each cell
-    // used: the scheme's, or 1 next to a level change (non-uniform stencil)
-    const float order = scene.reconstruction == ReconstructionType::weno5 ? 5 :
-                        scene.reconstruction == ReconstructionType::weno3 ? 3 :
-                        scene.reconstruction == ReconstructionType::muscl ? 2 : 1;
-    dealii::Vector<float> level(rank.size()), recon(rank.size());
+    // refinement level above Domain/Cells, and whether the cell's reconstruction box is
+    // all leaves of its level (1) or used virtual cells next to a level change (0)
+    dealii::Vector<float> level(rank.size()), uniform(rank.size());
     for (unsigned int s = 0; s < patch.n_owned(); ++s)
       {
         const unsigned int i = patch.owned_active_cell_index()[s];
         level[i]             = patch.level(s);
-        recon[i]             = patch.uniform(s) ? order : 1.f;
+        uniform[i]           = patch.uniform(s) ? 1.f : 0.f;
       }
     data_out.add_data_vector(level, "refinement_level");
-    data_out.add_data_vector(recon, "reconstruction_order");
+    data_out.add_data_vector(uniform, "uniform_stencil");
     data_out.build_patches();
     DataOutBase::VtkFlags flags(time_si, step);
     data_out.set_flags(flags);

@@ -11,6 +11,7 @@
 #include <deal.II/grid/grid_tools.h>
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -546,7 +547,17 @@ namespace granhydro
                     {
                       const double fl = level_[l] < level_[r] ? sub : 1.;
                       const double fr = level_[r] < level_[l] ? sub : 1.;
-                      faces_[d].push_back({l, r, fl, fr});
+                      // a hanging face: the fine cell's quadrant of the coarse face, which
+                      // holds the coarse face's Gauss point of the same index
+                      int q = -1;
+                      if (level_[l] != level_[r])
+                        {
+                          const auto &pf = lattice_[level_[l] > level_[r] ? l : r];
+                          const int   a  = dim > 1 ? pf[(d + 1) % dim] & 1 : 0;
+                          const int   b  = dim > 2 ? pf[(d + 2) % dim] & 1 : 0;
+                          q              = dim == 3 ? 2 * a + b : a;
+                        }
+                      faces_[d].push_back({l, r, fl, fr, q});
                     }
                   cell_face_[d].push_back({it->second, side == 1});
                 }
@@ -696,25 +707,18 @@ namespace granhydro
         c[d] = p[d] << (m - k);
       return fine_key(c);
     };
-    // the key of the same-level cell or wall ghost at position p of level k, or no_slot_key
-    auto same_level = [&](const unsigned int k, std::array<long long, 3> p) -> long long {
-      if (wrap(k, p))
-        {
-          const long long fk = corner_key(k, p);
-          return cover_level[fk] == int(k) ? fk * 8 + k : no_slot_key;
-        }
-      // a wall (or outflow) ghost: mirror (copy) of the same-level cell inside
+    // the mirror (or outflow copy) inside the domain of an outside position p of level k,
+    // with the wall reflections that map its state to p's
+    auto mirror_of = [&](const unsigned int k, const std::array<long long, 3> &p, BoundaryGhost &bg) {
       std::array<long long, 3> q = p;
-      GhostInfo gi;
-      BoundaryGhost &bg = gi.bg;
-      unsigned int   flip = 0;
+      unsigned int             flip = 0;
       for (unsigned int d = 0; d < dim; ++d)
         {
           const long long n = Nk(k, d);
           if (periodic_[d] || (p[d] >= 0 && p[d] < n))
             continue;
-          const unsigned int   id = 2 * d + (p[d] >= n ? 1 : 0);
-          const BoundaryType   t  = scene_boundary_[id];
+          const unsigned int id = 2 * d + (p[d] >= n ? 1 : 0);
+          const BoundaryType t  = scene_boundary_[id];
           if (t == BoundaryType::slip_wall || t == BoundaryType::no_slip_wall)
             {
               q[d] = p[d] < 0 ? -1 - p[d] : 2 * n - 1 - p[d];
@@ -734,7 +738,20 @@ namespace granhydro
           else
             q[d] = p[d] < 0 ? 0 : n - 1; // outflow: copy
         }
-      const long long qk = corner_key(k, q);
+      bg.flip_mask = flip;
+      return q;
+    };
+    // the key of the same-level cell or wall ghost at position p of level k, or no_slot_key
+    auto same_level = [&](const unsigned int k, std::array<long long, 3> p) -> long long {
+      if (wrap(k, p))
+        {
+          const long long fk = corner_key(k, p);
+          return cover_level[fk] == int(k) ? fk * 8 + k : no_slot_key;
+        }
+      // a wall (or outflow) ghost: mirror (copy) of the same-level cell inside
+      GhostInfo                      gi;
+      const std::array<long long, 3> q  = mirror_of(k, p, gi.bg);
+      const long long                qk = corner_key(k, q);
       if (cover_level[qk] != int(k))
         return no_slot_key;
       long long ek = 0;
@@ -743,11 +760,10 @@ namespace granhydro
       const long long key = -1 - (ek * 8 + k);
       if (!ghost_info.count(key))
         {
-          bg.flip_mask  = flip;
           gi.source_key = qk * 8 + k;
           for (unsigned int d = 0; d < 3; ++d)
             gi.pos[d] = p[d];
-          gi.level = k;
+          gi.level        = k;
           ghost_info[key] = gi;
         }
       return key;
@@ -878,6 +894,100 @@ namespace granhydro
                 needed.insert(t);
             }
     }
+    // ---- virtual cells ----------------------------------------------------------------------
+    // Every position of the reconstruction box (Chebyshev radius r) of a face cell that is
+    // not a leaf of the cell's level gets a virtual cell: the volume average of the finer
+    // leaves inside it (restriction) or the value of the coarser leaf that contains it
+    // (prolongation, piecewise constant); outside a wall, the mirror of such a position.
+    // WENO then runs on a uniform (partly virtual) neighbourhood everywhere.
+    struct Virtual
+    {
+      unsigned int                             level;
+      std::array<long long, 3>                 pos;
+      std::vector<std::pair<long long, double>> sources; ///< (leaf key, weight), inside
+      bool                                     ghost = false;
+      BoundaryGhost                            bg;      ///< outside: reflections of the mirror
+      unsigned int                             mirror = 0; ///< outside: index of the mirror
+    };
+    std::vector<Virtual>                            virtuals;
+    std::map<std::array<long long, 4>, unsigned int> virtual_index;
+    const int r = int(G) - 1;
+    auto region_sources = [&](const unsigned int k, const std::array<long long, 3> &q) {
+      std::vector<std::pair<long long, double>> src;
+      const long long                           c = covering(k, q);
+      if (int(c & 7) <= int(k))
+        src.emplace_back(c, 1.);
+      else
+        {
+          std::map<long long, double> vol;
+          const long long             span = 1ll << (m - k);
+          const double                w    = 1. / std::pow(double(span), double(dim));
+          for (long long z = 0; z < (dim > 2 ? span : 1); ++z)
+            for (long long y = 0; y < (dim > 1 ? span : 1); ++y)
+              for (long long x = 0; x < span; ++x)
+                vol[covering(m, {{(q[0] << (m - k)) + x, (q[1] << (m - k)) + y, (q[2] << (m - k)) + z}})] += w;
+          src.assign(vol.begin(), vol.end());
+        }
+      return src;
+    };
+    std::function<unsigned int(unsigned int, const std::array<long long, 3> &)> add_virtual =
+      [&](const unsigned int k, const std::array<long long, 3> &q) -> unsigned int {
+      std::array<long long, 3> w      = q;
+      const bool               inside = wrap(k, w);
+      const std::array<long long, 4> key{{k, inside ? w[0] : q[0], inside ? w[1] : q[1], inside ? w[2] : q[2]}};
+      if (const auto it = virtual_index.find(key); it != virtual_index.end())
+        return it->second;
+      Virtual v;
+      v.level = k;
+      v.pos   = inside ? w : q;
+      std::array<long long, 3> mq{{0, 0, 0}};
+      if (inside)
+        v.sources = region_sources(k, w);
+      else
+        {
+          v.ghost = true;
+          mq      = mirror_of(k, q, v.bg);
+        }
+      const unsigned int index = virtuals.size();
+      virtuals.push_back(v);
+      virtual_index[key] = index;
+      if (!inside)
+        {
+          const unsigned int mi = add_virtual(k, mq);
+          virtuals[index].mirror = mi;
+        }
+      return index;
+    };
+    {
+      std::set<long long> face_cells;
+      for (unsigned int i = 0; i < n_owned_; ++i)
+        {
+          face_cells.insert(owned[i].key);
+          for (unsigned int f = 0; f < dim * 2; ++f)
+            for (const long long t : face_keys[std::size_t(i) * dim * 2 + f])
+              face_cells.insert(t);
+        }
+      for (const long long u : face_cells)
+        {
+          unsigned int             k;
+          std::array<long long, 3> p0;
+          decode(u, k, p0);
+          for (int z = (dim > 2 ? -r : 0); z <= (dim > 2 ? r : 0); ++z)
+            for (int y = (dim > 1 ? -r : 0); y <= (dim > 1 ? r : 0); ++y)
+              for (int x = -r; x <= r; ++x)
+                {
+                  const std::array<long long, 3> q{{p0[0] + x, p0[1] + y, p0[2] + z}};
+                  const long long                t = same_level(k, q);
+                  if (t != no_slot_key)
+                    needed.insert(t);
+                  else
+                    add_virtual(k, q);
+                }
+        }
+      for (const auto &v : virtuals)
+        for (const auto &[t, w] : v.sources)
+          needed.insert(t);
+    }
     // wall ghosts need their source cells
     for (const long long t : std::vector<long long>(needed.begin(), needed.end()))
       if (t < 0)
@@ -934,6 +1044,30 @@ namespace granhydro
           bg.source        = slot_of.at(ghost_info.at(t).source_key);
           bghosts_.push_back(bg);
         }
+    const unsigned int first_virtual = lattice_.size();
+    for (const auto &v : virtuals)
+      {
+        lattice_.push_back({{int(v.pos[0]), int(v.pos[1]), int(v.pos[2])}});
+        level_.push_back(v.level);
+        slot_keys.push_back(no_slot_key);
+      }
+    virtual_.clear();
+    for (unsigned int i = 0; i < virtuals.size(); ++i)
+      if (virtuals[i].ghost)
+        {
+          BoundaryGhost bg = virtuals[i].bg;
+          bg.slot          = first_virtual + i;
+          bg.source        = first_virtual + virtuals[i].mirror;
+          bghosts_.push_back(bg);
+        }
+      else
+        {
+          VirtualCell vc;
+          vc.slot = first_virtual + i;
+          for (const auto &[t, w] : virtuals[i].sources)
+            vc.sources.emplace_back(slot_of.at(t), w);
+          virtual_.push_back(vc);
+        }
     const unsigned int ns = lattice_.size();
 
     // boundary ids of the real cells' faces: box faces are colorized (id 2 d + upper)
@@ -955,11 +1089,21 @@ namespace granhydro
       return it == slot_of.end() ? -1 : int(it->second);
     };
 
-    // ---- same-level neighbour table, uniform flags -----------------------------------
+    // the slot at position q of level k: a leaf or wall ghost of that level, or a virtual cell
+    auto slot_at = [&](const unsigned int k, const std::array<long long, 3> &q) -> int {
+      const long long t = same_level(k, q);
+      if (t != no_slot_key)
+        return slot_or(t);
+      std::array<long long, 3> w      = q;
+      const bool               inside = wrap(k, w);
+      const auto it = virtual_index.find({{k, inside ? w[0] : q[0], inside ? w[1] : q[1], inside ? w[2] : q[2]}});
+      return it == virtual_index.end() ? -1 : int(first_virtual + it->second);
+    };
+
+    // ---- neighbour table (same level or virtual), uniform flags -----------------------
     const unsigned int W = 2 * G + 1;
     nb_.assign(std::size_t(ns) * dim * W, -1);
     uniform_.assign(ns, 0);
-    const int r = int(G) - 1;
     for (unsigned int s = 0; s < ns; ++s)
       {
         const unsigned int       k = level_[s];
@@ -969,7 +1113,7 @@ namespace granhydro
             {
               std::array<long long, 3> q = p0;
               q[d] += o;
-              nb_[(std::size_t(s) * dim + d) * W + (o + int(G))] = slot_or(same_level(k, q));
+              nb_[(std::size_t(s) * dim + d) * W + (o + int(G))] = slot_at(k, q);
             }
         bool ok = true;
         for (int z = (dim > 2 ? -r : 0); z <= (dim > 2 ? r : 0) && ok; ++z)
@@ -986,6 +1130,8 @@ namespace granhydro
       for (unsigned int j = 0; j < dim; ++j)
         for (unsigned int side = 0; side < 2; ++side)
           {
+            if (s >= first_virtual)
+              continue;
             const int t = slot_or(gradient_key(slot_keys[s], j, side ? 1 : -1));
             gnb_[(std::size_t(s) * dim + j) * 2 + side] = t;
             if (t >= 0)
@@ -1138,6 +1284,14 @@ namespace granhydro
     W.resize(std::size_t(n_slots()) * NC);
     if (nloc > 0)
       std::copy(U.begin(), U.begin() + nloc, W.begin()); // ghosts follow the owned entries
+    for (const auto &v : virtual_) // restriction / prolongation next to level changes
+      for (unsigned int c = 0; c < NC; ++c)
+        {
+          double sum = 0;
+          for (const auto &[t, w] : v.sources)
+            sum += w * W[std::size_t(t) * NC + c];
+          W[std::size_t(v.slot) * NC + c] = sum;
+        }
     for (const auto &g : bghosts_)
       {
         const double *in  = &W[std::size_t(g.source) * NC];

@@ -426,10 +426,15 @@ namespace granhydro
       prm.declare_entry("Maximum level", "0", Patterns::Integer(0, 7),
                         "Adaptive octree refinement (p4est): cells may be refined this many "
                         "levels above Domain/Cells; 0 = uniform mesh. Box domains in 2D and 3D.");
+      prm.declare_entry("Indicator", "jumps", Patterns::Selection("jumps|second differences"),
+                        "Refinement indicator, from the number density n and the pressure p: "
+                        "'jumps' = the largest normalised jump across the cell's faces, "
+                        "|a_L - a_R| / min(a_L, a_R); 'second differences' = Loehner's "
+                        "indicator |a_R - 2 a + a_L| / (|a_R - a| + |a - a_L| + 0.05 (|a_R| + "
+                        "2 |a| + |a_L|)) per direction, in [0, 1]: high at shocks, contacts and "
+                        "kinks, low in smooth regions (a rarefaction fan stays coarse).");
       prm.declare_entry("Refine threshold", "0.05", Patterns::Double(0, Patterns::Double::max_double_value),
-                        "Refine a cell where the indicator exceeds this. The indicator is the "
-                        "largest normalised jump across the cell's faces of the number density "
-                        "and the pressure, |a_L - a_R| / min(a_L, a_R).");
+                        "Refine a cell where the indicator exceeds this.");
       prm.declare_entry("Coarsen threshold", "0.01", Patterns::Double(0, Patterns::Double::max_double_value),
                         "Coarsen a family of cells where the indicator of all of them stays below "
                         "this (must be below the refine threshold).");
@@ -679,6 +684,7 @@ end
 
     prm.enter_subsection("Adaptivity");
     s.max_level         = prm.get_integer("Maximum level");
+    s.adapt_indicator   = prm.get("Indicator");
     s.refine_threshold  = prm.get_double("Refine threshold");
     s.coarsen_threshold = prm.get_double("Coarsen threshold");
     s.adapt_interval    = prm.get_integer("Interval");

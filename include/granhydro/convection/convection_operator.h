@@ -16,9 +16,11 @@
  * inadmissible, all of that cell's point values in direction d fall back to
  * the cell average (first order), counted in the statistics.
  *
- * Adaptive meshes: a cell whose stencil box is not uniform (patch.uniform())
- * is first order (cell average at its faces); hanging faces are fine
- * sub-faces whose flux the coarse cell takes with weight 1/2^(dim-1).
+ * Adaptive meshes: the reconstruction runs on the patch's same-level
+ * neighbourhood, completed by virtual cells (restriction/prolongation) next
+ * to level changes; a hanging face is a fine sub-face whose flux the coarse
+ * cell takes with weight 1/2^(dim-1); on it the coarse side's value is its
+ * Gauss point inside that sub-face.
  *
  * Hot loops run over flat slot lists with precomputed neighbour indices.
  */
@@ -99,8 +101,6 @@ namespace granhydro::convection
 
     // slot lists per direction
     std::vector<unsigned int> listA[dim], listB[dim], listC[dim];
-    /// face cells whose stencil is not uniform (next to a level change): cell average
-    std::vector<unsigned int> flat[dim];
     /// per face of patch.faces(d): 1 if it lies on a (slip or no-slip) wall; walls do not move normally, so
     /// the mass and energy fluxes there are exactly 0 whatever the ghost state (at concave
     /// corners of a mesh file the nearest-fluid ghost is not an exact mirror for every

@@ -29,11 +29,13 @@
  * Adaptive boxes (scene 'Adaptivity/Maximum level' m > 0): the cells of the
  * p4est octree have levels 0..m above the scene's 'Domain/Cells'. Every slot
  * has a level k and lattice coordinates at its own level; neighbor(s, d, o)
- * is the *same-level* neighbour (or -1 where the neighbourhood is refined or
- * coarser). A slot is uniform() when its whole (r)-box (Chebyshev radius r =
- * ghost_width - 1) consists of same-level cells or wall ghosts: only uniform
- * cells are reconstructed at high order, the others use their cell average
- * (first order), which the output shows as field 'reconstruction_order'.
+ * is the neighbour at the same level: a leaf, a wall ghost, or a *virtual
+ * cell* where the neighbourhood is refined (volume average of the leaves
+ * inside: restriction) or coarser (the coarse leaf's value: piecewise-constant
+ * prolongation), so WENO runs on a uniform neighbourhood everywhere (the
+ * approach of AMReX, Athena++, ForestClaw). uniform(s) is true when s's whole
+ * (r)-box (Chebyshev radius r = ghost_width - 1) consists of leaves or wall
+ * ghosts of its level (output field 'uniform_stencil').
  * Faces are explicit lists per direction (faces(d)); a face between a coarse
  * and a fine cell is a fine sub-face, and the coarse cell takes 1/2^(dim-1)
  * of its flux per sub-face (conservative to round-off). cell_faces(d, s)
@@ -100,6 +102,9 @@ namespace granhydro
     {
       unsigned int l, r;
       double       frac_l, frac_r;
+      /// hanging face: index of the coarse face's Gauss point in this fine sub-face
+      /// (the coarse side's value there is used at all of the sub-face's points); -1 else
+      int coarse_point = -1;
     };
     /// a face of an owned cell: index into faces(d), and whether the cell is the face's
     /// low side (the face is on the cell's upper side)
@@ -258,6 +263,13 @@ namespace granhydro
     std::vector<unsigned int> cell_face_start_[3];
     std::vector<CellFace> cell_face_[3];
     std::vector<int> gnb_;
+    /// a virtual cell: weighted sum of real slots (restriction or prolongation)
+    struct VirtualCell
+    {
+      unsigned int                                  slot;
+      std::vector<std::pair<unsigned int, double>> sources;
+    };
+    std::vector<VirtualCell> virtual_;
     unsigned long long last_refined_ = 0, last_coarsened_ = 0;
     std::vector<double> goff_;
   };

@@ -149,6 +149,7 @@ namespace granhydro
 
     // Adaptivity (box domains in 2D/3D)
     unsigned int max_level         = 0;    ///< refinement levels above Domain/Cells; 0 = uniform
+    std::string  adapt_indicator   = "jumps"; ///< jumps | second differences
     double       refine_threshold  = 0.05; ///< refine where the indicator exceeds this
     double       coarsen_threshold = 0.01; ///< coarsen where it stays below this
     unsigned int adapt_interval    = 5;    ///< steps between adaptations
