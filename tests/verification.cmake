@@ -93,3 +93,5 @@ add_test(NAME mpi.amr_restart_after_kill_2ranks
           ${DEAL_II_MPIEXEC} -n 2)
 set_tests_properties(verify.amr_restart_after_kill PROPERTIES LABELS verify TIMEOUT 300)
 set_tests_properties(mpi.amr_restart_after_kill_2ranks PROPERTIES LABELS mpi TIMEOUT 300 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)
+add_test(NAME verify.amr_sod_diagonal_2d COMMAND test_amr sod 2)
+set_tests_properties(verify.amr_sod_diagonal_2d PROPERTIES LABELS verify TIMEOUT 600)

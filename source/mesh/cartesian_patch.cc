@@ -916,7 +916,34 @@ namespace granhydro
       std::vector<std::pair<long long, double>> src;
       const long long                           c = covering(k, q);
       if (int(c & 7) <= int(k))
-        src.emplace_back(c, 1.);
+        {
+          // prolongation: the coarse leaf's value plus its central-difference slope along
+          // each direction with two leaf neighbours (same level or coarser), evaluated at
+          // the virtual cell's centre (linear, exact for linear data; the transitions lie
+          // where the indicator found the solution smooth)
+          std::map<long long, double> w;
+          w[c] += 1.;
+          const unsigned int       l = c & 7;
+          std::array<long long, 3> pc;
+          unsigned int             lc;
+          decode(c, lc, pc);
+          for (unsigned int j = 0; j < dim && l < k; ++j)
+            {
+              const long long tm = gradient_key(c, j, -1), tp = gradient_key(c, j, 1);
+              if (tm < 0 || tp < 0) // a wall ghost or none: constant along j
+                continue;
+              const double hl = 1. / double(1u << l);
+              const double om = -0.5 * (hl + 1. / double(1u << (tm & 7)));
+              const double op = 0.5 * (hl + 1. / double(1u << (tp & 7)));
+              // centre of the virtual cell relative to the coarse centre, in level-0 units
+              // (positions wrap periodically: use the offset inside the coarse cell)
+              const long long rel   = q[j] - (pc[j] << (k - l));
+              const double    delta = (rel + 0.5) / double(1u << k) - 0.5 * hl;
+              w[tp] += delta / (op - om);
+              w[tm] -= delta / (op - om);
+            }
+          src.assign(w.begin(), w.end());
+        }
       else
         {
           std::map<long long, double> vol;

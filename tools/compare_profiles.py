@@ -1,0 +1,55 @@
+#!/usr/bin/python3
+"""Compare the profiles.csv of two runs (e.g. adaptive vs uniform at the same finest
+resolution) at their common output times: max and mean |difference| of the packing
+fraction and the relative difference of the temperature and the mass per layer.
+
+  /usr/bin/python3 tools/compare_profiles.py RUN_A RUN_B [--time T]
+"""
+import argparse
+import csv
+import math
+import sys
+
+
+def read(path):
+    blocks = {}
+    with open(path) as f:
+        rows = [r for r in csv.reader(l for l in f if not l.startswith('#'))]
+    head = rows[0]
+    it, ix = 0, 1
+    iphi = head.index('packing_fraction')
+    iT = head.index('temperature_J')
+    for r in rows[1:]:
+        t = float(r[it])
+        blocks.setdefault(round(t, 9), []).append((float(r[ix]), float(r[iphi]), float(r[iT])))
+    return blocks
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('a')
+    ap.add_argument('b')
+    ap.add_argument('--time', type=float, default=None, help='compare at this output time only')
+    args = ap.parse_args()
+    A = read(args.a.rstrip('/') + '/profiles.csv')
+    B = read(args.b.rstrip('/') + '/profiles.csv')
+    times = sorted(set(A) & set(B))
+    if args.time is not None:
+        times = [t for t in times if abs(t - args.time) < 1e-9]
+    if not times:
+        sys.exit('no common output time')
+    print('time_s, layers, max|dphi|, mean|dphi|, max phi A, max phi B, mean |dT|/T (phi > 0.01)')
+    for t in times:
+        a, b = A[t], B[t]
+        if len(a) != len(b):
+            print(f'{t}: different number of layers ({len(a)} vs {len(b)})')
+            continue
+        dphi = [abs(x[1] - y[1]) for x, y in zip(a, b)]
+        dT = [abs(x[2] - y[2]) / max(abs(y[2]), 1e-300) for x, y in zip(a, b) if y[1] > 0.01]
+        print(f'{t:.6g}, {len(a)}, {max(dphi):.4g}, {sum(dphi) / len(dphi):.4g}, '
+              f'{max(x[1] for x in a):.4g}, {max(y[1] for y in b):.4g}, '
+              f'{(sum(dT) / len(dT) if dT else float("nan")):.4g}')
+
+
+if __name__ == '__main__':
+    main()
