@@ -15,6 +15,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <unordered_map>
 #include <set>
 #include <stdexcept>
 
@@ -810,26 +811,21 @@ namespace granhydro
     };
 
     // ---- the slots each owned cell needs ------------------------------------------------
-    std::set<long long> needed;
-    std::map<long long, unsigned int> slot_of;
+    // the keys of the slots needed (collected with repetitions, then sorted and made unique)
+    std::vector<long long> needed;
+    auto make_unique = [&]() {
+      std::sort(needed.begin(), needed.end());
+      needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
+    };
+    std::unordered_map<long long, unsigned int> slot_of;
     for (unsigned int i = 0; i < n_owned_; ++i)
       slot_of[owned[i].key] = i;
     // face neighbour keys of owned cell i per direction and side (canonical order)
     std::vector<std::vector<long long>> face_keys(std::size_t(n_owned_) * dim * 2);
-    const int Gi = G;
     for (unsigned int i = 0; i < n_owned_; ++i)
       {
         const unsigned int       k = owned[i].level;
         std::array<long long, 3> p0{{owned[i].ijk[0], owned[i].ijk[1], owned[i].ijk[2]}};
-        // the same-level box of Chebyshev radius G (reconstruction stencils)
-        for (int z = (dim > 2 ? -Gi : 0); z <= (dim > 2 ? Gi : 0); ++z)
-          for (int y = (dim > 1 ? -Gi : 0); y <= (dim > 1 ? Gi : 0); ++y)
-            for (int x = -Gi; x <= Gi; ++x)
-              {
-                const long long t = same_level(k, {{p0[0] + x, p0[1] + y, p0[2] + z}});
-                if (t != no_slot_key)
-                  needed.insert(t);
-              }
         // faces: same level, one coarser leaf, or 2^(dim-1) finer leaves
         for (unsigned int d = 0; d < dim; ++d)
           for (unsigned int side = 0; side < 2; ++side)
@@ -872,7 +868,7 @@ namespace granhydro
                     }
                 }
               for (const long long t : fk)
-                needed.insert(t);
+                needed.push_back(t);
             }
       }
     // gradient stencils of the owned cells and of their face neighbours
@@ -891,7 +887,7 @@ namespace granhydro
             {
               const long long t = gradient_key(c, j, o);
               if (t != no_slot_key)
-                needed.insert(t);
+                needed.push_back(t);
             }
     }
     // ---- virtual cells ----------------------------------------------------------------------
@@ -1006,19 +1002,21 @@ namespace granhydro
                   const std::array<long long, 3> q{{p0[0] + x, p0[1] + y, p0[2] + z}};
                   const long long                t = same_level(k, q);
                   if (t != no_slot_key)
-                    needed.insert(t);
+                    needed.push_back(t);
                   else
                     add_virtual(k, q);
                 }
         }
       for (const auto &v : virtuals)
         for (const auto &[t, w] : v.sources)
-          needed.insert(t);
+          needed.push_back(t);
     }
     // wall ghosts need their source cells
-    for (const long long t : std::vector<long long>(needed.begin(), needed.end()))
-      if (t < 0)
-        needed.insert(ghost_info.at(t).source_key);
+    make_unique();
+    for (std::size_t i = 0, n = needed.size(); i < n; ++i)
+      if (needed[i] < 0)
+        needed.push_back(ghost_info.at(needed[i]).source_key);
+    make_unique();
 
     // ---- slots: owned, MPI ghosts (by DoF), wall ghosts (by key) -----------------------
     lattice_.clear();
