@@ -356,6 +356,82 @@ HAFF_T_END = 10 / HAFF_NU0
 COLUMN_T_END = 0.08  # the floor layer passes phi_min = 0.5 of the closure at ~0.07 s
 
 
+def sod2d_scene(base, levels, rundir):
+    """Sod (gamma 5/3, t = 0.2) along the diagonal of the unit square, units sigma = m = V0 =
+    1 (rho = n): uniform base^2 (levels = 0) or adaptive base^2 + levels (jumps of n and p,
+    refine 0.2, coarsen 0.05, buffer 1, every 4 steps; tests/test_amr.cc's settings)."""
+    return """# Sod along the diagonal (tests/test_amr.cc sod 2), work-precision study
+set Dimension = 2
+subsection Domain
+  set Lower corner = 0, 0
+  set Upper corner = 1, 1
+  set Cells = %d, %d
+  set Boundary x- = outflow
+  set Boundary x+ = outflow
+  set Boundary y- = outflow
+  set Boundary y+ = outflow
+end
+subsection Material
+  set Model = ideal gas
+  set Grain diameter = 1
+  set Material density = %.17g
+  set Adiabatic index = %.17g
+end
+subsection Initial state
+  set Packing fraction = %.17g*(0.125 + 0.875*((x+y) < 1))
+  set Temperature = 0.8 + 0.2*((x+y) < 1)
+  set Velocity = 0; 0
+  set Quadrature points = 3
+end
+subsection Numerics
+  set Reference velocity = 1
+end
+subsection Adaptivity
+  set Maximum level = %d
+  set Refine threshold = 0.2
+  set Coarsen threshold = 0.05
+  set Buffer = 1
+  set Interval = 4
+end
+subsection Time
+  set End time = 0.2
+end
+""" % (base, base, 6 / math.pi, 5.0 / 3.0, math.pi / 6, levels) + output_block(rundir, False, True)
+
+
+_SOD2D_EXACT = None
+
+
+def sod2d_error(rundir, base, levels):
+    """L1 density error per unit area against the exact solution along the diagonal (3x3
+    Gauss averages per cell), and the number of cells at the end."""
+    import numpy as np
+    global _SOD2D_EXACT
+    if _SOD2D_EXACT is None:
+        _SOD2D_EXACT = ExactRiemann((1.0, 0.0, 1.0), (0.125, 0.0, 0.1), 5.0 / 3.0)
+    c = read_checkpoint(os.path.join(rundir, "solution.checkpoint"))
+    if abs(c["time_scaled"] - 0.2) > 1e-12:
+        raise RuntimeError("checkpoint is not the end state (t = 0.2)")
+    nf = base << levels
+    key = c["key"]
+    lev = key & 7
+    fk = key >> 3
+    i, j = fk % nf, fk // nf
+    h = 1.0 / (base * (1 << lev))
+    x0, y0 = i / nf, j / nf
+    g = np.array([-math.sqrt(0.6), 0.0, math.sqrt(0.6)])
+    w = np.array([5.0, 8.0, 5.0]) / 18.0
+    xi0 = math.sqrt(2.0) / 2
+    avg = np.zeros(len(key))  # exact cell averages
+    for a in range(3):
+        for b in range(3):
+            x = x0 + h * (0.5 + 0.5 * g[a])
+            y = y0 + h * (0.5 + 0.5 * g[b])
+            xi = ((x + y) / math.sqrt(2.0) - xi0) / 0.2
+            avg += w[a] * w[b] * np.array([_SOD2D_EXACT.sample(v)[0] for v in xi])
+    return float(np.sum(np.abs(c["U"][:, 0] - avg) * h * h)), len(key)
+
+
 def output_block(rundir, profiles, checkpoint):
     return ("subsection Output\n  set Directory = %s\n  set Interval = 0\n  set Write VTU = false\n"
             "  set Write profiles = %s\n  set Write checkpoint = %s\n  set Write summary = true\n"
@@ -529,7 +605,7 @@ def read_last_profile(rundir):
     return t, {h: [r[i] for r in rows] for i, h in enumerate(header)}
 
 
-CHECKPOINT_MAGIC = b"granhydro checkpoint v1\n"
+CHECKPOINT_MAGIC = b"granhydro checkpoint v2\n"  # keys: fine-lattice key * 8 + level
 CHECKPOINT_HEADER = struct.Struct("=ii3Q3d3d4d3Q16s")  # CheckpointHeader, simulation.cc
 
 
@@ -736,6 +812,14 @@ def study_plan(quick):
     for rec, q in vf:
         for N in vN:
             plan.append(("vortex", "%s + %s" % (rec, q), N, ("vortex", N, rec, q)))
+    # --- Sod along the diagonal of the unit square: uniform vs adaptive mesh (WENO5 + Gauss
+    # + MUSTA); ladder value = cells per direction at the finest level
+    s2 = [32, 64, 128] if quick else [32, 64, 128, 256]
+    for n in s2:
+        plan.append(("sod2d", "uniform mesh", n, ("sod2d", n, 0)))
+    for n in s2[1:]:
+        plan.append(("sod2d", "adaptive, 2 levels", n, ("sod2d", n // 4, 2)))
+        plan.append(("sod2d", "adaptive, 1 level", n, ("sod2d", n // 2, 1)))
     # --- Haff: integrators x fixed time step (steps per t_end)
     hsteps = [8, 32, 128] if quick else [4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048]
     for integ in INTEGRATORS:
@@ -762,6 +846,8 @@ def build_scene(args, repo):
         return vortex_scene(args[1], args[2], args[3], "@RUNDIR@")
     if kind == "haff":
         return haff_scene(args[1], args[2], "@RUNDIR@")
+    if kind == "sod2d":
+        return sod2d_scene(args[1], args[2], "@RUNDIR@")
     return column_scene(args[1], args[2], "@RUNDIR@", repo)
 
 
@@ -801,7 +887,7 @@ def run_study(opts, repo):
         if problem == "haff":
             row.update(cells=HAFF_CELLS, dt_s="%.6g" % (HAFF_T_END / value))
         else:
-            row.update(cells=value * value if problem == "vortex" else value, cfl=0.4)
+            row.update(cells=value * value if problem in ("vortex", "sod2d") else value, cfl=0.4)
         err = float("nan")
         try:
             if os.path.exists(os.path.join(rundir, "summary.csv")):
@@ -815,6 +901,11 @@ def run_study(opts, repo):
                     err = vortex_error(rundir, value)
                     row.update(error_measure="L1(rho) per unit area at t=1",
                                reference="exact translated vortex (6x6 Gauss cell averages)")
+                elif problem == "sod2d":
+                    err, ncells = sod2d_error(rundir, args[1], args[2])
+                    row.update(cells=ncells,
+                               error_measure="L1(rho) per unit area at t=0.2 (finest %d^2)" % value,
+                               reference="exact Riemann solution along the diagonal (3x3 Gauss)")
                 elif problem == "haff":
                     err = haff_error(rundir)
                     row.update(error_measure="max |T - T_Haff| / T_Haff at t_end = 10/nu0",
@@ -859,14 +950,15 @@ def run_study(opts, repo):
 TITLES = {
     "sod": "Sod shock tube (1D, ideal-gas limit) vs exact Riemann solution",
     "vortex": "2D isentropic vortex (periodic, t = 1) vs exact solution",
+    "sod2d": "Sod along the diagonal of the unit square (2D, t = 0.2): uniform vs adaptive mesh",
     "haff": "Haff's law (homogeneous cooling, phi 0.5, eps 0.7): integrators",
     "column": "1D sedimentation column (closure on, t = %g s) vs finest GL run" % COLUMN_T_END,
 }
 YLABEL = {
-    "sod": "L1 error of rho/rho_L", "vortex": "L1 error of rho",
+    "sod": "L1 error of rho/rho_L", "vortex": "L1 error of rho", "sod2d": "L1 error of rho",
     "haff": "relative error of T(t_end)", "column": "L1 error of packing fraction",
 }
-LADDER = {"sod": "cells", "vortex": "cells", "haff": "dt_s", "column": "cells"}
+LADDER = {"sod": "cells", "vortex": "cells", "sod2d": "cells", "haff": "dt_s", "column": "cells"}
 
 
 def load_rows(csv_path):
@@ -948,7 +1040,11 @@ def plot_problem(rows, problem, out, startup=0.0):
             continue
         style = dict(marker=markers[i % len(markers)], color=cmap(i % cmap.N), ms=5)
         ls = "-"
-        if problem in ("sod", "vortex"):
+        if problem == "sod2d":
+            style["color"] = {"uniform mesh": "black", "adaptive, 1 level": "tab:blue",
+                              "adaptive, 2 levels": "tab:red"}.get(name, style["color"])
+            ls = "--" if name == "uniform mesh" else "-"
+        elif problem in ("sod", "vortex"):
             rec, var = name.split(" + ")
             style["color"] = rec_color.get(rec, style["color"])
             if problem == "sod":
@@ -997,11 +1093,11 @@ def markdown(rows, out, info):
          "getrusage(RUSAGE_CHILDREN); runs below 1 s were repeated up to 3 times and the "
          "smallest time kept. Every run includes the start-up (MPI, scene, mesh): a one-step "
          "run costs %.2f s, so costs below about %.1f s are start-up dominated and their "
-         "ranking is a tie within noise (marked *). Meshes are uniform: granhydro has no AMR "
-         "yet, so uniform vs adaptive meshes cannot be compared." % (
+         "ranking is a tie within noise (marked *). Meshes are uniform except in the 2D diagonal "
+         "Sod problem, which compares uniform and adaptive meshes (same finest resolution)." % (
              info.get("mode", "?"), info.get("runs", "?"), info.get("wall", "?"), startup,
              2 * startup), ""]
-    for problem in ["sod", "vortex", "haff", "column"]:
+    for problem in ["sod", "vortex", "sod2d", "haff", "column"]:
         fams = families(rows, problem)
         if not fams:
             continue
@@ -1009,8 +1105,10 @@ def markdown(rows, out, info):
         L += ["## %s" % TITLES[problem], ""]
         meas = next((r["error_measure"] for r in prow if r["error_measure"]), "")
         ref = next((r["reference"] for r in prow if r["reference"] and r["status"] == "ok"), "")
-        L += ["Error: %s. Reference: %s. Mesh: uniform only (uniform vs adaptive is not "
-              "possible: granhydro has no AMR)." % (meas, ref), "",
+        mesh = ("uniform vs adaptive (p4est octree; 'adaptive, k levels' has the uniform "
+                "mesh's finest resolution with Domain/Cells divided by 2^k; cells = at the end)"
+                if problem == "sod2d" else "uniform")
+        L += ["Error: %s. Reference: %s. Mesh: %s." % (meas, ref, mesh), "",
               "![%s](work_precision_%s.png)" % (problem, problem), ""]
         levels = target_levels(fams)
         if levels:
@@ -1063,7 +1161,7 @@ def report(out):
         with open(ip) as f:
             info = {r[0]: r[1] for r in csv.reader(f) if len(r) == 2}
     startup = float(info.get("startup", 0) or 0)
-    pngs = [plot_problem(rows, p, out, startup) for p in ["sod", "vortex", "haff", "column"]
+    pngs = [plot_problem(rows, p, out, startup) for p in ["sod", "vortex", "sod2d", "haff", "column"]
             if any(r["problem"] == p for r in rows)]
     md = markdown(rows, out, info)
     return pngs, md
@@ -1113,7 +1211,7 @@ def parse_args(argv, repo):
                    help="the granhydro executable (default: build/granhydro of this checkout)")
     p.add_argument("--out", default="study", help="output directory (default: study)")
     p.add_argument("--quick", action="store_true", help="a ~2-minute smoke version")
-    p.add_argument("--problems", default="sod,vortex,haff,column",
+    p.add_argument("--problems", default="sod,vortex,sod2d,haff,column",
                    help="comma-separated subset of sod, vortex, haff, column")
     p.add_argument("--timeout", type=float, default=900.0,
                    help="wall-clock limit per run in seconds (default 900)")
@@ -1129,9 +1227,9 @@ def parse_args(argv, repo):
                    help="check the exact solutions against published numbers and exit")
     o = p.parse_args(argv)
     o.problems = [s.strip() for s in o.problems.split(",") if s.strip()]
-    bad = [s for s in o.problems if s not in ("sod", "vortex", "haff", "column")]
+    bad = [s for s in o.problems if s not in ("sod", "vortex", "sod2d", "haff", "column")]
     if bad or not o.problems:
-        p.error("--problems: unknown problem(s) %s (allowed: sod, vortex, haff, column)" %
+        p.error("--problems: unknown problem(s) %s (allowed: sod, vortex, sod2d, haff, column)" %
                 ", ".join(repr(b) for b in bad) if bad else "--problems: empty list")
     if o.repeat_below is None:
         o.repeat_below = 0.0 if o.quick else 1.0
