@@ -185,7 +185,7 @@ end
   /// L1 density error against the exact solution (cell averages of the exact solution by
   /// 3-point Gauss rules), the cells at the end and the wall time
   template <int dim>
-  void sod_run(const std::string &text, double &error, unsigned long long &cells,
+  void sod_run(const std::string &text, double &error, double &error_all, unsigned long long &cells,
                unsigned long long &max_cells, double &cell_steps, double &wall)
   {
     Simulation<dim> sim(parse_scene(text, "sod_diagonal"), MPI_COMM_WORLD, std::cout);
@@ -194,7 +194,7 @@ end
     const ExactRiemannSolver exact({1, 0, 1}, {0.125, 0, 0.1}, 5. / 3.);
     const double xi0 = std::sqrt(double(dim)) / 2, gp[3] = {-std::sqrt(0.6), 0, std::sqrt(0.6)},
                  gw[3] = {5. / 18, 8. / 18, 5. / 18};
-    double       e = 0, by_level[8] = {}, by_xi[20] = {};
+    double       e = 0, e_all = 0, by_level[8] = {}, by_xi[20] = {};
     for (unsigned int c = 0; c < sim.patch().n_owned(); ++c)
       {
         const auto   x  = sim.patch().center(c);
@@ -214,7 +214,14 @@ end
                 avg += w * exact.sample((xi / std::sqrt(double(dim)) - xi0) / 0.2).rho;
               }
         const double ec = std::abs(sim.state_si(c)[0] - avg) * sim.patch().cell_volume(c);
-        e += ec;
+        // the interior [1/4, 3/4]^dim, outside the domain of influence of the outflow
+        // boundaries at t = 0.2 (sound speed <= 1.3): there the 1D exact solution is the
+        // 2D/3D one (near the boundaries the oblique waves meet the zero-gradient ghosts)
+        bool interior = true;
+        for (unsigned int d = 0; d < dim; ++d)
+          interior = interior && x[d] > 0.25 && x[d] < 0.75;
+        e += interior ? ec : 0.;
+        e_all += ec;
         by_level[sim.patch().level(c) * 2 + (sim.patch().uniform(c) ? 0 : 1)] += ec;
         double xs = 0;
         for (unsigned int d = 0; d < dim; ++d)
@@ -229,6 +236,7 @@ end
       for (unsigned int b = 0; b < 20; ++b)
         std::cout << "    xi bin " << b << ": " << by_xi[b] << "\n";
     error      = dealii::Utilities::MPI::sum(e, MPI_COMM_WORLD);
+    error_all  = dealii::Utilities::MPI::sum(e_all, MPI_COMM_WORLD);
     cells      = sum.cells;
     max_cells  = sum.max_cells;
     cell_steps = sum.convection.cell_updates / 3.;
@@ -320,7 +328,7 @@ int main(int argc, char **argv)
           const double       refine = argc > 3 ? std::atof(argv[3]) : 0.2;
           const double       coarsen = argc > 4 ? std::atof(argv[4]) : 0.05;
           const unsigned int buffer = argc > 5 ? std::atoi(argv[5]) : 1;
-          double             eu, ea, cu, ca, wu, wa;
+          double             eu, ea, cu, ca, wu, wa, eu_all, ea_all;
           unsigned long long nu, na, mu, ma;
           const std::string  ind = argc > 7 ? argv[7] : "jumps";
           const unsigned int interval = argc > 8 ? std::atoi(argv[8]) : 4;
@@ -328,19 +336,20 @@ int main(int argc, char **argv)
           const std::string  amr = sod_diagonal(dim, base, level, refine, coarsen, buffer, ind, interval);
           if (dim == 2)
             {
-              sod_run<2>(uni, eu, nu, mu, cu, wu);
-              sod_run<2>(amr, ea, na, ma, ca, wa);
+              sod_run<2>(uni, eu, eu_all, nu, mu, cu, wu);
+              sod_run<2>(amr, ea, ea_all, na, ma, ca, wa);
             }
           else
             {
-              sod_run<3>(uni, eu, nu, mu, cu, wu);
-              sod_run<3>(amr, ea, na, ma, ca, wa);
+              sod_run<3>(uni, eu, eu_all, nu, mu, cu, wu);
+              sod_run<3>(amr, ea, ea_all, na, ma, ca, wa);
             }
           std::ostringstream os;
           os << "Sod along the diagonal, " << dim << "D, WENO5 + Gauss + MUSTA, t = 0.2: uniform "
-             << (base << level) << "^" << dim << " (" << nu << " cells) L1 error " << eu << " in "
-             << wu << " s; AMR " << base << "^" << dim << " + " << level << " levels: L1 error " << ea
-             << " (" << ea / eu << " x), cells at the end " << na << " (" << double(na) / nu
+             << (base << level) << "^" << dim << " (" << nu << " cells) L1 error in [1/4,3/4]^" << dim
+             << " " << eu << " (whole domain " << eu_all << ") in " << wu << " s; AMR " << base << "^"
+             << dim << " + " << level << " levels: L1 error " << ea << " (" << ea / eu
+             << " x; whole domain " << ea_all << ", " << ea_all / eu_all << " x), cells at the end " << na << " (" << double(na) / nu
              << "), at most " << ma << " (" << double(ma) / nu << "), cell-steps " << ca / cu
              << " of the uniform run's, " << wa << " s (" << wa / wu << " x)";
           // Issue 5 asks for the uniform error within 10 % with at most 30 % of the cells
@@ -349,7 +358,7 @@ int main(int argc, char **argv)
           // with 0.306 of the cells in 2D; 1 level (64^2 + 1) gives 1.01 x with 0.44. This
           // ctest guards the measured trade-off (1.2 x, 0.32) against regressions.
           const double max_error = argc > 9 ? std::atof(argv[9]) : 1.2, max_cells = argc > 10 ? std::atof(argv[10]) : 0.32;
-          chk.check(ea <= max_error * eu && double(ma) <= max_cells * double(nu), os.str());
+          chk.check(ea_all <= max_error * eu_all && double(ma) <= max_cells * double(nu), os.str());
         }
       else
         {

@@ -904,7 +904,7 @@ def run_study(opts, repo):
                 elif problem == "sod2d":
                     err, ncells = sod2d_error(rundir, args[1], args[2])
                     row.update(cells=ncells,
-                               error_measure="L1(rho) per unit area at t=0.2 (finest %d^2)" % value,
+                               error_measure="L1(rho) per unit area at t=0.2",
                                reference="exact Riemann solution along the diagonal (3x3 Gauss)")
                 elif problem == "haff":
                     err = haff_error(rundir)
