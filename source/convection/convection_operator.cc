@@ -270,20 +270,10 @@ namespace granhydro::convection
     std::fill(rhs, rhs + std::size_t(n_owned) * NC, 0.);
     for (unsigned int d = 0; d < dim; ++d)
       {
-        const auto &faces = patch.faces(d);
         for (unsigned int s = 0; s < n_owned; ++s)
           {
-            double     fw[NC] = {}, fe[NC] = {};
-            const auto [b, e] = patch.cell_faces(d, s);
-            for (auto cf = b; cf != e; ++cf)
-              {
-                const auto   &f    = faces[cf->face];
-                const double *F    = &Fp[d][std::size_t(cf->face) * NC];
-                double       *sum  = cf->upper ? fe : fw;
-                const double  frac = cf->upper ? f.frac_l : f.frac_r;
-                for (unsigned int c = 0; c < NC; ++c)
-                  sum[c] += frac * F[c];
-              }
+            double fw[NC] = {}, fe[NC] = {};
+            patch.sum_face_fluxes(d, s, Fp[d].data(), fw, fe);
             const double ih = inv_h[d][s];
             for (unsigned int c = 0; c < NC; ++c)
               rhs[std::size_t(s) * NC + c] += ih * (fw[c] - fe[c]);

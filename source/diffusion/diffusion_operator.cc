@@ -196,17 +196,8 @@ namespace granhydro::diffusion
           f[std::size_t(s) * NC + c] = S[c];
         for (unsigned int d = 0; d < dim; ++d) // d_i F_i^v, fixed order: partition independent
           {
-            double     fw[NC] = {}, fe[NC] = {};
-            const auto [b, e] = patch.cell_faces(d, s);
-            for (auto cf = b; cf != e; ++cf)
-              {
-                const auto   &fc   = patch.faces(d)[cf->face];
-                const double *F    = &Fp[d][std::size_t(cf->face) * NC];
-                double       *sum  = cf->upper ? fe : fw;
-                const double  frac = cf->upper ? fc.frac_l : fc.frac_r;
-                for (unsigned int c = 0; c < NC; ++c)
-                  sum[c] += frac * F[c];
-              }
+            double fw[NC] = {}, fe[NC] = {};
+            patch.sum_face_fluxes(d, s, Fp[d].data(), fw, fe);
             for (unsigned int c = 0; c < NC; ++c)
               f[std::size_t(s) * NC + c] += inv_h[d][s] * (fe[c] - fw[c]);
           }
@@ -235,8 +226,7 @@ namespace granhydro::diffusion
             const auto [b, e] = patch.cell_faces(d, s);
             for (auto cf = b; cf != e; ++cf)
               {
-                const auto        &fc = patch.faces(d)[cf->face];
-                const unsigned int f  = cf->upper ? fc.r : fc.l;
+                const unsigned int f = patch.across(d, *cf);
                 cells.push_back(src[f]);
                 for (const unsigned int c : {s, f}) // gradient neighbours (cross terms)
                   for (unsigned int j = 0; j < dim; ++j)

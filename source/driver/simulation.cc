@@ -476,8 +476,7 @@ namespace granhydro
               const auto [b, e] = P.cell_faces(d, s);
               for (auto cf = b; cf != e; ++cf)
                 {
-                  const auto        &f = P.faces(d)[cf->face];
-                  const unsigned int t = cf->upper ? f.r : f.l;
+                  const unsigned int t = P.across(d, *cf);
                   eta[s] = std::max({eta[s], jump(n[s], n[t]), jump(p[s], p[t])});
                 }
             }
@@ -493,12 +492,9 @@ namespace granhydro
             {
               const auto [b, e] = P.cell_faces(d, s);
               for (auto cf = b; cf != e; ++cf)
-                {
-                  const auto        &f = P.faces(d)[cf->face];
-                  const unsigned int t = cf->upper ? f.r : f.l;
-                  if (P.is_cell(t) && mark.local_element(std::size_t(t) * NC) > 0)
-                    next[s] = 1;
-                }
+                if (const unsigned int t = P.across(d, *cf);
+                    P.is_cell(t) && mark.local_element(std::size_t(t) * NC) > 0)
+                  next[s] = 1;
             }
         mark.zero_out_ghost_values();
         for (unsigned int s = 0; s < n_owned; ++s)

@@ -63,6 +63,24 @@ namespace granhydro
       else
         return std::make_unique<parallel::distributed::Triangulation<dim>>(comm);
     }
+    /// every rank's entries, concatenated in rank order, on every rank
+    std::vector<long long> all_gather(const std::vector<long long> &mine, const MPI_Comm comm)
+    {
+      const int        nranks = Utilities::MPI::n_mpi_processes(comm);
+      std::vector<int> counts(nranks), displs(nranks);
+      int              mycount = mine.size();
+      MPI_Allgather(&mycount, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+      long long total = 0;
+      for (int r = 0; r < nranks; ++r)
+        {
+          displs[r] = total;
+          total += counts[r];
+        }
+      std::vector<long long> all(total);
+      MPI_Allgatherv(mine.data(), mycount, MPI_LONG_LONG, all.data(), counts.data(),
+                     displs.data(), MPI_LONG_LONG, comm);
+      return all;
+    }
   } // namespace
 
   template <int dim>
@@ -221,22 +239,6 @@ namespace granhydro
     n_owned_ = owned.size();
 
     // ---- replicated lattice -> first DoF map and boundary face ids --------------
-    const int nranks = Utilities::MPI::n_mpi_processes(comm);
-    auto all_gather = [&](const std::vector<long long> &mine) {
-      std::vector<int> counts(nranks), displs(nranks);
-      int mycount = mine.size();
-      MPI_Allgather(&mycount, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-      long long total = 0;
-      for (int r = 0; r < nranks; ++r)
-        {
-          displs[r] = total;
-          total += counts[r];
-        }
-      std::vector<long long> all(total);
-      MPI_Allgatherv(mine.data(), mycount, MPI_LONG_LONG, all.data(), counts.data(),
-                     displs.data(), MPI_LONG_LONG, comm);
-      return all;
-    };
     std::vector<long long> first_dof_of(n_lattice, -1); // -1: solid lattice point
     {
       std::vector<long long> mine(2 * n_owned_);
@@ -245,7 +247,7 @@ namespace granhydro
           mine[2 * i]     = owned[i].key;
           mine[2 * i + 1] = owned[i].first;
         }
-      const auto all = all_gather(mine);
+      const auto all = all_gather(mine, comm);
       AssertThrow(all.size() == 2 * n_global_, ExcMessage("mesh is not the expected lattice"));
       for (std::size_t i = 0; i < all.size(); i += 2)
         {
@@ -254,7 +256,7 @@ namespace granhydro
           first_dof_of[all[i]] = all[i + 1];
         }
     }
-    std::vector<long long> bfaces = all_gather(my_faces);
+    std::vector<long long> bfaces = all_gather(my_faces, comm);
     std::sort(bfaces.begin(), bfaces.end());
     // boundary id of lattice face lf of the cell at key, -1 if interior (or no cell)
     auto face_id = [&](const long long key, const unsigned int lf) -> int {
@@ -637,25 +639,13 @@ namespace granhydro
     n_owned_ = owned.size();
 
     // ---- replicated fine lattice -> (first DoF, level) of the covering leaf ----------
-    const int nranks = Utilities::MPI::n_mpi_processes(comm);
     std::vector<long long> mine(2 * n_owned_);
     for (unsigned int i = 0; i < n_owned_; ++i)
       {
         mine[2 * i]     = owned[i].key;
         mine[2 * i + 1] = owned[i].first;
       }
-    std::vector<int> counts(nranks), displs(nranks);
-    int              mycount = mine.size();
-    MPI_Allgather(&mycount, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-    long long total = 0;
-    for (int r = 0; r < nranks; ++r)
-      {
-        displs[r] = total;
-        total += counts[r];
-      }
-    std::vector<long long> all(total);
-    MPI_Allgatherv(mine.data(), mycount, MPI_LONG_LONG, all.data(), counts.data(), displs.data(),
-                   MPI_LONG_LONG, comm);
+    const std::vector<long long> all = all_gather(mine, comm);
     AssertThrow(all.size() == 2 * n_global_, ExcMessage("mesh is not the expected octree"));
     std::vector<long long>   cover_first(n_fine, -1);
     std::vector<signed char> cover_level(n_fine, -1);
@@ -871,17 +861,19 @@ namespace granhydro
                 needed.push_back(t);
             }
       }
-    // gradient stencils of the owned cells and of their face neighbours
+    // the face cells: owned cells and their face neighbours (they need reconstruction
+    // boxes and gradient stencils)
+    std::set<long long> face_cells;
+    for (unsigned int i = 0; i < n_owned_; ++i)
+      {
+        face_cells.insert(owned[i].key);
+        for (unsigned int f = 0; f < dim * 2; ++f)
+          for (const long long t : face_keys[std::size_t(i) * dim * 2 + f])
+            face_cells.insert(t);
+      }
+    // gradient stencils of the face cells
     {
-      std::set<long long> centres;
-      for (unsigned int i = 0; i < n_owned_; ++i)
-        {
-          centres.insert(owned[i].key);
-          for (unsigned int f = 0; f < dim * 2; ++f)
-            for (const long long t : face_keys[std::size_t(i) * dim * 2 + f])
-              centres.insert(t);
-        }
-      for (const long long c : centres)
+      for (const long long c : face_cells)
         for (unsigned int j = 0; j < dim; ++j)
           for (const int o : {-1, 1})
             {
@@ -982,14 +974,6 @@ namespace granhydro
       return index;
     };
     {
-      std::set<long long> face_cells;
-      for (unsigned int i = 0; i < n_owned_; ++i)
-        {
-          face_cells.insert(owned[i].key);
-          for (unsigned int f = 0; f < dim * 2; ++f)
-            for (const long long t : face_keys[std::size_t(i) * dim * 2 + f])
-              face_cells.insert(t);
-        }
       for (const long long u : face_cells)
         {
           unsigned int             k;
@@ -1219,7 +1203,6 @@ namespace granhydro
             }
         if (Utilities::MPI::sum(changes, comm) == 0)
           return false;
-        const unsigned long long before = n_global_;
         // the state with the ghost values deal.II expects (locally relevant = one layer)
         IndexSet relevant;
         DoFTools::extract_locally_relevant_dofs(*dofh, relevant);
@@ -1246,7 +1229,6 @@ namespace granhydro
         U.reinit(part);
         for (std::size_t i = 0; i < std::size_t(n_owned_) * n_components; ++i)
           U.local_element(i) = fresh.local_element(i);
-        (void)before;
         return true;
       }
   }

@@ -122,6 +122,30 @@ namespace granhydro
       const auto &st = cell_face_start_[d];
       return {cell_face_[d].data() + st[s], cell_face_[d].data() + st[s + 1]};
     }
+    /// the slot on the other side of an owned cell's face cf normal to d
+    unsigned int across(const unsigned int d, const CellFace &cf) const
+    {
+      const Face &f = faces_[d][cf.face];
+      return cf.upper ? f.r : f.l;
+    }
+    /// the fluxes F (NC values per face of faces(d)) through owned slot s's faces normal to
+    /// d, each times its share of the cell's face, summed per side in the fixed order of
+    /// cell_faces(d, s) (partition independent); lower and upper start at 0
+    template <unsigned int NC>
+    void sum_face_fluxes(const unsigned int d, const unsigned int s, const double *F,
+                         double (&lower)[NC], double (&upper)[NC]) const
+    {
+      const auto [b, e] = cell_faces(d, s);
+      for (auto cf = b; cf != e; ++cf)
+        {
+          const Face   &f    = faces_[d][cf->face];
+          const double *Ff   = F + std::size_t(cf->face) * NC;
+          double       *sum  = cf->upper ? upper : lower;
+          const double  frac = cf->upper ? f.frac_l : f.frac_r;
+          for (unsigned int c = 0; c < NC; ++c)
+            sum[c] += frac * Ff[c];
+        }
+    }
     /// neighbour used for the gradient of slot s along j (side 0: lower, 1: upper):
     /// same level, else coarser, else -1; offset: its centre minus s's centre along j [m]
     int gradient_neighbor(const unsigned int s, const unsigned int j, const unsigned int side) const
