@@ -13,11 +13,16 @@
 //                           against the uniform mesh at the finest level: L1 density errors
 //                           (reference: the exact Riemann solution, tests/exact_riemann.h),
 //                           cells and wall times; GRANHYDRO_SOD_LEVELS=1 prints the error
-//                           per level.
+//                           per level and per band along the diagonal (interior);
+//                           GRANHYDRO_SOD_FINEST=N sets the finest lattice (default 256^2,
+//                           32^3); GRANHYDRO_SOD_UNIFORM=... reuses a uniform run's numbers
+//                           (printed by an earlier run) for parameter scans.
 #include "exact_riemann.h"
 #include "test_common.h"
 
+#include <iomanip>
 #include <map>
+#include <sstream>
 
 using namespace granhydro;
 using namespace granhydro::testing;
@@ -150,8 +155,23 @@ subsection Output
 end
 )";
 
-  /// Sod's problem (gamma 5/3, t = 0.2) along the diagonal of the unit square/cube: the
-  /// initial discontinuity is the plane through the centre normal to (1,..,1)/sqrt(dim)
+  /// A Riemann problem along the diagonal: left/right density, normal velocity, pressure
+  struct RiemannCase
+  {
+    double rho[2], u[2], p[2], gamma, t_end;
+  };
+  /// Sod (gamma 5/3, t = 0.2), or Toro's 123 problem (two rarefactions leaving a
+  /// near-vacuum, gamma 1.4, t = 0.15) if GRANHYDRO_SOD_PROBLEM=123
+  RiemannCase riemann_case()
+  {
+    const char *pr = std::getenv("GRANHYDRO_SOD_PROBLEM");
+    if (pr && std::string(pr) == "123")
+      return {{1, 1}, {-2, 2}, {0.4, 0.4}, 1.4, 0.15};
+    return {{1, 0.125}, {0, 0}, {1, 0.1}, 5. / 3., 0.2};
+  }
+
+  /// The Riemann problem along the diagonal of the unit square/cube: the initial
+  /// discontinuity is the plane through the centre normal to (1,..,1)/sqrt(dim)
   std::string sod_diagonal(const unsigned int dim, const unsigned int cells, const unsigned int level,
                            const double refine, const double coarsen, const unsigned int buffer,
                            const std::string &indicator, const unsigned int interval)
@@ -166,17 +186,26 @@ end
     for (const char *b : {"x-", "x+", "y-", "y+", "z-", "z+"})
       if (dim == 3 || b[0] != 'z')
         os << "  set Boundary " << b << " = outflow\n";
+    const RiemannCase rc = riemann_case();
+    // unit grain mass: n = rho, T = p / rho; the velocity is u along the diagonal
+    auto blend = [&](const double l, const double r) {
+      std::ostringstream b;
+      b.precision(17);
+      b << "(" << r << " + " << l - r << "*" << left << ")";
+      return b.str();
+    };
+    const std::string vel = blend(rc.u[0] / std::sqrt(double(dim)), rc.u[1] / std::sqrt(double(dim)));
     os << "end\nsubsection Material\n  set Grain diameter = 1\n  set Material density = " << 6. / M_PI
-       << "\n  set Adiabatic index = " << 5. / 3. << "\nend\n"
-       << "subsection Initial state\n  set Packing fraction = " << M_PI / 6 << "*(0.125 + 0.875*" << left
-       << ")\n  set Temperature = 0.8 + 0.2*" << left << "\n  set Velocity = 0; 0" << (dim == 3 ? "; 0" : "")
-       << "\n  set Quadrature points = 3\nend\n"
+       << "\n  set Adiabatic index = " << rc.gamma << "\nend\n"
+       << "subsection Initial state\n  set Packing fraction = " << M_PI / 6 << "*" << blend(rc.rho[0], rc.rho[1])
+       << "\n  set Temperature = " << blend(rc.p[0] / rc.rho[0], rc.p[1] / rc.rho[1]) << "\n  set Velocity = " << vel
+       << "; " << vel << (dim == 3 ? "; " + vel : std::string()) << "\n  set Quadrature points = 3\nend\n"
        << "subsection Numerics\n  set Reference velocity = 1\nend\n"
        << "subsection Adaptivity\n  set Maximum level = " << level << "\n  set Indicator = " << indicator
        << "\n  set Refine threshold = " << refine
        << "\n  set Coarsen threshold = " << coarsen << "\n  set Buffer = " << buffer
        << "\n  set Interval = " << interval << "\nend\n"
-       << "subsection Time\n  set End time = 0.2\nend\n"
+       << "subsection Time\n  set End time = " << rc.t_end << "\nend\n"
        << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
        << "  set Write checkpoint = false\n  set Write summary = false\n  set Verbose = false\nend\n";
     return os.str();
@@ -191,10 +220,11 @@ end
     Simulation<dim> sim(parse_scene(text, "sod_diagonal"), MPI_COMM_WORLD, std::cout);
     sim.setup();
     const auto   sum = sim.run();
-    const ExactRiemannSolver exact({1, 0, 1}, {0.125, 0, 0.1}, 5. / 3.);
+    const RiemannCase        rc = riemann_case();
+    const ExactRiemannSolver exact({rc.rho[0], rc.u[0], rc.p[0]}, {rc.rho[1], rc.u[1], rc.p[1]}, rc.gamma);
     const double xi0 = std::sqrt(double(dim)) / 2, gp[3] = {-std::sqrt(0.6), 0, std::sqrt(0.6)},
                  gw[3] = {5. / 18, 8. / 18, 5. / 18};
-    double       e = 0, e_all = 0, by_level[8] = {}, by_xi[20] = {};
+    double       e = 0, e_all = 0, by_level[8] = {}, by_xi[40] = {};
     for (unsigned int c = 0; c < sim.patch().n_owned(); ++c)
       {
         const auto   x  = sim.patch().center(c);
@@ -211,7 +241,7 @@ end
                     xi += x[dim - 1] + 0.5 * h * gp[k];
                     w *= gw[k];
                   }
-                avg += w * exact.sample((xi / std::sqrt(double(dim)) - xi0) / 0.2).rho;
+                avg += w * exact.sample((xi / std::sqrt(double(dim)) - xi0) / rc.t_end).rho;
               }
         const double ec = std::abs(sim.state_si(c)[0] - avg) * sim.patch().cell_volume(c);
         // the interior [1/4, 3/4]^dim, outside the domain of influence of the outflow
@@ -226,15 +256,16 @@ end
         double xs = 0;
         for (unsigned int d = 0; d < dim; ++d)
           xs += x[d];
-        const int bin = std::min(19, std::max(0, int(xs / std::sqrt(double(dim)) / std::sqrt(double(dim)) * 20)));
-        by_xi[bin] += ec;
+        const int bin = std::min(39, std::max(0, int(xs / double(dim) * 40)));
+        by_xi[bin] += interior ? ec : 0.;
       }
     if (std::getenv("GRANHYDRO_SOD_LEVELS"))
       for (unsigned int l = 0; l < 8; ++l)
         std::cout << "    level " << l / 2 << (l % 2 ? " fallback" : " uniform") << ": " << by_level[l] << "\n";
     if (std::getenv("GRANHYDRO_SOD_LEVELS"))
-      for (unsigned int b = 0; b < 20; ++b)
-        std::cout << "    xi bin " << b << ": " << by_xi[b] << "\n";
+      for (unsigned int b = 0; b < 40; ++b)
+        std::cout << "    interior, (x+y(+z))/dim in [" << b / 40. << ", " << (b + 1) / 40.
+                  << "): " << by_xi[b] << "\n";
     error      = dealii::Utilities::MPI::sum(e, MPI_COMM_WORLD);
     error_all  = dealii::Utilities::MPI::sum(e_all, MPI_COMM_WORLD);
     cells      = sum.cells;
@@ -324,41 +355,59 @@ int main(int argc, char **argv)
         {
           const unsigned int dim    = std::atoi(argv[2]);
           const unsigned int level  = argc > 6 ? std::atoi(argv[6]) : 2;
-          const unsigned int base   = (dim == 2 ? 128 : 32) >> level;
-          const double       refine = argc > 3 ? std::atof(argv[3]) : 0.2;
-          const double       coarsen = argc > 4 ? std::atof(argv[4]) : 0.05;
-          const unsigned int buffer = argc > 5 ? std::atoi(argv[5]) : 1;
+          // finest lattice: 256^2 / 32^3 unless GRANHYDRO_SOD_FINEST says otherwise
+          const char        *fe     = std::getenv("GRANHYDRO_SOD_FINEST");
+          const unsigned int finest = fe ? std::atoi(fe) : (dim == 2 ? 256 : 32);
+          const unsigned int base   = finest >> level;
+          const double       refine = argc > 3 ? std::atof(argv[3]) : 0.1;
+          const double       coarsen = argc > 4 ? std::atof(argv[4]) : 0.02;
+          const unsigned int buffer = argc > 5 ? std::atoi(argv[5]) : 2;
           double             eu, ea, cu, ca, wu, wa, eu_all, ea_all;
           unsigned long long nu, na, mu, ma;
           const std::string  ind = argc > 7 ? argv[7] : "jumps";
           const unsigned int interval = argc > 8 ? std::atoi(argv[8]) : 4;
           const std::string  uni = sod_diagonal(dim, base << level, 0, refine, coarsen, buffer, ind, interval);
           const std::string  amr = sod_diagonal(dim, base, level, refine, coarsen, buffer, ind, interval);
-          if (dim == 2)
+          // GRANHYDRO_SOD_UNIFORM="error,error_all,cells,cell_steps,wall" reuses a uniform run
+          // printed before (for parameter scans on large meshes)
+          if (const char *ue = std::getenv("GRANHYDRO_SOD_UNIFORM"))
             {
-              sod_run<2>(uni, eu, eu_all, nu, mu, cu, wu);
-              sod_run<2>(amr, ea, ea_all, na, ma, ca, wa);
+              std::istringstream is(ue);
+              char               sep;
+              is >> eu >> sep >> eu_all >> sep >> nu >> sep >> cu >> sep >> wu;
+              mu = nu;
             }
+          else if (dim == 2)
+            sod_run<2>(uni, eu, eu_all, nu, mu, cu, wu);
           else
-            {
-              sod_run<3>(uni, eu, eu_all, nu, mu, cu, wu);
-              sod_run<3>(amr, ea, ea_all, na, ma, ca, wa);
-            }
+            sod_run<3>(uni, eu, eu_all, nu, mu, cu, wu);
+          if (chk.root && !std::getenv("GRANHYDRO_SOD_UNIFORM"))
+            std::cout << "uniform: GRANHYDRO_SOD_UNIFORM=" << std::setprecision(17) << eu << "," << eu_all << ","
+                      << nu << "," << cu << "," << wu << std::setprecision(6) << std::endl;
+          if (dim == 2)
+            sod_run<2>(amr, ea, ea_all, na, ma, ca, wa);
+          else
+            sod_run<3>(amr, ea, ea_all, na, ma, ca, wa);
           std::ostringstream os;
-          os << "Sod along the diagonal, " << dim << "D, WENO5 + Gauss + MUSTA, t = 0.2: uniform "
+          os << (riemann_case().gamma < 1.5 ? "123 problem" : "Sod") << " along the diagonal, " << dim
+             << "D, WENO5 + Gauss + MUSTA, t = " << riemann_case().t_end << ": uniform "
              << (base << level) << "^" << dim << " (" << nu << " cells) L1 error in [1/4,3/4]^" << dim
              << " " << eu << " (whole domain " << eu_all << ") in " << wu << " s; AMR " << base << "^"
              << dim << " + " << level << " levels: L1 error " << ea << " (" << ea / eu
              << " x; whole domain " << ea_all << ", " << ea_all / eu_all << " x), cells at the end " << na << " (" << double(na) / nu
              << "), at most " << ma << " (" << double(ma) / nu << "), cell-steps " << ca / cu
              << " of the uniform run's, " << wa << " s (" << wa / wu << " x)";
-          // Issue 5 asks for the uniform error within 10 % with at most 30 % of the cells
-          // (the largest number the adaptive mesh had at any time). Not reached yet: the
-          // default here (jumps, 0.2/0.05, buffer 1, every 4 steps) measures 1.16 x the error
-          // with 0.306 of the cells in 2D; 1 level (64^2 + 1) gives 1.01 x with 0.44. This
-          // ctest guards the measured trade-off (1.2 x, 0.32) against regressions.
-          const double max_error = argc > 9 ? std::atof(argv[9]) : 1.2, max_cells = argc > 10 ? std::atof(argv[10]) : 0.32;
-          chk.check(ea_all <= max_error * eu_all && double(ma) <= max_cells * double(nu), os.str());
+          // Issue 5's target: the uniform mesh's L1 error within 10 % with at most 30 % of
+          // its cells (the largest count the adaptive mesh had at any time), asserted on
+          // both errors: the interior one (where the 1D solution is exact) and the whole
+          // domain's (dominated by the outflow corners). Measured with the defaults (256^2
+          // finest = 64^2 + 2 levels, jumps 0.1/0.02, buffer 2, every 4 steps, limited
+          // linear prolongation): 1.074 x / 1.073 x with 0.284 of the cells; the margin is
+          // what a change in the mesh sequence moves (1.07 to 1.15 x over the thresholds
+          // tried), so a regression in the AMR's accuracy or economy fails here.
+          const double max_error = argc > 9 ? std::atof(argv[9]) : 1.1, max_cells = argc > 10 ? std::atof(argv[10]) : 0.3;
+          chk.check(ea <= max_error * eu && ea_all <= max_error * eu_all && double(ma) <= max_cells * double(nu),
+                    os.str());
         }
       else
         {

@@ -507,7 +507,13 @@ namespace granhydro
         flags[s] = 1;
       else if (!initial && eta[s] < scene.coarsen_threshold)
         flags[s] = -1;
-    if (!patch_->adapt(flags, U))
+    // new children: limited linear prolongation where all siblings stay admissible
+    const auto admissible = [this](const double *u) {
+      State S;
+      std::copy(u, u + NC, S.begin());
+      return desc.admissible(S);
+    };
+    if (!patch_->adapt(flags, U, admissible))
       return false;
     mesh_changed();
     ++adaptations;

@@ -1167,12 +1167,14 @@ namespace granhydro
 
   template <int dim>
   bool CartesianPatch<dim>::adapt(const std::vector<signed char> &flags,
-                                  LinearAlgebra::distributed::Vector<double> &U)
+                                  LinearAlgebra::distributed::Vector<double> &U,
+                                  const std::function<bool(const double *)> &admissible)
   {
     if constexpr (dim == 1)
       {
         (void)flags;
         (void)U;
+        (void)admissible;
         AssertThrow(false, ExcMessage("adaptive meshes need 2 or 3 dimensions"));
         return false;
       }
@@ -1220,15 +1222,90 @@ namespace granhydro
             }
         last_refined_   = Utilities::MPI::sum(nr, comm);
         last_coarsened_ = Utilities::MPI::sum(nc, comm);
+        // limited linear prolongation: each cell carries, through the transfer, its
+        // minmod slopes per direction (from the gradient neighbours, all components) and
+        // its level; a child then knows it is new (its level is higher) and takes the
+        // parent's value plus the slopes times its offset from the parent's centre. The
+        // offsets of the 2^dim children sum to zero: conservative to round-off.
+        constexpr unsigned int NC = n_components;
+        const bool linear = bool(admissible);
+        std::vector<LinearAlgebra::distributed::Vector<double>> slope(linear ? dim + 1 : 0);
+        if (linear)
+          {
+            std::vector<double> W;
+            gather(U, W);
+            for (auto &v : slope)
+              v.reinit(dofh->locally_owned_dofs(), relevant, comm);
+            for (unsigned int s = 0; s < n_owned_; ++s)
+              {
+                for (unsigned int d = 0; d < dim; ++d)
+                  {
+                    const int m = gradient_neighbor(s, d, 0), q = gradient_neighbor(s, d, 1);
+                    for (unsigned int c = 0; c < NC; ++c)
+                      {
+                        double sigma = 0;
+                        if (m >= 0 && q >= 0)
+                          {
+                            const double u  = W[std::size_t(s) * NC + c];
+                            const double sl = (u - W[std::size_t(m) * NC + c]) / -gradient_offset(s, d, 0);
+                            const double sr = (W[std::size_t(q) * NC + c] - u) / gradient_offset(s, d, 1);
+                            sigma = sl * sr > 0 ? (std::abs(sl) < std::abs(sr) ? sl : sr) : 0.;
+                          }
+                        slope[d].local_element(std::size_t(s) * NC + c) = sigma;
+                      }
+                  }
+                for (unsigned int c = 0; c < NC; ++c)
+                  slope[dim].local_element(std::size_t(s) * NC + c) = level_[s];
+              }
+            for (auto &v : slope)
+              v.update_ghost_values();
+          }
+        std::vector<const LinearAlgebra::distributed::Vector<double> *> in{&old};
+        for (const auto &v : slope)
+          in.push_back(&v);
         parallel::distributed::SolutionTransfer<dim, LinearAlgebra::distributed::Vector<double>> st(*dofh);
-        st.prepare_for_coarsening_and_refinement(old);
+        st.prepare_for_coarsening_and_refinement(in);
         ptria.execute_coarsening_and_refinement();
         rebuild_box();
-        LinearAlgebra::distributed::Vector<double> fresh(dofh->locally_owned_dofs(), comm);
-        st.interpolate(fresh);
+        std::vector<LinearAlgebra::distributed::Vector<double>> out(in.size());
+        std::vector<LinearAlgebra::distributed::Vector<double> *> outp;
+        for (auto &v : out)
+          {
+            v.reinit(dofh->locally_owned_dofs(), comm);
+            outp.push_back(&v);
+          }
+        st.interpolate(outp);
         U.reinit(part);
-        for (std::size_t i = 0; i < std::size_t(n_owned_) * n_components; ++i)
-          U.local_element(i) = fresh.local_element(i);
+        for (std::size_t i = 0; i < std::size_t(n_owned_) * NC; ++i)
+          U.local_element(i) = out[0].local_element(i);
+        if (linear)
+          for (unsigned int s = 0; s < n_owned_; ++s)
+            {
+              if (double(level_[s]) <= out[dim + 1].local_element(std::size_t(s) * NC))
+                continue;
+              // the 2^dim siblings' values, this child's last; all admissible or none moves
+              double      *u = &U.local_element(std::size_t(s) * NC);
+              double       parent[NC], child[NC];
+              std::copy(u, u + NC, parent);
+              bool         ok = true;
+              unsigned int mine = 0;
+              for (unsigned int d = 0; d < dim; ++d)
+                mine |= (lattice_[s][d] & 1u) << d;
+              for (unsigned int k = 0; k < (1u << dim); ++k)
+                {
+                  const unsigned int sib = k ^ mine ^ ((1u << dim) - 1); // ends with k = 2^dim-1: mine
+                  for (unsigned int c = 0; c < NC; ++c)
+                    {
+                      child[c] = parent[c];
+                      for (unsigned int d = 0; d < dim; ++d)
+                        child[c] += out[1 + d].local_element(std::size_t(s) * NC + c) * 0.5 *
+                                    cell_size(s, d) * ((sib >> d & 1u) ? 1. : -1.);
+                    }
+                  ok = ok && admissible(child);
+                }
+              if (ok)
+                std::copy(child, child + NC, u);
+            }
         return true;
       }
   }

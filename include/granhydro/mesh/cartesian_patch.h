@@ -59,6 +59,7 @@
 #include <deal.II/lac/la_parallel_vector.h>
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -178,12 +179,15 @@ namespace granhydro
     /**
      * Adapt the mesh: flags per owned slot (+1 refine, -1 coarsen, 0 keep; p4est adds
      * refinements for 2:1 balance and coarsens only whole families), transfer U
-     * (children take the parent's average; a parent takes the mean of its children:
-     * conservative), repartition and rebuild all tables. U is reinitialised on the new
+     * (a parent takes the mean of its children; children take the parent's average, or,
+     * if `admissible` is given, the parent's value plus its minmod-limited slopes times
+     * their offsets, when all 2^dim siblings' states pass `admissible`: conservative
+     * either way), repartition and rebuild all tables. U is reinitialised on the new
      * partitioner(). Returns true if the mesh changed.
      */
     bool adapt(const std::vector<signed char> &flags,
-               dealii::LinearAlgebra::distributed::Vector<double> &U);
+               dealii::LinearAlgebra::distributed::Vector<double> &U,
+               const std::function<bool(const double *)> &admissible = {});
     /// cells refined and coarsened (global) by the last adapt(), after 2:1 balance
     unsigned long long last_refined() const { return last_refined_; }
     unsigned long long last_coarsened() const { return last_coarsened_; }
