@@ -601,7 +601,7 @@ namespace granhydro
     // chosen (same additions), so the time steps and results are identical
     while (interval > 0 && t >= next_output * (1 - 1e-12) && next_output < t_end)
       next_output = std::min(next_output + interval, t_end);
-    conv_seconds = diff_seconds = 0;
+    conv_seconds = diff_seconds = adapt_seconds = 0;
     temperature_repairs = 0;
     max_repair          = 0;
     unsigned int step = start_step_;
@@ -654,6 +654,7 @@ namespace granhydro
       sum.time_si            = t * t0;
       sum.wall_seconds       = std::chrono::duration<double>(clock::now() - start).count();
       sum.convection_seconds = Utilities::MPI::max(conv_seconds, comm);
+      sum.adaptation_seconds = Utilities::MPI::max(adapt_seconds, comm);
       sum.convection         = conv->global_statistics();
       sum.diffusion_active   = integrator != nullptr;
       if (integrator)
@@ -699,7 +700,8 @@ namespace granhydro
       if (scene.max_level > 0)
         pcout << "  adaptive mesh: " << sum.adaptations << " adaptations, " << sum.refined_cells
               << " cells refined, " << sum.coarsened_cells << " coarsened; " << sum.cells
-              << " cells at the end, at most " << sum.max_cells << "\n";
+              << " cells at the end, at most " << sum.max_cells << "; adaptation " << sum.adaptation_seconds
+              << " s\n";
       if (sum.temperature_repairs > 0)
         pcout << "  temperature floor: " << sum.temperature_repairs
               << " cell updates of a cooling dense pile ended with T < " << physics::GranularGas<dim>::temperature_floor
@@ -724,7 +726,11 @@ namespace granhydro
         // adaptation on absolute step numbers: a restarted run adapts where the
         // uninterrupted one did
         if (scene.max_level > 0 && step % scene.adapt_interval == 0 && step > 0)
-          adapt_mesh(false);
+          {
+            const auto c0 = clock::now();
+            adapt_mesh(false);
+            adapt_seconds += std::chrono::duration<double>(clock::now() - c0).count();
+          }
         double dt = dt_fixed;
         if (scene.convection) // the convective CFL limits the step; diffusion never does
           {

@@ -898,8 +898,30 @@ namespace granhydro
       unsigned int                             mirror = 0; ///< outside: index of the mirror
     };
     std::vector<Virtual>                            virtuals;
-    std::map<std::array<long long, 4>, unsigned int> virtual_index;
+    struct KeyHash
+    {
+      std::size_t operator()(const std::array<long long, 4> &a) const
+      {
+        std::size_t h = 0;
+        for (const long long v : a)
+          h = h * 0x9E3779B97F4A7C15ull + std::hash<long long>()(v);
+        return h;
+      }
+    };
+    std::unordered_map<std::array<long long, 4>, unsigned int, KeyHash> virtual_index;
+    virtual_index.reserve(4 * face_cells.size());
     const int r = int(G) - 1;
+    // (key, weight) lists sorted by key, weights of equal keys summed in insertion order
+    // (a few entries: a linear search beats a map)
+    auto add_weight = [](std::vector<std::pair<long long, double>> &v, const long long key, const double w) {
+      for (auto &e : v)
+        if (e.first == key)
+          {
+            e.second += w;
+            return;
+          }
+      v.emplace_back(key, w);
+    };
     auto region_sources = [&](const unsigned int k, const std::array<long long, 3> &q) {
       std::vector<std::pair<long long, double>> src;
       const long long                           c = covering(k, q);
@@ -909,8 +931,7 @@ namespace granhydro
           // each direction with two leaf neighbours (same level or coarser), evaluated at
           // the virtual cell's centre (linear, exact for linear data; the transitions lie
           // where the indicator found the solution smooth)
-          std::map<long long, double> w;
-          w[c] += 1.;
+          add_weight(src, c, 1.);
           const unsigned int       l = c & 7;
           std::array<long long, 3> pc;
           unsigned int             lc;
@@ -927,22 +948,20 @@ namespace granhydro
               // (positions wrap periodically: use the offset inside the coarse cell)
               const long long rel   = q[j] - (pc[j] << (k - l));
               const double    delta = (rel + 0.5) / double(1u << k) - 0.5 * hl;
-              w[tp] += delta / (op - om);
-              w[tm] -= delta / (op - om);
+              add_weight(src, tp, delta / (op - om));
+              add_weight(src, tm, -(delta / (op - om)));
             }
-          src.assign(w.begin(), w.end());
         }
       else
         {
-          std::map<long long, double> vol;
           const long long             span = 1ll << (m - k);
           const double                w    = 1. / std::pow(double(span), double(dim));
           for (long long z = 0; z < (dim > 2 ? span : 1); ++z)
             for (long long y = 0; y < (dim > 1 ? span : 1); ++y)
               for (long long x = 0; x < span; ++x)
-                vol[covering(m, {{(q[0] << (m - k)) + x, (q[1] << (m - k)) + y, (q[2] << (m - k)) + z}})] += w;
-          src.assign(vol.begin(), vol.end());
+                add_weight(src, covering(m, {{(q[0] << (m - k)) + x, (q[1] << (m - k)) + y, (q[2] << (m - k)) + z}}), w);
         }
+      std::sort(src.begin(), src.end(), [](const auto &a, const auto &b) { return a.first < b.first; });
       return src;
     };
     std::function<unsigned int(unsigned int, const std::array<long long, 3> &)> add_virtual =
@@ -1124,7 +1143,7 @@ namespace granhydro
               q[d] += o;
               nb_[(std::size_t(s) * dim + d) * W + (o + int(G))] = slot_at(k, q);
             }
-        bool ok = true;
+        bool ok = s < n_owned_; // the flag is for owned cells (output) only
         for (int z = (dim > 2 ? -r : 0); z <= (dim > 2 ? r : 0) && ok; ++z)
           for (int y = (dim > 1 ? -r : 0); y <= (dim > 1 ? r : 0) && ok; ++y)
             for (int x = -r; x <= r && ok; ++x)

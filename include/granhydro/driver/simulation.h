@@ -36,6 +36,7 @@ namespace granhydro
   {
     unsigned int steps = 0, rejected_steps = 0;
     double       time_si = 0, wall_seconds = 0, convection_seconds = 0;
+    double       adaptation_seconds = 0; ///< indicator, p4est, transfer, tables (max over ranks)
     convection::ConvectionStatistics convection;
     diffusion::IntegratorStatistics  diffusion;
     double                           diffusion_seconds = 0;
@@ -144,7 +145,7 @@ namespace granhydro
     std::unique_ptr<io::Output<dim, Description>> output;
     std::unique_ptr<diffusion::DiffusionOperator<dim>>  diff;
     std::unique_ptr<diffusion::ImplicitIntegrator<dim>> integrator;
-    double conv_seconds = 0, diff_seconds = 0;
+    double conv_seconds = 0, diff_seconds = 0, adapt_seconds = 0;
     unsigned long long temperature_repairs = 0;
     double             max_repair          = 0;
     double       start_time_ = 0; ///< scaled
