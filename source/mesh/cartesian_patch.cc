@@ -686,7 +686,13 @@ namespace granhydro
         {
           const long long n = Nk(k, d);
           if (periodic_[d])
-            p[d] = ((p[d] % n) + n) % n;
+            {
+              // positions lie a few cells outside at most: cheaper than a division
+              while (p[d] < 0)
+                p[d] += n;
+              while (p[d] >= n)
+                p[d] -= n;
+            }
           else if (p[d] < 0 || p[d] >= n)
             inside = false;
         }
@@ -993,6 +999,9 @@ namespace granhydro
       return index;
     };
     {
+      // the boxes overlap (each leaf lies in up to 5^dim of them): a leaf is pushed once,
+      // marked at its fine corner (leaves do not overlap)
+      std::vector<char> seen(n_fine, 0);
       for (const long long u : face_cells)
         {
           unsigned int             k;
@@ -1004,10 +1013,15 @@ namespace granhydro
                 {
                   const std::array<long long, 3> q{{p0[0] + x, p0[1] + y, p0[2] + z}};
                   const long long                t = same_level(k, q);
-                  if (t != no_slot_key)
-                    needed.push_back(t);
-                  else
+                  if (t == no_slot_key)
                     add_virtual(k, q);
+                  else if (t < 0)
+                    needed.push_back(t);
+                  else if (!seen[t >> 3])
+                    {
+                      seen[t >> 3] = 1;
+                      needed.push_back(t);
+                    }
                 }
         }
       for (const auto &v : virtuals)
