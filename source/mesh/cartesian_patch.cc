@@ -1262,12 +1262,13 @@ namespace granhydro
         // offsets of the 2^dim children sum to zero: conservative to round-off.
         constexpr unsigned int NC = n_components;
         const bool linear = bool(admissible);
-        std::vector<LinearAlgebra::distributed::Vector<double>> slope(linear ? dim + 1 : 0);
+        // carried[d < dim]: the slopes along d; carried[dim]: the level (in every component)
+        std::vector<LinearAlgebra::distributed::Vector<double>> carried(linear ? dim + 1 : 0);
         if (linear)
           {
             std::vector<double> W;
             gather(U, W);
-            for (auto &v : slope)
+            for (auto &v : carried)
               v.reinit(dofh->locally_owned_dofs(), relevant, comm);
             for (unsigned int s = 0; s < n_owned_; ++s)
               {
@@ -1284,17 +1285,17 @@ namespace granhydro
                             const double sr = (W[std::size_t(q) * NC + c] - u) / gradient_offset(s, d, 1);
                             sigma = sl * sr > 0 ? (std::abs(sl) < std::abs(sr) ? sl : sr) : 0.;
                           }
-                        slope[d].local_element(std::size_t(s) * NC + c) = sigma;
+                        carried[d].local_element(std::size_t(s) * NC + c) = sigma;
                       }
                   }
                 for (unsigned int c = 0; c < NC; ++c)
-                  slope[dim].local_element(std::size_t(s) * NC + c) = level_[s];
+                  carried[dim].local_element(std::size_t(s) * NC + c) = level_[s];
               }
-            for (auto &v : slope)
+            for (auto &v : carried)
               v.update_ghost_values();
           }
         std::vector<const LinearAlgebra::distributed::Vector<double> *> in{&old};
-        for (const auto &v : slope)
+        for (const auto &v : carried)
           in.push_back(&v);
         parallel::distributed::SolutionTransfer<dim, LinearAlgebra::distributed::Vector<double>> st(*dofh);
         st.prepare_for_coarsening_and_refinement(in);
@@ -1316,28 +1317,32 @@ namespace granhydro
             {
               if (double(level_[s]) <= out[dim + 1].local_element(std::size_t(s) * NC))
                 continue;
-              // the 2^dim siblings' values, this child's last; all admissible or none moves
-              double      *u = &U.local_element(std::size_t(s) * NC);
-              double       parent[NC], child[NC];
-              std::copy(u, u + NC, parent);
-              bool         ok = true;
+              // the value of sibling `sib` (bit d set: upper half along d); all 2^dim
+              // siblings admissible, or the family keeps the parent's value
+              double *u = &U.local_element(std::size_t(s) * NC);
+              auto    sibling = [&](const unsigned int sib, double *child) {
+                for (unsigned int c = 0; c < NC; ++c)
+                  {
+                    child[c] = u[c];
+                    for (unsigned int d = 0; d < dim; ++d)
+                      child[c] += out[1 + d].local_element(std::size_t(s) * NC + c) * 0.5 * cell_size(s, d) *
+                                  ((sib >> d & 1u) ? 1. : -1.);
+                  }
+              };
+              double child[NC];
+              bool   ok = true;
+              for (unsigned int sib = 0; sib < (1u << dim) && ok; ++sib)
+                {
+                  sibling(sib, child);
+                  ok = admissible(child);
+                }
+              if (!ok)
+                continue;
               unsigned int mine = 0;
               for (unsigned int d = 0; d < dim; ++d)
                 mine |= (lattice_[s][d] & 1u) << d;
-              for (unsigned int k = 0; k < (1u << dim); ++k)
-                {
-                  const unsigned int sib = k ^ mine ^ ((1u << dim) - 1); // ends with k = 2^dim-1: mine
-                  for (unsigned int c = 0; c < NC; ++c)
-                    {
-                      child[c] = parent[c];
-                      for (unsigned int d = 0; d < dim; ++d)
-                        child[c] += out[1 + d].local_element(std::size_t(s) * NC + c) * 0.5 *
-                                    cell_size(s, d) * ((sib >> d & 1u) ? 1. : -1.);
-                    }
-                  ok = ok && admissible(child);
-                }
-              if (ok)
-                std::copy(child, child + NC, u);
+              sibling(mine, child);
+              std::copy(child, child + NC, u);
             }
         return true;
       }
