@@ -14,6 +14,7 @@
 // operations) ~ 30, i.e. ~1e-14; we require 1e-12 (~4500 eps), leaving two
 // orders of magnitude of margin while still catching any wrong term (a wrong
 // coefficient or missing term gives O(1) relative errors).
+#include <granhydro/physics/contact_pressure.h>
 #include <granhydro/physics/diffusive_flux.h>
 #include <granhydro/physics/garzo_dufty.h> // must coexist; its coefficients must be accepted
 
@@ -394,6 +395,74 @@ int main()
         const State<3> x = flux_from_matrices<3>(s.U, s.dU, tc, 1., i, false);
         check(a == b && rel_dev<3>(x, b, flux_scale(s, i)) <= tol, "Garzo-Dufty TransportCoefficients pass-through");
       }
+  }
+
+  // Dense closure (physics.md 4.5): the contact potential energy n w(n) is part of nE but
+  // not thermal, so the temperature gradient recovered from dU must not contain it.
+  // Default Johnson-Jackson closure in scaled units (1 mm glass grains: F = 0.05 Pa is
+  // 3.7e-3 m g / sigma^2), phi_min 0.5, phi_c 0.64, across 0.5 < phi < 0.63.
+  {
+    const ContactPressure cp(3.7e-3, 0.5, 0.64, 2, 5, 1e-3, 0.);
+    double                worst_uniform = 0, worst_random[2] = {0, 0}, worst_matrix = 0;
+    for (int k = 0; k < 400; ++k)
+      {
+        Sample<3> s = random_sample<3>(1.);
+        const bool uniform_T = k < 200; // first half: T uniform, only n (and u) vary
+        s.n              = uni(0.5001, 0.63) / ContactPressure::v;
+        set_state(s);
+        for (int j = 0; j < 3; ++j)
+          {
+            if (uniform_T)
+              s.g.grad_T[j] = 0;
+            s.g.grad_n[j] = s.n * uni(-0.3, 0.3); // phi varies by up to 30 % over a unit length
+          }
+        build_dU(s);
+        // the closure: nE += n w, d(nE) += (w + n dw/dn) dn (forward chain rule)
+        const double nw = cp.energy_density(s.n), w = nw / s.n, wn = cp.dw_dn(s.n);
+        s.U[4] += nw;
+        s.E += w;
+        for (int j = 0; j < 3; ++j)
+          s.dU[j][4] += (w + s.n * wn) * s.g.grad_n[j];
+        // the scale of the recovered dT includes the contact terms the chain rule cancels
+        // (|d(nE)| and |E dn| already hold them, plus n |dw/dn dn|): round-off is eps times it
+        State<3> scale_ref[3];
+        for (unsigned int i = 0; i < 3; ++i)
+          {
+            scale_ref[i] = flux_scale(s, i);
+            scale_ref[i][4] += 2. / 3. * std::abs(s.c.kappa) * std::abs(wn * s.g.grad_n[i]);
+          }
+        for (unsigned int i = 0; i < 3; ++i)
+          {
+            const State<3> F   = viscous_flux<3>(s.U, s.dU, s.c, 1., i, wn);
+            const State<3> ref = viscous_flux_primitive<3>(s.U, s.g, s.c, 1., i); // true T gradient
+            const State<3> FM  = flux_from_matrices<3>(s.U, s.dU, s.c, 1., i, false, wn);
+            if (uniform_T)
+              {
+                // grad T = 0: the heat flux is exactly the mu grad n part; kappa grad T must
+                // vanish to round-off of the chain rule
+                const PrimitiveGradients<3> g = primitive_gradients<3>(s.U, s.dU, 1., wn);
+                worst_uniform = std::max(worst_uniform, std::abs(s.c.kappa * g.grad_T[i]) / scale_ref[i][4]);
+              }
+            worst_random[uniform_T ? 0 : 1] = std::max(worst_random[uniform_T ? 0 : 1], rel_dev<3>(F, ref, scale_ref[i]));
+            worst_matrix = std::max(worst_matrix, rel_dev<3>(FM, ref, scale_ref[i]));
+          }
+        // without the correction (dw_dn = 0) heat would be conducted along grad(T + 2w/3):
+        // the check above must be able to fail
+        if (k == 0)
+          {
+            const State<3> bad = viscous_flux<3>(s.U, s.dU, s.c, 1., 0, 0.);
+            const State<3> ref = viscous_flux_primitive<3>(s.U, s.g, s.c, 1., 0);
+            check(rel_dev<3>(bad, ref, scale_ref[0]) > 1e-3, "dense closure: the test detects a missing dw/dn");
+          }
+      }
+    // uniform T: a handful of operations on the chain-rule terms, so a few eps of their
+    // scale (1e-14 = 45 eps); the full flux: the file's tolerance
+    std::printf("dense closure: uniform T, |kappa grad T| / scale <= %.2e; flux vs true-T primitive flux "
+                "%.2e (uniform T), %.2e (random T); matrices %.2e\n",
+                worst_uniform, worst_random[0], worst_random[1], worst_matrix);
+    check(worst_uniform <= 1e-14, "dense closure: kappa grad T vanishes for uniform T");
+    check(worst_random[0] <= tol && worst_random[1] <= tol, "dense closure: flux from the true T gradient");
+    check(worst_matrix <= tol, "dense closure: diffusion matrices with the contact term");
   }
 
   if (failures)

@@ -95,3 +95,14 @@ set_tests_properties(verify.amr_restart_after_kill PROPERTIES LABELS verify TIME
 set_tests_properties(mpi.amr_restart_after_kill_2ranks PROPERTIES LABELS mpi TIMEOUT 300 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)
 add_test(NAME verify.amr_sod_diagonal_2d COMMAND test_amr sod 2)
 set_tests_properties(verify.amr_sod_diagonal_2d PROPERTIES LABELS verify TIMEOUT 600)
+
+# ---- the dense closure in the solver (tests/test_dense_closure.cc): heat flux along the
+# true temperature gradient, frictional work dissipated, a settled column that packs like grains
+granhydro_test_executable(test_dense_closure test_dense_closure.cc)
+add_test(NAME unit.dense_closure_uniform_temperature COMMAND test_dense_closure uniform_temperature)
+set_tests_properties(unit.dense_closure_uniform_temperature PROPERTIES LABELS unit TIMEOUT 120)
+add_test(NAME verify.frictional_dissipation_shear COMMAND test_dense_closure frictional_shear)
+set_tests_properties(verify.frictional_dissipation_shear PROPERTIES LABELS verify TIMEOUT 300)
+add_test(NAME verify.sedimentation_column_200ms COMMAND test_dense_closure sedimentation_200ms
+         ${CMAKE_SOURCE_DIR}/parameters/sedimentation_column_1d.prm)
+set_tests_properties(verify.sedimentation_column_200ms PROPERTIES LABELS verify TIMEOUT 600)

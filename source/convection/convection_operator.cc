@@ -23,6 +23,8 @@ namespace granhydro::convection
     // average is exact and the transverse stages are skipped
     , transverse(dim > 1 && scene.reconstruction != ReconstructionType::first_order)
     , P(scene.face_quadrature == FaceQuadrature::gauss ? 2 : 1)
+    , no_slip_pressure_flux(scene.no_slip_pressure_flux)
+    , boundary_type(scene.boundary)
   {
     length_unit = scene.units().length;
   }
@@ -65,7 +67,16 @@ namespace granhydro::convection
         const auto &faces = patch.faces(d);
         wall[d].resize(faces.size());
         for (std::size_t k = 0; k < faces.size(); ++k)
-          wall[d][k] = patch.wall_face(faces[k].l, faces[k].r, d);
+          {
+            const unsigned int l = faces[k].l, r = faces[k].r;
+            wall[d][k]           = patch.wall_face(l, r, d);
+            if (wall[d][k] && no_slip_pressure_flux)
+              {
+                const int id = patch.is_cell(l) ? patch.face_boundary_id(l, 2 * d + 1) : patch.face_boundary_id(r, 2 * d);
+                if (id >= 0 && boundary_type[id] == BoundaryType::no_slip_wall)
+                  wall[d][k] = 2;
+              }
+          }
         // face cells (their neighbourhoods are uniform, partly virtual on adaptive meshes)
         std::vector<unsigned int> fin;
         for (const auto &f : faces)
@@ -257,7 +268,7 @@ namespace granhydro::convection
                   Fsum[c] += wq * F[c];
               }
             if (wall[d][k])
-              Fsum[0] = Fsum[NC - 1] = 0.;
+              wall_flux(wall[d][k], d, Fsum);
           }
       }
     assemble_rhs(rhs);
@@ -347,7 +358,7 @@ namespace granhydro::convection
                 std::copy(&W[std::size_t(sr) * NC], &W[std::size_t(sr + 1) * NC], UR.begin());
                 numflux.rusanov(UL, UR, d, F);
                 if (wall[d][k])
-                  F[0] = F[NC - 1] = 0.;
+                  wall_flux(wall[d][k], d, F.data());
                 std::copy(F.begin(), F.end(), &Fp[d][k * NC]);
               }
         assemble_rhs(rhs0.data());

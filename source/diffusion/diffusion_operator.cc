@@ -37,6 +37,7 @@ namespace granhydro::diffusion
         for (std::size_t k = 0; k < faces.size(); ++k)
           inv_dist[d][k] = length_unit / (0.5 * (patch.cell_size(faces[k].l, d) + patch.cell_size(faces[k].r, d)));
       }
+    friction_active = desc.contact.active && desc.contact.mu_factor > 0 && settings.viscous;
     src.resize(patch.n_slots());
     flip.assign(patch.n_slots(), 0u);
     for (unsigned int s = 0; s < patch.n_slots(); ++s)
@@ -71,10 +72,10 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
-  physics::TransportCoefficients DiffusionOperator<dim>::coefficients(const State<dim> &U) const
+  physics::TransportCoefficients DiffusionOperator<dim>::coefficients(const double n,
+                                                                      const double T) const
   {
-    const double n = U[0], T = desc.temperature(U);
-    auto         c = desc.model.transport(n, std::max(T, 0.), 1., 1.);
+    auto c = desc.model.transport(n, std::max(T, 0.), 1., 1.);
     if (settings.max_free_path > 0)
       {
         // Knudsen cap: l = 1/(sqrt(2) pi n) > L scales the fluxes' coefficients by L/l
@@ -84,7 +85,6 @@ namespace granhydro::diffusion
         c.kappa *= f;
         c.mu *= f;
       }
-    c.eta += desc.contact.viscosity(n); // dense closure: frictional shear viscosity (0 if off)
     if (!settings.viscous)
       c.eta = c.gamma = 0;
     if (!settings.heat)
@@ -96,14 +96,29 @@ namespace granhydro::diffusion
   void DiffusionOperator<dim>::face_flux(const double *W, const unsigned int d, const double ihn,
                                          const unsigned int l, const unsigned int r,
                                          const State<dim> &UL, const State<dim> &UR,
-                                         const WallFace &wall, State<dim> &F) const
+                                         const WallFace &wall, State<dim> &F,
+                                         State<dim> *friction) const
   {
-    State<dim> Uf;
+    // The gradients come from differences of the *thermal* states U* = U - (0, .., 0, n w(n)):
+    // the contact energy n w of a dense closure is not thermal, and w changes by orders of
+    // magnitude across a cell near phi_c, so it is removed exactly from each cell's state
+    // before the chain rule of physics.md 4.1 (at the face state) turns the differences into
+    // gradients of u and of the granular T - never of T + 2w/3 (physics.md 4.5).
+    // physics::primitive_gradients(..., dw_dn) is the pointwise form of the same
+    // correction. Without a closure U* = U and nothing changes.
+    auto thermal = [&](const double *U, double *Us) {
+      std::copy(U, U + NC, Us);
+      if (desc.contact.active)
+        Us[dim + 1] -= desc.contact.energy_density(U[0]);
+    };
+    State<dim>                  Uf, SL, SR;
     physics::StateGradient<dim> dU;
+    thermal(UL.data(), SL.data());
+    thermal(UR.data(), SR.data());
     for (unsigned int c = 0; c < NC; ++c)
       {
-        Uf[c]    = 0.5 * (UL[c] + UR[c]);
-        dU[d][c] = (UR[c] - UL[c]) * ihn;
+        Uf[c]    = 0.5 * (SL[c] + SR[c]);
+        dU[d][c] = (SR[c] - SL[c]) * ihn;
       }
     for (unsigned int j = 0; j < dim; ++j)
       if (j != d)
@@ -120,24 +135,48 @@ namespace granhydro::diffusion
                                   (m >= 0 ? patch.gradient_offset(s, j, 0) : 0.);
               if (span <= 0)
                 continue;
-              const double *up = W + std::size_t(p >= 0 ? p : s) * NC,
-                           *um = W + std::size_t(m >= 0 ? m : s) * NC;
-              const double  w  = 0.5 * length_unit / span;
+              double up[NC], um[NC];
+              thermal(W + std::size_t(p >= 0 ? p : s) * NC, up);
+              thermal(W + std::size_t(m >= 0 ? m : s) * NC, um);
+              const double w = 0.5 * length_unit / span;
               for (unsigned int c = 0; c < NC; ++c)
                 dU[j][c] += w * (up[c] - um[c]);
             }
         }
-    F = physics::viscous_flux<dim>(Uf, dU, coefficients(Uf), 1., d);
+    // the face state's granular temperature (its contact energy is already removed)
+    const double nf = Uf[0];
+    const double Tf = (2. / 3.) * (Uf[dim + 1] - physics::kinetic_energy<dim>(Uf)) / nf;
+    const physics::PrimitiveGradients<dim> g      = physics::primitive_gradients<dim>(Uf, dU, 1.);
+    const auto                            &grad_u = g.grad_u;
+    const auto                            &grad_T = g.grad_T;
+    const auto                            &grad_n = g.grad_n;
+    F = physics::viscous_flux_primitive<dim>(Uf, grad_u, grad_T, grad_n, coefficients(nf, Tf), 1., d);
+    if (friction_active)
+      {
+        // frictional (contact) shear stress of the dense closure: its momentum flux is
+        // part of F, its work tau_f.u is not - that energy leaves the grains as heat
+        // (physics.md 4.5); residual() adds u . div(tau_f) to the energy instead, so that
+        // T obeys the kinetic equation only. friction = (work flux, momentum flux).
+        const physics::DiffusiveCoefficients cf{desc.contact.viscosity(nf), 0., 0., 0.};
+        State<dim> Ff = physics::viscous_flux_primitive<dim>(Uf, grad_u, grad_T, grad_n, cf, 1., d);
+        for (unsigned int k = 0; k < dim; ++k)
+          F[1 + k] += Ff[1 + k];
+        if (friction)
+          {
+            (*friction)[0] = Ff[dim + 1];
+            for (unsigned int k = 0; k < dim; ++k)
+              (*friction)[1 + k] = Ff[1 + k];
+            (*friction)[dim + 1] = 0;
+          }
+      }
+    else if (friction)
+      friction->fill(0.);
     if (wall.sign != 0)
       {
         // energy into the wall (physics.md 5.2, contact theorem, m = 1). The cell update
         // is (F_e - F_w)/dx: a loss through the upper wall (the cell's east face) needs
         // F^E -= q_w, through the lower wall (west face) F^E += q_w
-        const State<dim> &Ui = wall.sign > 0 ? UL : UR;
-        const double      T  = std::max(desc.temperature(Ui), 0.);
-        const double      pw = desc.pressure(Ui) - desc.contact.pressure(Ui[0]); // collisional
-        const double      qw = (1 - wall.eps_w) * std::max(pw, 0.) * std::sqrt(2 * T / M_PI);
-        F[dim + 1] -= wall.sign * qw;
+        F[dim + 1] -= wall.sign * desc.wall_heat_flux(wall.sign > 0 ? UL : UR, wall.eps_w);
       }
   }
 
@@ -177,16 +216,21 @@ namespace granhydro::diffusion
       {
         const auto &faces = patch.faces(d);
         Fp[d].resize(faces.size() * NC);
+        if (friction_active)
+          Ff[d].resize(faces.size() * NC);
         for (std::size_t k = 0; k < faces.size(); ++k)
           {
             const unsigned int l = faces[k].l, r = faces[k].r;
-            State<dim> UL, UR, F;
+            State<dim> UL, UR, F, G;
             std::copy(W + std::size_t(l) * NC, W + std::size_t(l + 1) * NC, UL.begin());
             std::copy(W + std::size_t(r) * NC, W + std::size_t(r + 1) * NC, UR.begin());
-            face_flux(W, d, inv_dist[d][k], l, r, UL, UR, walls[d][k], F);
+            face_flux(W, d, inv_dist[d][k], l, r, UL, UR, walls[d][k], F, friction_active ? &G : nullptr);
             std::copy(F.begin(), F.end(), &Fp[d][k * NC]);
+            if (friction_active)
+              std::copy(G.begin(), G.end(), &Ff[d][k * NC]);
           }
       }
+    friction_power_ = 0;
     for (unsigned int s = 0; s < n_owned; ++s)
       {
         State<dim> U, S;
@@ -194,12 +238,33 @@ namespace granhydro::diffusion
         source(U, S);
         for (unsigned int c = 0; c < NC; ++c)
           f[std::size_t(s) * NC + c] = S[c];
+        double div_tf[NC] = {}; // div of (frictional work flux, frictional momentum flux)
         for (unsigned int d = 0; d < dim; ++d) // d_i F_i^v, fixed order: partition independent
           {
             double fw[NC] = {}, fe[NC] = {};
             patch.sum_face_fluxes(d, s, Fp[d].data(), fw, fe);
             for (unsigned int c = 0; c < NC; ++c)
               f[std::size_t(s) * NC + c] += inv_h[d][s] * (fe[c] - fw[c]);
+            if (friction_active)
+              {
+                double gw[NC] = {}, ge[NC] = {};
+                patch.sum_face_fluxes(d, s, Ff[d].data(), gw, ge);
+                for (unsigned int c = 0; c < NC; ++c)
+                  div_tf[c] += inv_h[d][s] * (ge[c] - gw[c]);
+              }
+          }
+        if (friction_active)
+          {
+            // the energy gets the kinetic-energy change of the frictional force, u . div tau_f,
+            // and not the work flux div(tau_f . u): the difference, ~ mu_f Phi_f >= 0, is the
+            // frictional dissipation, lost to heat (physics.md 4.5)
+            double uw = 0, vol = 1;
+            for (unsigned int k = 0; k < dim; ++k)
+              uw += U[1 + k] / U[0] * div_tf[1 + k];
+            for (unsigned int d = 0; d < dim; ++d)
+              vol /= inv_h[d][s];
+            f[std::size_t(s) * NC + dim + 1] += uw;
+            friction_power_ += (div_tf[0] - uw) * vol;
           }
       }
   }
@@ -296,11 +361,35 @@ namespace granhydro::diffusion
           // f[l] += frac_l F / h_l, f[r] -= frac_r F / h_r
           const double wl = l < n_own ? fc.frac_l * inv_h[d][l] : 0.;
           const double wr = r < n_own ? fc.frac_r * inv_h[d][r] : 0.;
-          State<dim> UL, UR, F0, F1;
+          State<dim> UL, UR, F0, F1, G0, G1;
           std::copy(W + std::size_t(l) * NC, W + std::size_t(l + 1) * NC, UL.begin());
           std::copy(W + std::size_t(r) * NC, W + std::size_t(r + 1) * NC, UR.begin());
-          face_flux(W, d, ihn, l, r, UL, UR, wall, F0);
-          std::array<double, NC * NC> BL{}, BR{};
+          State<dim> *g0 = friction_active ? &G0 : nullptr, *g1 = friction_active ? &G1 : nullptr;
+          face_flux(W, d, ihn, l, r, UL, UR, wall, F0, g0);
+          // block of the face flux (and of the frictional momentum flux) w.r.t. one state
+          using Block = std::array<double, NC * NC>;
+          auto difference = [&](const State<dim> &Fa, const State<dim> &Ga, const double e,
+                                const unsigned int b, Block &B, Block &BG) {
+            for (unsigned int a = 0; a < NC; ++a)
+              {
+                B[a * NC + b] = (Fa[a] - F0[a]) / e;
+                if (friction_active)
+                  BG[a * NC + b] = (Ga[a] - G0[a]) / e;
+              }
+          };
+          // the energy row of cell c also gets u_c . d(frictional momentum flux) (residual():
+          // u . div tau_f; the dependence of u_c itself is left out of the Jacobian)
+          auto with_friction = [&](Block B, const Block &BG, const unsigned int c) {
+            if (friction_active)
+              for (unsigned int k = 0; k < dim; ++k)
+                {
+                  const double uk = W[std::size_t(c) * NC + 1 + k] / W[std::size_t(c) * NC];
+                  for (unsigned int b = 0; b < NC; ++b)
+                    B[(dim + 1) * NC + b] += uk * BG[(1 + k) * NC + b];
+                }
+            return B;
+          };
+          Block BL{}, BR{}, GL{}, GR{};
           for (unsigned int b = 0; b < NC; ++b)
             for (const int side : {0, 1})
               {
@@ -308,9 +397,8 @@ namespace granhydro::diffusion
                 State<dim> &P = side == 0 ? L2 : R2;
                 const double e = 1e-7 * std::max(std::abs(P[b]), std::max(1e-3 * std::abs(P[0]), 1e-10));
                 P[b] += e;
-                face_flux(W, d, ihn, l, r, L2, R2, wall, F1);
-                for (unsigned int a = 0; a < NC; ++a)
-                  (side == 0 ? BL : BR)[a * NC + b] = (F1[a] - F0[a]) / e;
+                face_flux(W, d, ihn, l, r, L2, R2, wall, F1, g1);
+                difference(F1, G1, e, b, side == 0 ? BL : BR, side == 0 ? GL : GR);
               }
           if (cross_terms && !settings.diagonal_only)
             for (unsigned int j = 0; j < dim; ++j)
@@ -322,32 +410,31 @@ namespace granhydro::diffusion
                       if (tg < 0)
                         continue;
                       const unsigned int t = tg;
-                      std::array<double, NC * NC> B{};
+                      Block B{}, BG{};
                       for (unsigned int b = 0; b < NC; ++b)
                         {
                           double      &P = Wc[std::size_t(t) * NC + b];
                           const double P0 = P;
                           const double e  = 1e-7 * std::max(std::abs(P0), std::max(1e-3 * std::abs(Wc[std::size_t(t) * NC]), 1e-10));
                           P += e;
-                          face_flux(Wc.data(), d, ihn, l, r, UL, UR, wall, F1);
+                          face_flux(Wc.data(), d, ihn, l, r, UL, UR, wall, F1, g1);
                           P = P0;
-                          for (unsigned int a = 0; a < NC; ++a)
-                            B[a * NC + b] = (F1[a] - F0[a]) / e;
+                          difference(F1, G1, e, b, B, BG);
                         }
                       if (l < n_own)
-                        add_block(l, t, B, wl);
+                        add_block(l, t, with_friction(B, BG, l), wl);
                       if (r < n_own)
-                        add_block(r, t, B, -wr);
+                        add_block(r, t, with_friction(B, BG, r), -wr);
                     }
           if (l < n_own)
             {
-              add_block(l, l, BL, wl);
-              add_block(l, r, BR, wl);
+              add_block(l, l, with_friction(BL, GL, l), wl);
+              add_block(l, r, with_friction(BR, GR, l), wl);
             }
           if (r < n_own)
             {
-              add_block(r, l, BL, -wr);
-              add_block(r, r, BR, -wr);
+              add_block(r, l, with_friction(BL, GL, r), -wr);
+              add_block(r, r, with_friction(BR, GR, r), -wr);
             }
         }
     // sources
@@ -405,8 +492,10 @@ namespace granhydro::diffusion
       {
         State<dim> U;
         std::copy(W + std::size_t(s) * NC, W + std::size_t(s + 1) * NC, U.begin());
-        const auto c = coefficients(U);
         const double n = U[0];
+        auto         c = coefficients(n, desc.temperature(U));
+        if (friction_active) // the frictional viscosity is a shear viscosity as well
+          c.eta += desc.contact.viscosity(n);
         // momentum diffusivity (gamma/eta + 4/3) eta/(m n), thermal 2 kappa/(3 n) (physics.md 4.4)
         const double D = std::max((c.gamma + 4. / 3. * c.eta) / n, 2. * c.kappa / (3. * n));
         double       rate = 0;

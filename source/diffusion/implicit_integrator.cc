@@ -218,9 +218,11 @@ namespace granhydro::diffusion
             // so U1 = U0 + dt sum b_k f(Y_k) conserves mass (and energy and momentum where
             // no source acts) to round-off, not only to the Newton tolerance
             std::vector<double> Kf(n * stages);
+            double              friction = 0; // frictional dissipation of the step, this rank
             for (unsigned int k = 0; k < stages; ++k)
               {
                 stage_slope(k);
+                friction += dt * b[k] * op.friction_power();
                 for (std::size_t i = 0; i < n; ++i)
                   Kf[i * stages + k] = f[i];
               }
@@ -237,6 +239,8 @@ namespace granhydro::diffusion
             if (!admissible_owned(U1))
               break;
             std::copy(U1.begin(), U1.end(), U.begin());
+            if (op.friction())
+              stats.friction_dissipation += Utilities::MPI::sum(friction, comm);
             return true;
           }
         if (it > 2 && dmax > 0.9 * prev) // no contraction: give up early
@@ -288,6 +292,8 @@ namespace granhydro::diffusion
           patch.gather(U, W);
         op.set_time(t + k * h);
         op.residual(W.data(), f.data());
+        if (op.friction())
+          stats.friction_dissipation += h * Utilities::MPI::sum(op.friction_power(), patch.communicator());
         double *u = U.begin();
         for (std::size_t i = 0; i < n; ++i)
           u[i] += h * f[i];

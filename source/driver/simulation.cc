@@ -697,6 +697,10 @@ namespace granhydro
               << " s (at t = " << sum.diffusion.min_explicit_dt_time * t0 << " s); steps up to "
               << sum.diffusion.max_dt_over_explicit << " x that limit\n";
       pcout << "  mass drift " << sum.mass_drift << " (relative)\n";
+      if (sum.diffusion.friction_dissipation > 0)
+        pcout << "  frictional dissipation (dense closure, work of mu_f lost to heat): "
+              << friction_dissipation_si(sum) << (dim == 3 ? " J" : dim == 2 ? " J/m" : " J/m^2")
+              << "\n";
       if (scene.max_level > 0)
         pcout << "  adaptive mesh: " << sum.adaptations << " adaptations, " << sum.refined_cells
               << " cells refined, " << sum.coarsened_cells << " coarsened; " << sum.cells
@@ -987,7 +991,8 @@ namespace granhydro
         << "explicit_substeps," << ds.explicit_substeps << "\n"
         << "min_explicit_dt," << (std::isfinite(ds.min_explicit_dt) ? ds.min_explicit_dt * t0 : 0) << "\n"
         << "min_explicit_dt_time," << ds.min_explicit_dt_time * t0 << "\n"
-        << "max_dt_over_explicit," << ds.max_dt_over_explicit << "\n";
+        << "max_dt_over_explicit," << ds.max_dt_over_explicit << "\n"
+        << "friction_dissipation_J," << friction_dissipation_si(sum) << "\n";
     out.close();
     std::filesystem::rename(file + ".tmp", file, ec);
     if (ec)

@@ -262,9 +262,13 @@ namespace granhydro
                         "Without it a pile cooling at rest reaches phi_c in finite time and the "
                         "run stops with a diagnostic (README, 'Dense closure').");
       prm.declare_entry("Coefficient", "0.05", Patterns::Double(0, Patterns::Double::max_double_value),
-                        "F [Pa] (MFIX/OpenFOAM default 0.05).");
-      prm.declare_entry("Minimum packing fraction", "0.5", Patterns::Double(0, 1),
-                        "phi_min: no contact stress below it (default 0.5).");
+                        "F [Pa] (Johnson, Nott & Jackson 1990; MFIX/OpenFOAM default 0.05).");
+      prm.declare_entry("Minimum packing fraction", "0.62", Patterns::Double(0, 1),
+                        "phi_min: no contact stress below it. Default 0.62 for smooth "
+                        "(frictionless) spheres, whose enduring contact network only forms "
+                        "next to random close packing, so a settled pile sits at 0.62-0.64; "
+                        "0.5 is Johnson-Jackson's value for frictional grains (piles at about "
+                        "0.58). README, 'Dense closure'.");
       prm.declare_entry("Exponent r", "2", Patterns::Double(1, 10), "r (default 2, at least 1).");
       prm.declare_entry("Exponent s", "5", Patterns::Double(1.5, 20), "s (default 5, above 1).");
       prm.declare_entry("Viscosity time", "0.5", Patterns::Double(0, Patterns::Double::max_double_value),
@@ -344,6 +348,15 @@ namespace granhydro
                         "gauss: 2 Gauss points per face direction (paper eq. 4.6, "
                         "Titarev-Toro), midpoint: one point per face (face average used "
                         "as point value, second order on nonlinear fluxes).");
+      prm.declare_entry("No-slip wall flux", "mirror", Patterns::Selection("mirror|pressure"),
+                        "Convective flux through no-slip walls. mirror: the numerical flux "
+                        "between the cell and its mirror ghost (velocity reflected about the "
+                        "wall velocity), mass and energy parts set to 0; its tangential "
+                        "momentum part is a numerical wall friction that shrinks with the "
+                        "mesh. pressure: the paper's eq. 6.1a, zero mass and energy flux and "
+                        "only the wall pressure (the normal momentum of the same flux) - no "
+                        "tangential momentum; the wall shear stress then comes from the "
+                        "diffusion step alone.");
       prm.declare_entry("Flux", "musta", Patterns::Selection("musta|rusanov|hll"),
                         "Numerical flux: musta (multi-stage FORCE, paper eqs. 4.7-4.9 with "
                         "dx/dt in the dissipation term, physics.md P12), rusanov, hll.");
@@ -646,6 +659,7 @@ end
                                                  ReconstructionType::weno5;
       s.face_quadrature =
         prm.get("Face quadrature") == "gauss" ? FaceQuadrature::gauss : FaceQuadrature::midpoint;
+      s.no_slip_pressure_flux = prm.get("No-slip wall flux") == "pressure";
       const std::string f = prm.get("Flux");
       s.flux = f == "musta" ? FluxType::musta : (f == "rusanov" ? FluxType::rusanov : FluxType::hll);
       s.musta_max_stages   = prm.get_integer("MUSTA maximum stages");

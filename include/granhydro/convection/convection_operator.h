@@ -104,8 +104,21 @@ namespace granhydro::convection
     /// per face of patch.faces(d): 1 if it lies on a (slip or no-slip) wall; walls do not move normally, so
     /// the mass and energy fluxes there are exactly 0 whatever the ghost state (at concave
     /// corners of a mesh file the nearest-fluid ghost is not an exact mirror for every
-    /// stencil): closed domains conserve mass to round-off
+    /// stencil): closed domains conserve mass to round-off. 2: a no-slip wall with the
+    /// paper's pressure flux (Numerics/No-slip wall flux = pressure): the tangential
+    /// momentum flux is 0 too, only the wall pressure acts (paper eq. 6.1a)
     std::vector<char> wall[dim];
+    bool              no_slip_pressure_flux = false;
+    std::array<BoundaryType, 6> boundary_type;
+    /// zero the flux components a wall face does not carry (see wall above)
+    void wall_flux(const char kind, const unsigned int d, double *F) const
+    {
+      F[0] = F[NC - 1] = 0.;
+      if (kind == 2)
+        for (unsigned int j = 0; j < dim; ++j)
+          if (j != d)
+            F[1 + j] = 0.;
+    }
 
     mutable std::vector<double> A, B, C; // stage arrays (one direction at a time)
     mutable std::vector<double> Fp[dim];  // flux per face of patch.faces(d)

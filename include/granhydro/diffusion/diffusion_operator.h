@@ -96,6 +96,15 @@ namespace granhydro::diffusion
 
     const CartesianPatch<dim> &get_patch() const { return patch; }
 
+    /// Frictional dissipation rate of the last residual() call, summed over this rank's
+    /// owned cells (scaled energy per time, times the scaled cell volume): the work of the
+    /// frictional stress, div(tau_f . u) - u . div tau_f ~ mu_f Phi_f, that leaves the
+    /// grains as heat instead of becoming granular temperature (physics.md 4.5)
+    double friction_power() const { return friction_power_; }
+
+    /// true when the frictional viscosity of the dense closure is on
+    bool friction() const { return friction_active; }
+
     /// true when the fluxes use the diagonal (normal-gradient) part only
     bool diagonal_only() const { return settings.diagonal_only; }
 
@@ -113,13 +122,16 @@ namespace granhydro::diffusion
       double eps_w = 1;
       int    sign  = 0;
     };
-    /// flux through a face normal to d between slots l and r; ihn: 1/(centre distance)
+    /// flux through a face normal to d between slots l and r; ihn: 1/(centre distance).
+    /// With the frictional viscosity on, F holds its momentum flux but not its work, and
+    /// friction (if given) receives (work flux tau_f.u, frictional momentum flux, 0)
     void face_flux(const double *W, const unsigned int d, const double ihn, const unsigned int l,
                    const unsigned int r, const physics::State<dim> &UL,
                    const physics::State<dim> &UR, const WallFace &wall,
-                   physics::State<dim> &F) const;
+                   physics::State<dim> &F, physics::State<dim> *friction = nullptr) const;
     void source(const physics::State<dim> &U, physics::State<dim> &S) const;
-    physics::TransportCoefficients coefficients(const physics::State<dim> &U) const;
+    /// kinetic-theory coefficients at (n, T) with the Knudsen cap and the switches
+    physics::TransportCoefficients coefficients(const double n, const double T) const;
 
     const CartesianPatch<dim>       &patch;
     const physics::GranularGas<dim> &desc;
@@ -131,6 +143,9 @@ namespace granhydro::diffusion
     std::vector<unsigned int> src;  ///< slot -> real slot carrying its data
     std::vector<unsigned int> flip; ///< slot -> momentum sign flips relative to src
     mutable std::vector<double> Fp[dim];
+    mutable std::vector<double> Ff[dim]; ///< per face: frictional work flux and momentum flux
     mutable double              time = 0;
+    mutable double              friction_power_ = 0;
+    bool                        friction_active = false;
   };
 } // namespace granhydro::diffusion

@@ -65,6 +65,9 @@ namespace granhydro::diffusion
     double min_explicit_dt = std::numeric_limits<double>::infinity(), min_explicit_dt_time = 0;
     /// largest ratio of the step taken to the explicit diffusive limit
     double max_dt_over_explicit = 0;
+    /// energy dissipated by the frictional stress of the dense closure over all accepted
+    /// steps (scaled energy density times scaled volume; DiffusionOperator::friction_power)
+    double friction_dissipation = 0;
   };
 
   template <int dim>

@@ -15,6 +15,7 @@
 #include <granhydro/physics/ideal_gas.h>
 #include <granhydro/scene/scene.h>
 
+#include <cmath>
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/lac/la_parallel_vector.h>
 
@@ -129,6 +130,11 @@ namespace granhydro
     void print_header() const;
     /// summary.csv in the output directory (rank 0; written to .tmp, then renamed)
     void write_summary(const RunSummary &sum, const std::string &status) const;
+    /// the frictional dissipation of the run in J (per m^(3 - dim) of the unresolved extent)
+    double friction_dissipation_si(const RunSummary &sum) const
+    {
+      return sum.diffusion.friction_dissipation * units_.energy() * std::pow(units_.length, dim - 3.);
+    }
     /// empty unless the state is near close packing (max phi >= 0.99 phi_c, granular
     /// model): then where, how dense and how much mass sits in the near-close-packed cells
     std::string overpacking_report(const Vector &U) const;

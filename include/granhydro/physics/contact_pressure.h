@@ -3,8 +3,11 @@
  * @file contact_pressure.h
  * Optional dense-regime closure (off by default; the paper has none): a contact
  * (frictional) pressure of Johnson–Jackson type, p_f ~ F (phi - phi_min)^r /
- * (phi_c - phi)^s, as MFIX and OpenFOAM use, and a frictional shear viscosity
- * mu_f = t_f sin(theta_f) p_f (OpenFOAM's JohnsonJackson choice, t_f = 0.5 s).
+ * (phi_c - phi)^s, as MFIX and OpenFOAM use (F = 0.05 Pa, r = 2, s = 5: Johnson, Nott
+ * & Jackson, J. Fluid Mech. 210, 501 (1990)), with phi_min = 0.62 for smooth spheres
+ * (their enduring contacts form only next to random close packing; README, 'Dense
+ * closure'), and a frictional shear viscosity mu_f = t_f sin(theta_f) p_f (OpenFOAM's
+ * JohnsonJackson choice, t_f = 0.5 s) whose work is dissipated, not turned into T.
  *
  * Why it is needed: kinetic theory alone gives no pressure to a pile at rest
  * (T -> 0). Under gravity the floor of a cooling column obeys, with
@@ -26,7 +29,7 @@
  * (a = phi_min, c = phi_c, v = grain volume), giving
  *   p_f = F (phi - a)^r / (c - phi)^s * (phi/c)^2 [(r+1)(c - phi) + (s-1)(phi - a)] / ((s-1)(c - a)),
  * i.e. Johnson–Jackson's law times a smooth factor that is 1 at phi_c and
- * (a/c)^2 (r+1)/(s-1) at phi_min (0.46 for the defaults). Beyond
+ * (a/c)^2 (r+1)/(s-1) at phi_min (0.70 for the defaults, phi_min = 0.62). Beyond
  * phi_max = phi_c - delta, w is continued linearly (C1) so everything stays finite.
  *
  * Units: the code's scaled units (sigma = 1, m = 1, so v = pi/6 and phi = v n).
@@ -39,7 +42,7 @@ namespace granhydro::physics
   {
     bool   active    = false;
     double F         = 0;    ///< scaled pressure
-    double phi_min   = 0.5;
+    double phi_min   = 0.62;
     double phi_c     = 0.64;
     double r         = 2;
     double s         = 5;
@@ -103,6 +106,18 @@ namespace granhydro::physics
       double w, w1, w2;
       potential(n * v, w, w1, w2);
       return n * n * v * w1;
+    }
+
+    /// dw/dn = v w'(phi) = p_f / n^2: how the contact energy per grain changes with n. The
+    /// chain rule from conservative to primitive gradients subtracts it (physics: the
+    /// temperature gradient never contains the contact energy), see diffusive_flux.h
+    double dw_dn(const double n) const
+    {
+      if (!active)
+        return 0;
+      double w, w1, w2;
+      potential(n * v, w, w1, w2);
+      return v * w1;
     }
 
     /// dp_f/dn = 2 phi w' + phi^2 w''

@@ -109,11 +109,18 @@ namespace granhydro::physics
   /**
    * Chain rule of physics.md 4.1 (conservative -> primitive gradients):
    *   d u_l = (d(n u_l) - u_l d n)/n,
-   *   d T   = (2/(3n)) [ d(nE) - m u_k d(n u_k) + (m|u|^2 - E) d n ].
+   *   d T   = (2/(3n)) [ d(nE) - m u_k d(n u_k) + (m|u|^2 - E) d n ] - (2/3) (dw/dn) d n.
+   * The last term belongs to a dense closure whose contact potential energy per grain
+   * w(n) is stored in the energy density (nE = n|u|^2/2 + 3/2 n T + n w, see
+   * contact_pressure.h): then d(nE) also holds d(n w) = (w + n dw/dn) dn, which is not
+   * thermal, and forgetting it conducts heat along grad(T + 2w/3) instead of grad T.
+   * dw_dn = dw/dn = p_f/n^2 (ContactPressure::dw_dn), 0 without a closure.
    */
   template <int dim>
-  inline PrimitiveGradients<dim>
-  primitive_gradients(const State<dim> &U, const StateGradient<dim> &dU, const double m)
+  inline PrimitiveGradients<dim> primitive_gradients(const State<dim>         &U,
+                                                     const StateGradient<dim> &dU,
+                                                     const double              m,
+                                                     const double              dw_dn = 0.)
   {
     std::array<double, dim> u;
     const double            u2    = internal::velocity<dim>(U, u);
@@ -130,7 +137,7 @@ namespace granhydro::physics
             g.grad_u[j][l] = internal::velocity_derivative<dim>(d, u, inv_n, l);
             s -= m * u[l] * d[1 + l];
           }
-        g.grad_T[j] = (2. / 3.) * inv_n * s;
+        g.grad_T[j] = (2. / 3.) * (inv_n * s - dw_dn * d[0]);
         g.grad_n[j] = d[0];
       }
     return g;
@@ -190,9 +197,10 @@ namespace granhydro::physics
                                  const StateGradient<dim> &dU,
                                  const Coefficients       &c,
                                  const double              m,
-                                 const unsigned int        i)
+                                 const unsigned int        i,
+                                 const double              dw_dn = 0.)
   {
-    return viscous_flux_primitive<dim>(U, primitive_gradients<dim>(U, dU, m), c, m, i);
+    return viscous_flux_primitive<dim>(U, primitive_gradients<dim>(U, dU, m, dw_dn), c, m, i);
   }
 
   /**
@@ -206,14 +214,17 @@ namespace granhydro::physics
    *
    * (mass row zero), resolved components only. Identical to the paper's
    * (A1)-(A10) with alpha, beta, lambda, h1..h3 of (A4) (physics.md P9), but
-   * written without dividing by eta.
+   * written without dividing by eta. With a dense closure (dw_dn > 0, see
+   * primitive_gradients()) the n column of the energy row also carries
+   * -(2 kappa/3) dw/dn, so that conduction acts on grad T only.
    */
   template <int dim, typename Coefficients>
   inline DiffusionMatrix<dim> diffusion_matrix(const State<dim>   &U,
                                                const Coefficients &c,
                                                const double        m,
                                                const unsigned int  i,
-                                               const unsigned int  j)
+                                               const unsigned int  j,
+                                               const double        dw_dn = 0.)
   {
     constexpr int           eE = dim + 1;
     std::array<double, dim> u;
@@ -247,7 +258,7 @@ namespace granhydro::physics
             add_e(eE, l, c.eta * inv_n * u[l]);
             D[eE][1 + l] -= th * m * u[l];
           }
-        D[eE][0] += th * (m * u2 - E) + c.mu;
+        D[eE][0] += th * (m * u2 - E - U[0] * dw_dn) + c.mu;
         D[eE][eE] += th;
       }
     return D;
@@ -264,14 +275,15 @@ namespace granhydro::physics
                                        const Coefficients       &c,
                                        const double              m,
                                        const unsigned int        i,
-                                       const bool                diagonal_only)
+                                       const bool                diagonal_only,
+                                       const double              dw_dn = 0.)
   {
     State<dim> F{};
     for (unsigned int j = 0; j < unsigned(dim); ++j)
       {
         if (diagonal_only && j != i)
           continue;
-        const DiffusionMatrix<dim> D = diffusion_matrix<dim>(U, c, m, i, j);
+        const DiffusionMatrix<dim> D = diffusion_matrix<dim>(U, c, m, i, j, dw_dn);
         for (int r = 0; r < dim + 2; ++r)
           for (int s = 0; s < dim + 2; ++s)
             F[r] += D[r][s] * dU[j][s];

@@ -74,6 +74,26 @@ namespace granhydro::physics
       return std::sqrt(std::max(T, 0.) * (Z + phi * model.dZ_dphi(phi) + (2. / 3.) * Z * Z) + dpf);
     }
 
+    /// the kinetic (collisional) part of the pressure, n T Z(phi) with T >= 0: without
+    /// the contact pressure p_f of the dense closure
+    double collisional_pressure(const State<dim> &U) const
+    {
+      const double n = U[0];
+      return n * std::max(temperature(U), 0.) * model.Z(n * phi_per_n);
+    }
+
+    /// Energy flux into a dissipative wall [scaled W/m^2] from the state of the cell at
+    /// the wall (physics.md 5.2, contact theorem, m = 1): (1 - eps_w) p_w sqrt(2 T/pi)
+    /// with the collisional pressure and the granular temperature only - grains that
+    /// rest on the wall in enduring contact (p_f) do not collide with it. The one copy
+    /// the solver calls: GarzoDufty1999::wall_heat_flux_from_pressure (unit-tested).
+    double wall_heat_flux(const State<dim> &U, const double eps_w) const
+    {
+      const double T = std::max(temperature(U), 0.);
+      return GarzoDufty1999::wall_heat_flux_from_pressure(U[0] * T * model.Z(U[0] * phi_per_n),
+                                                          T, 1., eps_w);
+    }
+
     double max_wave_speed(const State<dim> &U, const unsigned int d) const
     {
       if (!contact.active)
@@ -102,20 +122,25 @@ namespace granhydro::physics
     /// large numbers. In each Strang step the source step gives the pile the velocity
     /// g dt and the convective step takes it back through the contact pressure, so the
     /// thermal energy per grain absorbs a splitting error of order (g dt)^2 that exceeds
-    /// the pile's own (3/2) T. A state whose thermal-energy deficit per grain is at most
-    /// temperature_repair_tolerance * w + repair_energy (set by the time loop to
-    /// 10 (|g_eff| dt)^2 each step) is "repairable": admissible inside a step, and set
-    /// to T = temperature_floor after each part of it (repair_temperature(), counted in
-    /// the run summary). Without the closure the test is e > 0 as before.
+    /// the pile's own (3/2) T; and a cold cell that is compressed receives its contact
+    /// energy through fluxes that carry the contact enthalpy w + p_f/n of the face states,
+    /// not of the cell, which leaves a deficit of a small fraction of w + p_f/n per grain
+    /// (largest just above phi_min, where w << p_f/n). A state whose thermal-energy
+    /// deficit per grain is at most temperature_repair_tolerance * (w + p_f/n) +
+    /// repair_energy (set by the time loop to 10 (|g_eff| dt)^2 each step) is
+    /// "repairable": admissible inside a step, and set to T = temperature_floor after each
+    /// part of it (repair_temperature(), counted in the run summary). Without the closure
+    /// the test is e > 0 as before.
     static constexpr double temperature_repair_tolerance = 1e-4;
     double                  repair_energy = 0; ///< per grain, scaled; see above
     /// scaled units (m g sigma, ~1e-8 J for 1 mm glass): 1e-12 of it, thermal speed ~1e-7 m/s
     static constexpr double temperature_floor = 1e-12;
 
-    /// the largest thermal-energy deficit per volume that is repaired (see above)
+    /// the largest thermal-energy deficit per volume that is repaired (see above): a share of
+    /// the contact enthalpy per volume n w + p_f, plus the splitting allowance
     double repair_allowance(const double n, const double nw) const
     {
-      return temperature_repair_tolerance * nw + n * repair_energy;
+      return temperature_repair_tolerance * (nw + contact.pressure(n)) + n * repair_energy;
     }
 
     bool admissible(const State<dim> &U) const

@@ -116,6 +116,10 @@ namespace granhydro
     // Numerics
     ReconstructionType reconstruction = ReconstructionType::weno5;
     FaceQuadrature     face_quadrature = FaceQuadrature::gauss;
+    /// convective flux through no-slip walls: false = the numerical flux between the cell and
+    /// its mirror ghost (mass and energy set to 0); true = the paper's eq. 6.1a: zero mass and
+    /// energy flux and only the wall pressure on the normal momentum (no tangential part)
+    bool               no_slip_pressure_flux = false;
     FluxType           flux            = FluxType::musta;
     unsigned int musta_max_stages = 4;
     double       musta_tolerance  = 0.01;
