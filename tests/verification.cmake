@@ -42,6 +42,10 @@ granhydro_test_executable(test_column_1d3d test_column_1d3d.cc)
 add_test(NAME verify.column_1d_vs_3d COMMAND test_column_1d3d ${CMAKE_SOURCE_DIR}/parameters)
 set_tests_properties(verify.column_1d_vs_3d PROPERTIES LABELS verify TIMEOUT 600)
 
+granhydro_test_executable(test_energy_output test_energy_output.cc)
+add_test(NAME verify.energy_output COMMAND test_energy_output ${CMAKE_SOURCE_DIR}/parameters)
+set_tests_properties(verify.energy_output PROPERTIES LABELS verify TIMEOUT 300)
+
 granhydro_test_executable(test_walls test_walls.cc)
 add_test(NAME verify.walls COMMAND test_walls)
 set_tests_properties(verify.walls PROPERTIES LABELS verify TIMEOUT 300)

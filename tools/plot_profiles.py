@@ -1,7 +1,10 @@
 #!/usr/bin/python3
 """Plot output/profiles.csv of a granhydro run: packing fraction, temperature,
-vertical mass flux and energy density against the profile coordinate, one curve
-per output time.  Debian: apt-get install python3-matplotlib python3-numpy
+vertical mass flux and the energy density split into its thermal (3/2 n T, solid),
+contact (n w of the dense closure, dashed) and kinetic (n m |u|^2/2, dotted) parts
+against the profile coordinate, one colour per output time.  Files written before
+the split (one n*E_J/m3 column) get the total energy density in that panel.
+Debian: apt-get install python3-matplotlib python3-numpy
 
     /usr/bin/python3 tools/plot_profiles.py OUTPUT_DIR [--out profiles.png] [--spacetime] [--title T]
 """
@@ -48,7 +51,14 @@ def main():
     along = [h for h in header if h.startswith("n*u_" + coord[0])]
     flux = along[0] if along else [h for h in header if h.startswith("n*u_")][-1]
     panels = [("packing_fraction", "packing fraction"), ("temperature_J", "T [J]"),
-              (flux, flux), ("n*E_J/m3", "nE [J/m^3]")]
+              (flux, flux)]
+    # the energy panel: (column, legend label, line style)
+    energy = [(c, label, style) for c, label, style in (
+        ("thermal_energy_density_J/m3", "thermal 3/2 n T", "-"),
+        ("contact_energy_density_J/m3", "contact n w", "--"),
+        ("kinetic_energy_density_J/m3", "kinetic n m |u|^2/2", ":")) if c in col]
+    if not energy:  # profiles.csv of an older run: only the total
+        energy = [("n*E_J/m3", "total nE", "-")]
     if a.spacetime:
         import numpy as np
         times = sorted(t for t, rows in blocks.items() if len(rows) == len(blocks[min(blocks)]))
@@ -70,12 +80,24 @@ def main():
         print(f"plot_profiles: wrote {out}")
         return
     fig, axes = plt.subplots(1, 4, figsize=(16, 4.5), sharey=True)
-    for t, rows in sorted(blocks.items()):
+    for i, (t, rows) in enumerate(sorted(blocks.items())):
         y = [r[1] for r in rows]
+        colour = f"C{i % 10}"  # one colour per output time in every panel
         for ax, (name, label) in zip(axes, panels):
-            ax.plot([r[col[name]] for r in rows], y, label=f"t = {t:g} s")
+            ax.plot([r[col[name]] for r in rows], y, color=colour, label=f"t = {t:g} s")
             ax.set_xlabel(label)
+        for name, label, style in energy:
+            axes[3].plot([r[col[name]] for r in rows], y, color=colour, linestyle=style)
     axes[1].set_xscale("log")
+    # the parts span decades (and the contact energy is 0 away from the pile: not drawn);
+    # six decades below the largest value are enough to see which part dominates where
+    axes[3].set_xscale("log")
+    top = max((r[col[name]] for rows in blocks.values() for r in rows for name, _, _ in energy), default=0)
+    if top > 0:
+        axes[3].set_xlim(left=1e-6 * top)
+    axes[3].set_xlabel("energy density [J/m^3]")
+    axes[3].legend(handles=[plt.Line2D([], [], color="k", linestyle=style, label=label)
+                            for _, label, style in energy], fontsize=7)
     axes[0].set_ylabel(coord)
     axes[0].legend(fontsize=7)
     fig.suptitle(a.title or os.path.abspath(a.directory))

@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
+#include <type_traits>
 
 namespace granhydro::io
 {
@@ -15,6 +17,33 @@ namespace granhydro::io
 
   namespace
   {
+    /// contact potential energy per volume n w(phi) of the dense closure (scaled units):
+    /// part of nE for the granular gas (0 with the closure off), none for the ideal gas
+    template <int dim, class Description>
+    double contact_energy_density(const Description &desc, const double n)
+    {
+      if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
+        return desc.contact.energy_density(n);
+      else
+        {
+          (void)desc;
+          (void)n;
+          return 0.;
+        }
+    }
+
+    /// n u.v + n |v|^2/2: what a kinetic (and so the total) energy density gains from the
+    /// container frame to the lab frame, where the velocity is u + v (v = ds/dt of a
+    /// vibrated container; all in scaled units, n and n u may be sums over cells)
+    template <int dim>
+    double lab_frame_energy(const double n, const double *nu, const std::array<double, 3> &v)
+    {
+      double e = 0;
+      for (unsigned int d = 0; d < dim; ++d)
+        e += nu[d] * v[d] + 0.5 * n * v[d] * v[d];
+      return e;
+    }
+
     /// derived SI fields from the DG0 conserved variables (scaled units)
     template <int dim, class Description>
     class Fields : public DataPostprocessor<dim>
@@ -24,7 +53,10 @@ namespace granhydro::io
         : units(u)
         , desc(desc)
         , frame_velocity(frame_velocity)
-      {}
+      {
+        for (unsigned int d = 0; d < 3; ++d)
+          frame_velocity_scaled[d] = frame_velocity[d] / u.velocity;
+      }
 
       void evaluate_vector_field(const DataPostprocessorInputs::Vector<dim> &in,
                                  std::vector<Vector<double>> &out) const override
@@ -34,15 +66,22 @@ namespace granhydro::io
             physics::State<dim> U;
             for (unsigned int c = 0; c < dim + 2; ++c)
               U[c] = in.solution_values[q][c];
-            const double n = U[0], p = desc.pressure(U);
+            const double n = U[0], p = desc.pressure(U), T = desc.temperature(U);
             unsigned int k = 0;
             out[q][k++] = n * M_PI / 6.; // phi (sigma = 1 in scaled units)
             out[q][k++] = n * units.number_density();
             out[q][k++] = n * units.number_density() * units.mass;
             for (unsigned int d = 0; d < dim; ++d)
               out[q][k++] = U[1 + d] / n * units.velocity + frame_velocity[d];
-            out[q][k++] = desc.temperature(U) * units.energy();
+            out[q][k++] = T * units.energy();
             out[q][k++] = p * units.pressure();
+            // nE = kinetic + thermal + contact; kinetic and total in the lab frame like
+            // the velocity (thermal and contact energy do not depend on the frame)
+            const double lab = lab_frame_energy<dim>(n, &U[1], frame_velocity_scaled);
+            out[q][k++] = (desc.kinetic_energy(U) + lab) * units.pressure();
+            out[q][k++] = desc.heat_capacity() * n * T * units.pressure();
+            out[q][k++] = contact_energy_density<dim>(desc, n) * units.pressure();
+            out[q][k++] = (U[dim + 1] + lab) * units.pressure();
           }
       }
 
@@ -54,6 +93,8 @@ namespace granhydro::io
           names.push_back("velocity_m/s");
         names.push_back("temperature_J");
         names.push_back("pressure_Pa");
+        for (const char *part : {"kinetic", "thermal", "contact", "total"})
+          names.push_back(std::string(part) + "_energy_density_J/m3");
         return names;
       }
 
@@ -64,8 +105,7 @@ namespace granhydro::io
           3, DataComponentInterpretation::component_is_scalar);
         for (unsigned int d = 0; d < dim; ++d)
           v.push_back(DataComponentInterpretation::component_is_part_of_vector);
-        v.push_back(DataComponentInterpretation::component_is_scalar);
-        v.push_back(DataComponentInterpretation::component_is_scalar);
+        v.insert(v.end(), 2 + 4, DataComponentInterpretation::component_is_scalar);
         return v;
       }
 
@@ -75,6 +115,7 @@ namespace granhydro::io
       Units                          units;
       const Description &desc;
       std::array<double, 3>          frame_velocity; // lab frame = container frame + ds/dt [m/s]
+      std::array<double, 3>          frame_velocity_scaled; // the same in scaled units
     };
   } // namespace
 
@@ -192,7 +233,7 @@ namespace granhydro::io
     // of its volume there (on a uniform mesh: one layer, weight 1)
     const unsigned int nl   = patch.cells(pd) << patch.max_level();
     constexpr unsigned NC   = dim + 2;
-    const unsigned int ncol = NC + 2; // conserved, phi, T
+    const unsigned int ncol = NC + 5; // conserved, phi, T, kinetic, thermal, contact energy
     std::vector<double> sum(std::size_t(nl) * ncol, 0.), count(nl, 0.);
     for (unsigned int s = 0; s < patch.n_owned(); ++s)
       {
@@ -202,12 +243,18 @@ namespace granhydro::io
         const unsigned int span = patch.fine_span(s);
         const double       w    = std::pow(double(span), dim - 1);
         const double       T    = desc.temperature(S);
+        // the parts of nE (container frame; the layer sums are moved to the lab frame below)
+        const double ke = desc.kinetic_energy(S), th = desc.heat_capacity() * S[0] * T,
+                     nw = contact_energy_density<dim>(desc, S[0]);
         for (unsigned int l = patch.fine_begin(s, pd); l < patch.fine_begin(s, pd) + span; ++l)
           {
             for (unsigned int c = 0; c < NC; ++c)
               sum[l * ncol + c] += w * S[c];
             sum[l * ncol + NC]     += w * S[0] * M_PI / 6.;
             sum[l * ncol + NC + 1] += w * T;
+            sum[l * ncol + NC + 2] += w * ke;
+            sum[l * ncol + NC + 3] += w * th;
+            sum[l * ncol + NC + 4] += w * nw;
             count[l] += w;
           }
       }
@@ -222,15 +269,27 @@ namespace granhydro::io
       {
         out << "# averages over the directions other than " << ax[pd]
             << " (SI units); one block per output time"
-            << (scene.vibration_amplitude > 0 ? "; velocities in the lab frame (container frame + ds/dt)" : "")
-            << "\n";
+            << (scene.vibration_amplitude > 0 ?
+                  "; velocities, kinetic and total energy densities in the lab frame (container frame + ds/dt)" :
+                  "")
+            << "; total = kinetic + thermal + contact energy density\n";
         out << "time_s," << ax[pd] << "_m,n_1/m3";
         for (unsigned int d = 0; d < dim; ++d)
           out << ",n*u_" << ax[d] << "_1/(m2 s)";
-        out << ",n*E_J/m3,packing_fraction,temperature_J\n";
+        out << ",total_energy_density_J/m3,packing_fraction,temperature_J,kinetic_energy_density_J/m3,"
+               "thermal_energy_density_J/m3,contact_energy_density_J/m3\n";
         profiles_started = true;
       }
     const double nu = units.number_density();
+    std::array<double, 3> v = frame_velocity(time_si); // scaled units
+    for (double &vd : v)
+      vd /= units.velocity;
+    // the energy densities with all digits, so that the parts add up to the total in the
+    // file too (to round-off, not to the 10 digits of the other columns)
+    const auto energy = [&](const double e) {
+      out << ',' << std::setprecision(std::numeric_limits<double>::max_digits10) << e * units.pressure()
+          << std::setprecision(10);
+    };
     out << std::setprecision(10);
     for (unsigned int l = 0; l < nl; ++l)
       {
@@ -242,8 +301,13 @@ namespace granhydro::io
             << a[0] / k * nu;
         for (unsigned int d = 0; d < dim; ++d)
           out << ',' << a[1 + d] / k * nu * units.velocity + a[0] / k * nu * frame_velocity(time_si)[d];
-        out << ',' << a[NC - 1] / k * units.pressure() << ',' << a[NC] / k << ','
-            << a[NC + 1] / k * units.energy() << '\n';
+        const double lab = lab_frame_energy<dim>(a[0], &a[1], v);
+        energy((a[NC - 1] + lab) / k);
+        out << ',' << a[NC] / k << ',' << a[NC + 1] / k * units.energy();
+        energy((a[NC + 2] + lab) / k);
+        energy(a[NC + 3] / k);
+        energy(a[NC + 4] / k);
+        out << '\n';
       }
   }
 
@@ -256,7 +320,8 @@ namespace granhydro::io
         const unsigned int ia = std::min(a, b), ib = std::max(a, b);
         const unsigned int ml = patch.max_level();
         const unsigned int na = patch.cells(ia) << ml, nb = patch.cells(ib) << ml;
-        constexpr unsigned int ncol = 7; // n, n u (3), phi, T, count
+        // n, n u (3), phi, T, count, nE, kinetic, thermal, contact energy (container frame)
+        constexpr unsigned int ncol = 11;
         std::vector<double> sum(std::size_t(na) * nb * ncol, 0.);
         const auto          fv = frame_velocity(time_si);
         for (unsigned int s = 0; s < patch.n_owned(); ++s)
@@ -266,6 +331,8 @@ namespace granhydro::io
               S[c] = U.local_element(std::size_t(s) * 5 + c);
             const unsigned int span = patch.fine_span(s);
             const double       T    = desc.temperature(S), w = span;
+            const double       ke = desc.kinetic_energy(S), th = desc.heat_capacity() * S[0] * T,
+                         nw = contact_energy_density<3>(desc, S[0]);
             for (unsigned int j = 0; j < span; ++j)
               for (unsigned int i = 0; i < span; ++i)
                 {
@@ -277,6 +344,10 @@ namespace granhydro::io
                   v[4] += w * S[0] * M_PI / 6.;
                   v[5] += w * T;
                   v[6] += w;
+                  v[7] += w * S[4];
+                  v[8] += w * ke;
+                  v[9] += w * th;
+                  v[10] += w * nw;
                 }
           }
         Utilities::MPI::sum(sum, patch.communicator(), sum);
@@ -287,11 +358,21 @@ namespace granhydro::io
         const char *ax = "xyz";
         if (!section_started)
           {
-            out << "# averages along " << ax[sd] << " (SI units, lab-frame velocities); one block per output time\n"
+            out << "# averages along " << ax[sd]
+                << " (SI units; velocities, kinetic and total energy densities in the lab frame); one block "
+                   "per output time; total = kinetic + thermal + contact energy density\n"
                 << "time_s," << ax[ia] << "_m," << ax[ib] << "_m,n_1/m3,u_x_m/s,u_y_m/s,u_z_m/s,"
-                << "packing_fraction,temperature_J\n";
+                << "packing_fraction,temperature_J,total_energy_density_J/m3,kinetic_energy_density_J/m3,"
+                << "thermal_energy_density_J/m3,contact_energy_density_J/m3\n";
             section_started = true;
           }
+        std::array<double, 3> vs = fv; // scaled units
+        for (double &vd : vs)
+          vd /= units.velocity;
+        const auto energy = [&](const double e) { // all digits, as in profiles.csv
+          out << ',' << std::setprecision(std::numeric_limits<double>::max_digits10) << e * units.pressure()
+              << std::setprecision(10);
+        };
         out << std::setprecision(10);
         for (unsigned int j = 0; j < nb; ++j)
           for (unsigned int i = 0; i < na; ++i)
@@ -304,7 +385,13 @@ namespace granhydro::io
                   << patch.lower(ib) + (j + 0.5) * patch.cell_size(ib) / (1u << ml) << ',' << n * units.number_density();
               for (unsigned int d = 0; d < 3; ++d)
                 out << ',' << v[1 + d] / k / n * units.velocity + fv[d];
-              out << ',' << v[4] / k << ',' << v[5] / k * units.energy() << '\n';
+              out << ',' << v[4] / k << ',' << v[5] / k * units.energy();
+              const double lab = lab_frame_energy<3>(v[0], &v[1], vs);
+              energy((v[7] + lab) / k);
+              energy((v[8] + lab) / k);
+              energy(v[9] / k);
+              energy(v[10] / k);
+              out << '\n';
             }
       }
     else

@@ -401,7 +401,8 @@ namespace granhydro
                         "Amplitude A [m] of the container motion s(t) = A sin(2 pi f t) e_s. "
                         "The equations are solved in the container frame (all walls at rest) "
                         "with the inertial body force g + A (2 pi f)^2 sin(2 pi f t) e_s "
-                        "(physics.md 5.3); output velocities are relative to the container.");
+                        "(physics.md 5.3); output velocities and kinetic energy densities are in "
+                        "the lab frame (container velocity ds/dt added).");
       prm.declare_entry("Vibration frequency", "0", Patterns::Double(0, Patterns::Double::max_double_value),
                         "Frequency f [Hz] of the container motion.");
       prm.declare_entry("Vibration direction", "y", Patterns::Selection("x|y|z"),

@@ -1,0 +1,205 @@
+// The split of the energy density in the output (source/io/output.cc): profiles.csv
+// has kinetic, thermal and contact energy density columns that add up to the total
+// energy density column, which is the conserved nE (n|u|^2/2 + 3/2 n T + n w(phi)).
+// Short 1D runs with profiles and VTU written:
+//  - the sedimentation column (parameters/sedimentation_column_1d.prm) with the dense
+//    closure to 150 ms: kinetic + thermal + contact == total per row to 1e-12 relative
+//    (the definition; the energy columns carry all 17 digits), the contact energy is
+//    most of the total at the floor, and the last block's total equals the state's nE;
+//  - the same column with the closure off (50 ms): contact column exactly 0;
+//  - the column in a vibrated container (closure off): the kinetic and total energy
+//    densities are in the lab frame like the velocities, kinetic = m (n u)^2 / (2 n)
+//    from the lab-frame flux column of the same row (1D: one cell per layer);
+//  - the ideal gas (parameters/sod_1d.prm): contact 0, thermal = total - kinetic.
+// The VTU files carry the four energy fields.
+//   test_energy_output <parameters directory>
+#include "test_common.h"
+
+#include <filesystem>
+#include <iomanip>
+#include <map>
+#include <vector>
+
+using namespace granhydro;
+using namespace granhydro::testing;
+
+namespace
+{
+  const std::string energy_names[4] = {"kinetic_energy_density_J/m3", "thermal_energy_density_J/m3",
+                                       "contact_energy_density_J/m3", "total_energy_density_J/m3"};
+
+  struct Csv
+  {
+    std::map<std::string, unsigned int> column;
+    std::vector<std::vector<double>>   rows;
+    double get(const std::vector<double> &r, const std::string &name) const { return r.at(column.at(name)); }
+  };
+
+  Csv read_csv(const std::string &file)
+  {
+    std::ifstream in(file);
+    if (!in)
+      throw std::runtime_error("cannot read " + file);
+    Csv         csv;
+    std::string line;
+    bool        header = true;
+    while (std::getline(in, line))
+      {
+        if (line.empty() || line[0] == '#')
+          continue;
+        std::stringstream  ss(line);
+        std::string        cell;
+        std::vector<double> r;
+        for (unsigned int i = 0; std::getline(ss, cell, ','); ++i)
+          if (header)
+            csv.column[cell] = i;
+          else
+            r.push_back(std::stod(cell));
+        if (!header)
+          csv.rows.push_back(r);
+        header = false;
+      }
+    return csv;
+  }
+
+  /// the scene file with these overrides, writing profiles and VTU to directory
+  Scene scene(const std::string &file, const std::string &overrides, const std::string &directory)
+  {
+    std::filesystem::remove_all(directory);
+    return parse_scene(read_text_file(file) + overrides + "\nsubsection Output\n  set Directory = " + directory +
+                         "\n  set Write VTU = true\n  set Write profiles = true\n  set Write checkpoint = false\n"
+                         "  set Write summary = false\n  set Verbose = false\nend\n",
+                       file);
+  }
+
+  struct Split
+  {
+    double worst_sum = 0;    ///< max |kinetic + thermal + contact - total| / |total|
+    double max_contact = 0;  ///< max |contact|
+    double floor_share = 0;  ///< contact / total in the first layer of the last block
+    double worst_ideal = 0;  ///< max |thermal - (total - kinetic)| / |total|
+    unsigned int rows = 0;
+  };
+
+  Split split(const Csv &csv)
+  {
+    Split s;
+    double last_time = -1;
+    for (const auto &r : csv.rows)
+      {
+        const double k = csv.get(r, energy_names[0]), th = csv.get(r, energy_names[1]),
+                     c = csv.get(r, energy_names[2]), tot = csv.get(r, energy_names[3]);
+        s.worst_sum   = std::max(s.worst_sum, std::abs(k + th + c - tot) / std::abs(tot));
+        s.worst_ideal = std::max(s.worst_ideal, std::abs(th - (tot - k)) / std::abs(tot));
+        s.max_contact = std::max(s.max_contact, std::abs(c));
+        if (r[0] > last_time) // first row of a block: the floor layer
+          s.floor_share = c / tot;
+        last_time = r[0];
+        ++s.rows;
+      }
+    return s;
+  }
+
+  /// the names of all four energy fields appear in the directory's first VTU file
+  bool vtu_has_energy_fields(const std::string &directory)
+  {
+    const std::string text = read_text_file(directory + "/solution_0000.0.vtu");
+    for (const auto &n : energy_names)
+      if (text.find("Name=\"" + n + "\"") == std::string::npos)
+        return false;
+    return true;
+  }
+
+  std::string sci(const double x)
+  {
+    std::ostringstream os;
+    os << std::scientific << std::setprecision(2) << x;
+    return os.str();
+  }
+} // namespace
+
+int main(int argc, char **argv)
+{
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  Checker                                  chk;
+  const std::string dir    = argc > 1 ? argv[1] : "parameters";
+  const std::string column = dir + "/sedimentation_column_1d.prm";
+
+  { // the paper's column with the dense closure
+    const std::string out = "energy_output_closure";
+    const Scene       s   = scene(column, "", out);
+    Simulation<1, physics::GranularGas<1>> sim(s, MPI_COMM_SELF, std::cout);
+    sim.setup();
+    sim.run();
+    const Csv   csv = read_csv(out + "/profiles.csv");
+    const Split e   = split(csv);
+    chk.check(e.rows == 16 * 100 && e.worst_sum <= 1e-12,
+              "closure on, " + std::to_string(e.rows) + " rows: max |kinetic + thermal + contact - total| / total = " +
+                sci(e.worst_sum) + " (<= 1e-12)");
+    chk.check(e.floor_share > 0.5 && e.floor_share < 1,
+              "closure on: contact energy at the floor at 150 ms is " + sci(e.floor_share) + " of the total");
+    // the total is the conserved nE of the state (as the former n*E column)
+    double worst = 0, scale = 0;
+    for (unsigned int c = 0; c < sim.patch().n_owned(); ++c)
+      {
+        const auto &r = csv.rows[csv.rows.size() - 100 + sim.patch().lattice(c)[0]];
+        worst         = std::max(worst, std::abs(csv.get(r, energy_names[3]) - sim.state_si(c)[2]));
+        scale         = std::max(scale, std::abs(sim.state_si(c)[2]));
+      }
+    chk.check(worst <= 1e-14 * scale, "closure on: total column = nE of the final state, max difference / max nE = " +
+                                        sci(worst / scale));
+    chk.check(vtu_has_energy_fields(out), "closure on: VTU has the kinetic, thermal, contact and total energy fields");
+  }
+
+  const std::string no_closure = "\nsubsection Dense closure\n  set Model = none\nend\n"
+                                 "subsection Time\n  set End time = 0.05\nend\n";
+  { // closure off
+    const std::string out = "energy_output_no_closure";
+    Simulation<1, physics::GranularGas<1>> sim(scene(column, no_closure, out), MPI_COMM_SELF, std::cout);
+    sim.setup();
+    sim.run();
+    const Split e = split(read_csv(out + "/profiles.csv"));
+    chk.check(e.rows > 0 && e.max_contact == 0 && e.worst_sum <= 1e-12,
+              "closure off, " + std::to_string(e.rows) + " rows: contact column 0 (max " + sci(e.max_contact) +
+                "), sum = total to " + sci(e.worst_sum));
+  }
+
+  { // vibrated container (closure off): kinetic energy in the lab frame
+    const std::string out = "energy_output_vibrated";
+    const Scene       s   = scene(column,
+                          no_closure + "subsection Effects\n  set Vibration amplitude = 0.0005\n"
+                                       "  set Vibration frequency = 30\n  set Vibration direction = x\nend\n",
+                          out);
+    Simulation<1, physics::GranularGas<1>> sim(s, MPI_COMM_SELF, std::cout);
+    sim.setup();
+    sim.run();
+    const Csv    csv = read_csv(out + "/profiles.csv");
+    const Split  e   = split(csv);
+    const double m   = sim.units().mass;
+    double       worst = 0, frame = 0;
+    for (const auto &r : csv.rows)
+      {
+        const double n = csv.get(r, "n_1/m3"), flux = csv.get(r, "n*u_x_1/(m2 s)");
+        const double k = csv.get(r, energy_names[0]);
+        worst          = std::max(worst, std::abs(k - 0.5 * m * flux * flux / n) / std::max(k, 1e-300));
+        frame          = std::max(frame, k);
+      }
+    chk.check(e.rows > 0 && e.worst_sum <= 1e-12 && worst <= 1e-8 && frame > 0,
+              "vibrated, " + std::to_string(e.rows) + " rows: sum = total to " + sci(e.worst_sum) +
+                ", kinetic = m (n u_lab)^2 / 2n to " + sci(worst) + " (largest kinetic " + sci(frame) + " J/m3)");
+  }
+
+  { // ideal gas: no contact energy, thermal = total - kinetic
+    const std::string out = "energy_output_ideal";
+    Simulation<1, physics::IdealGas<1>> sim(
+      scene(dir + "/sod_1d.prm", "\nsubsection Time\n  set End time = 0.05\nend\n", out), MPI_COMM_SELF, std::cout);
+    sim.setup();
+    sim.run();
+    const Split e = split(read_csv(out + "/profiles.csv"));
+    chk.check(e.rows > 0 && e.max_contact == 0 && e.worst_sum <= 1e-12 && e.worst_ideal <= 1e-12,
+              "ideal gas, " + std::to_string(e.rows) + " rows: contact 0, thermal = total - kinetic to " +
+                sci(e.worst_ideal));
+    chk.check(vtu_has_energy_fields(out), "ideal gas: VTU has the four energy fields");
+  }
+  return chk.failed != 0;
+}
