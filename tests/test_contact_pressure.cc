@@ -120,27 +120,28 @@ int main()
   }
   {
     // admissibility under the closure (regression: it tested E - KE > 0, so a pile with
-    // T < 0 passed because E holds the contact energy n w): at phi = 0.58 a state with
-    // T = -1e-3 (thermal deficit 1.5e-3 per grain, > 1e-4 w + repair allowance 0) is
-    // inadmissible; a deficit within 1e-4 of n w is repairable: admissible, and
-    // repair_temperature() sets T to the floor exactly, adding the deficit
-    const double n    = 0.58 / v, w = cp.energy_density(n) / n;
+    // T < 0 passed because E holds the contact energy n w): at phi = 0.58 a state whose
+    // thermal deficit per grain is 2e-4 of the contact enthalpy h = w + p_f/n (> the
+    // repairable 1e-4 h + splitting allowance 0) is inadmissible; a deficit of 0.5e-4 h
+    // is repairable: admissible, and repair_temperature() sets T to the floor exactly,
+    // adding the deficit
+    const double n    = 0.58 / v, w = cp.energy_density(n) / n, h = w + cp.pressure(n) / n;
     const double u[3] = {0, 0, 0};
     auto         U    = gas.from_primitive(n, u, 1.0);
-    U[4] = cp.energy_density(n) - 1.5 * n * 1e-3;
-    check(!gas.admissible(U), "T = -1e-3 with the closure is inadmissible", gas.temperature(U), 0);
-    const double T_small = -0.5e-4 * w / 1.5; // deficit 0.5e-4 w per grain
+    U[4] = cp.energy_density(n) - n * 2e-4 * h;
+    check(!gas.admissible(U), "deficit 2e-4 (w + p_f/n) with the closure is inadmissible", gas.temperature(U), 0);
+    const double T_small = -0.5e-4 * h / 1.5; // deficit 0.5e-4 h per grain
     U[4] = cp.energy_density(n) + 1.5 * n * T_small;
-    check(gas.admissible(U) && !gas.strictly_admissible(U), "deficit 0.5e-4 w: repairable, not strictly admissible",
+    check(gas.admissible(U) && !gas.strictly_admissible(U), "deficit 0.5e-4 (w + p_f/n): repairable, not strictly admissible",
           T_small, 0);
     const double added = gas.repair_temperature(U);
     check(rel(gas.temperature(U), gas.temperature_floor) < 1e-3 && gas.strictly_admissible(U),
           "repair sets T to the floor", gas.temperature(U), gas.temperature_floor);
     check(rel(added, 1.5 * n * (gas.temperature_floor - T_small)) < 1e-9, "repair adds exactly the deficit", added,
           1.5 * n * (gas.temperature_floor - T_small));
-    gas.repair_energy = 1e-2; // the splitting allowance (g dt)^2 widens the repairable set
-    U[4] = cp.energy_density(n) - 1.5 * n * 5e-3;
-    check(gas.admissible(U), "deficit 7.5e-3 per grain within a 1e-2 splitting allowance", gas.temperature(U), 0);
+    gas.repair_energy = 2e-4 * h; // the splitting allowance (g dt)^2 widens the repairable set
+    U[4] = cp.energy_density(n) - n * 2e-4 * h;
+    check(gas.admissible(U), "deficit 2e-4 h per grain within a 2e-4 h splitting allowance", gas.temperature(U), 0);
     gas.repair_energy = 0;
   }
   std::cout << (failures ? "FAILED\n" : "all passed\n");

@@ -218,9 +218,11 @@ namespace
         // settled frictionless spheres: random close packing 0.62 - 0.645
         chk.check(phi_floor >= 0.62 && phi_floor <= 0.645, "  floor phi in [0.62, 0.645]");
         chk.check(Tmin > 0, "  T > 0 everywhere");
-        // repairs: the settled pile (~ 15 of 100 cells) may hit the floor in a share of its
-        // updates; bound: 1e-2 of all cell updates (README, 'Dense closure')
-        chk.check(sum.temperature_repairs <= 1e-2 * updates, "  temperature repairs <= 1e-2 of the cell updates");
+        // repairs: by 200 ms the pile is still cooling, T ~ 3e-10 J there, ten orders of
+        // magnitude above the repair floor (1e-12 m g sigma ~ 1e-20 J), and the splitting
+        // residue (~ m (g dt)^2 per grain, 1e-13 J at dt = 3e-5 s) is far below its 3/2 T:
+        // no cell update may need a repair
+        chk.check(sum.temperature_repairs == 0, "  no temperature repair");
       }
     return chk.failed;
   }
