@@ -173,7 +173,7 @@ namespace
         Tmin = std::min(Tmin, T[1][i]);
       }
     // The frictional work, had it become temperature, would raise T by rise = sink/(3/2 n V)
-    // (3e5 x T here); the kinetic viscous heating and the cooling act the same in both runs.
+    // (3e4 x T here); the kinetic viscous heating and the cooling act the same in both runs.
     // T is the small difference nE - n|u|^2/2 - n w, and the frictional terms are large, so
     // "unaffected" is round-off relative to that rise: |T - T(mu_f = 0)| <= 1e-12 rise
     // (measured ~1e-15)

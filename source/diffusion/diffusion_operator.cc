@@ -143,14 +143,10 @@ namespace granhydro::diffusion
                 dU[j][c] += w * (up[c] - um[c]);
             }
         }
-    // the face state's granular temperature (its contact energy is already removed)
-    const double nf = Uf[0];
-    const double Tf = (2. / 3.) * (Uf[dim + 1] - physics::kinetic_energy<dim>(Uf)) / nf;
-    const physics::PrimitiveGradients<dim> g      = physics::primitive_gradients<dim>(Uf, dU, 1.);
-    const auto                            &grad_u = g.grad_u;
-    const auto                            &grad_T = g.grad_T;
-    const auto                            &grad_n = g.grad_n;
-    F = physics::viscous_flux_primitive<dim>(Uf, grad_u, grad_T, grad_n, coefficients(nf, Tf), 1., d);
+    // the face state's granular temperature (its contact energy is already removed: nw = 0)
+    const double                           nf = Uf[0], Tf = desc.temperature(Uf, 0.);
+    const physics::PrimitiveGradients<dim> g  = physics::primitive_gradients<dim>(Uf, dU, 1.);
+    F = physics::viscous_flux_primitive<dim>(Uf, g, coefficients(nf, Tf), 1., d);
     if (friction_active)
       {
         // frictional (contact) shear stress of the dense closure: its momentum flux is
@@ -158,7 +154,7 @@ namespace granhydro::diffusion
         // (physics.md 4.5); residual() adds u . div(tau_f) to the energy instead, so that
         // T obeys the kinetic equation only. friction = (work flux, momentum flux).
         const physics::DiffusiveCoefficients cf{desc.contact.viscosity(nf), 0., 0., 0.};
-        State<dim> Ff = physics::viscous_flux_primitive<dim>(Uf, grad_u, grad_T, grad_n, cf, 1., d);
+        const State<dim> Ff = physics::viscous_flux_primitive<dim>(Uf, g, cf, 1., d);
         for (unsigned int k = 0; k < dim; ++k)
           F[1 + k] += Ff[1 + k];
         if (friction)

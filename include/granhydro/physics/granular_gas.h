@@ -74,14 +74,6 @@ namespace granhydro::physics
       return std::sqrt(std::max(T, 0.) * (Z + phi * model.dZ_dphi(phi) + (2. / 3.) * Z * Z) + dpf);
     }
 
-    /// the kinetic (collisional) part of the pressure, n T Z(phi) with T >= 0: without
-    /// the contact pressure p_f of the dense closure
-    double collisional_pressure(const State<dim> &U) const
-    {
-      const double n = U[0];
-      return n * std::max(temperature(U), 0.) * model.Z(n * phi_per_n);
-    }
-
     /// Energy flux into a dissipative wall [scaled W/m^2] from the state of the cell at
     /// the wall (physics.md 5.2, contact theorem, m = 1): (1 - eps_w) p_w sqrt(2 T/pi)
     /// with the collisional pressure and the granular temperature only - grains that
