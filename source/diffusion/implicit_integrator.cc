@@ -1,6 +1,7 @@
 #include <granhydro/diffusion/implicit_integrator.h>
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/timer.h>
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/trilinos_solver.h>
 
@@ -48,10 +49,13 @@ namespace granhydro::diffusion
   {
     ++stats.steps;
     const double s3 = std::sqrt(3.) / 6.;
-    const std::vector<std::vector<double>> A_gl{{0.25, 0.25 - s3}, {0.25 + s3, 0.25}};
-    const std::vector<double>              b_gl{0.5, 0.5};
-    const std::vector<std::vector<double>> A_mp{{0.5}};
-    const std::vector<double>              b_mp{1.};
+    const Table               A_gl{{0.25, 0.25 - s3}, {0.25 + s3, 0.25}};
+    const std::vector<double> b_gl{0.5, 0.5};
+    const Table               A_mp{{0.5}};
+    const std::vector<double> b_mp{1.};
+    const double              g = 1 - 1 / std::sqrt(2.); // SDIRK2: L-stable, stiffly accurate
+    const Table               A_sd{{g, 0.}, {1 - g, g}};
+    const std::vector<double> b_sd{1 - g, g};
     {
       // the explicit diffusive limit at the start of the step (diagnostic; one
       // coefficient evaluation per cell, a few % of a Newton iteration)
@@ -73,6 +77,8 @@ namespace granhydro::diffusion
           return irk_step(U, t, dt, A_mp, b_mp);
         case ImplicitMethod::gauss_legendre:
           return irk_step(U, t, dt, A_gl, b_gl);
+        case ImplicitMethod::sdirk2:
+          return irk_step(U, t, dt, A_sd, b_sd);
         default:
           if (irk_step(U, t, dt, A_gl, b_gl))
             return true;
@@ -82,9 +88,8 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
-  bool ImplicitIntegrator<dim>::irk_step(Vector &U, const double t, const double dt,
-                                         const std::vector<std::vector<double>> &A,
-                                         const std::vector<double>              &b)
+  bool ImplicitIntegrator<dim>::irk_step(Vector &U, const double t, const double dt, const Table &A,
+                                         const std::vector<double> &b)
   {
     if (irk_attempt(U, t, dt, A, b, settings.full_jacobian))
       return true;
@@ -97,79 +102,200 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
-  bool ImplicitIntegrator<dim>::irk_attempt(Vector &U, const double t, const double dt,
-                                            const std::vector<std::vector<double>> &A,
+  void ImplicitIntegrator<dim>::setup_newton(const double dt, const Table &N, const bool coupled)
+  {
+    Timer      timer;
+    const auto stages = N.size();
+    M                 = &M_[stages][coupled];
+    if (!have_pattern[stages][coupled])
+      {
+        TrilinosWrappers::SparsityPattern sp;
+        op.make_sparsity(sp, stages, coupled);
+        M->reinit(sp);
+        have_pattern[stages][coupled] = true;
+      }
+    op.assemble_newton_matrix(W.data(), N, dt, *M, coupled);
+    ++stats.jacobians;
+    stats.jacobian_seconds += timer.wall_time();
+    timer.restart();
+    if (settings.amg)
+      {
+        TrilinosWrappers::PreconditionAMG::AdditionalData data;
+        data.elliptic = false;
+        amg.initialize(*M, data);
+      }
+    else
+      ilu.initialize(*M);
+    stats.preconditioner_seconds += timer.wall_time();
+  }
+
+  template <int dim>
+  bool ImplicitIntegrator<dim>::irk_attempt(Vector &U, const double t, const double dt, const Table &A,
                                             const std::vector<double> &b, const bool full)
   {
     constexpr unsigned int NC     = dim + 2;
     const unsigned int     stages = A.size();
     last_failure.clear();
-    const std::size_t      n      = std::size_t(patch.n_owned()) * NC;
-    const MPI_Comm         comm   = patch.communicator();
+    const std::size_t n    = std::size_t(patch.n_owned()) * NC;
+    const MPI_Comm    comm = patch.communicator();
     U0.assign(U.begin(), U.begin() + n);
     if (Y.size() != U.size())
       Y.reinit(patch.partitioner());
+    double scale = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      scale = std::max(scale, std::abs(U0[i]));
+    scale = Utilities::MPI::max(scale, comm);
+    std::vector<double> c(stages, 0.);
+    for (unsigned int k = 0; k < stages; ++k)
+      for (unsigned int j = 0; j < stages; ++j)
+        c[k] += A[k][j];
+    // diagonally implicit (lower triangular, one diagonal value): stage by stage
+    bool dirk = stages > 1;
+    for (unsigned int k = 0; k < stages; ++k)
+      for (unsigned int j = k; j < stages; ++j)
+        if ((j > k && A[k][j] != 0) || (j == k && A[k][k] != A[0][0]))
+          dirk = false;
 
     // Jacobian at U0, Newton matrix, preconditioner (frozen for the whole step)
     patch.gather(U, W);
     f.resize(n);
     op.set_time(t);
     op.residual(W.data(), f.data());
-    const bool coupled = full && !op.diagonal_only();
-    auto      &M       = M_[stages][coupled];
-    if (!have_pattern[stages][coupled])
+    const bool  coupled = full && !op.diagonal_only();
+    const Table N       = dirk ? Table{{A[0][0]}} : A;
+    // Newton matrix of an earlier step: kept while it makes the iteration contract fast
+    // (the previous step converged in <= 7 iterations per stage; a fresh Jacobian and
+    // preconditioner cost about as much as 7 Newton iterations), for at most 8 steps and
+    // while dt stays within 10 % of the dt it was built for. I - dt N (x) J is then off by
+    // the change of J and dt, which only slows the contraction of the modified Newton
+    // iteration; if that fails, the step is redone with a fresh matrix (counted).
+    const bool reuse = settings.reuse_matrix && matrix_valid && matrix_coupled == coupled &&
+                       matrix_N == N && std::abs(dt / matrix_dt - 1) <= 0.1 && matrix_age < 8;
+    if (reuse)
       {
-        TrilinosWrappers::SparsityPattern sp;
-        op.make_sparsity(sp, stages, coupled);
-        M.reinit(sp);
-        have_pattern[stages][coupled] = true;
-      }
-    op.assemble_newton_matrix(W.data(), A, dt, M, coupled);
-    ++stats.jacobians;
-    TrilinosWrappers::PreconditionILU ilu;
-    TrilinosWrappers::PreconditionAMG amg;
-    if (settings.amg)
-      {
-        TrilinosWrappers::PreconditionAMG::AdditionalData data;
-        data.elliptic = false;
-        amg.initialize(M, data);
+        ++matrix_age;
+        ++stats.matrix_reuses;
+        M = &M_[N.size()][coupled];
       }
     else
-      ilu.initialize(M);
+      {
+        setup_newton(dt, N, coupled);
+        matrix_valid   = true;
+        matrix_coupled = coupled;
+        matrix_N       = N;
+        matrix_dt      = dt;
+        matrix_age     = 0;
+      }
+    unsigned int iterations = 0, max_iterations = 0; // per stage (DIRK) or per step
+    auto         failed     = [&]() {
+      matrix_valid = false;
+      if (!reuse)
+        {
+          if (!gmres_failed) // GMRES failures are counted as such
+            ++stats.newton_failures;
+          return false;
+        }
+      ++stats.stale_matrix_retries; // the kept matrix did not do: a fresh one
+      return irk_attempt(U, t, dt, A, b, full);
+    };
 
-    const IndexSet owned = M.locally_owned_range_indices();
-    TrilinosWrappers::MPI::Vector rhs(owned, comm), delta(owned, comm);
-    std::vector<double> K(n * stages);
-    for (std::size_t i = 0; i < n; ++i) // start from f(U0) in every stage
-      for (unsigned int k = 0; k < stages; ++k)
-        K[i * stages + k] = f[i];
-    double scale = 0;
+    std::vector<double> K(n * stages), power(stages, 0.);
+    if (!dirk)
+      {
+        for (std::size_t i = 0; i < n; ++i) // start from f(U0) in every stage
+          for (unsigned int k = 0; k < stages; ++k)
+            K[i * stages + k] = f[i];
+        std::vector<double> tk(stages);
+        for (unsigned int k = 0; k < stages; ++k)
+          tk[k] = t + c[k] * dt;
+        if (!newton(U0, tk, dt, A, scale, K, power, iterations))
+          return failed();
+        max_iterations = iterations;
+      }
+    else
+      {
+        std::vector<double> base(n), Kk(f), pk(1);
+        for (unsigned int k = 0; k < stages; ++k)
+          {
+            // Y_k = U0 + dt sum_{j<k} a_kj K_j + dt g K_k; first guess: the previous slope
+            for (std::size_t i = 0; i < n; ++i)
+              {
+                double s = 0;
+                for (unsigned int j = 0; j < k; ++j)
+                  s += A[k][j] * K[i * stages + j];
+                base[i] = U0[i] + dt * s;
+              }
+            if (!newton(base, {t + c[k] * dt}, dt, N, scale, Kk, pk, iterations))
+              return failed();
+            max_iterations = std::max(max_iterations, iterations);
+            for (std::size_t i = 0; i < n; ++i)
+              K[i * stages + k] = Kk[i];
+            power[k] = pk[0];
+          }
+      }
+    // U1 = U0 + dt sum b_i K_i with K_i = f(Y_i): f is in flux form, so U1 conserves mass
+    // (and energy and momentum where no source acts) to round-off, not only to the
+    // Newton tolerance
+    std::vector<double> U1(n);
     for (std::size_t i = 0; i < n; ++i)
-      scale = std::max(scale, std::abs(U0[i]));
-    scale = Utilities::MPI::max(scale, comm);
+      {
+        double s = 0;
+        for (unsigned int k = 0; k < stages; ++k)
+          s += b[k] * K[i * stages + k];
+        U1[i] = U0[i] + dt * s;
+      }
+    if (!admissible_owned(U1))
+      {
+        matrix_valid = false;
+        ++stats.newton_failures; // counted as before: the step failed after Newton
+        return false;
+      }
+    if (max_iterations > 7)
+      matrix_valid = false;
+    std::copy(U1.begin(), U1.end(), U.begin());
+    if (op.friction())
+      {
+        double friction = 0; // frictional dissipation of the step, this rank
+        for (unsigned int k = 0; k < stages; ++k)
+          friction += dt * b[k] * power[k];
+        stats.friction_dissipation += Utilities::MPI::sum(friction, comm);
+      }
+    return true;
+  }
 
-    // f = f(Y_k) at the stage value Y_k = U0 + dt sum_j a_kj K_j, time t + c_k dt
+  template <int dim>
+  bool ImplicitIntegrator<dim>::newton(const std::vector<double> &base, const std::vector<double> &tk,
+                                       const double dt, const Table &N, const double scale,
+                                       std::vector<double> &K, std::vector<double> &power,
+                                       unsigned int &iterations)
+  {
+    constexpr unsigned int NC     = dim + 2;
+    const unsigned int     stages = N.size();
+    const std::size_t      n      = std::size_t(patch.n_owned()) * NC;
+    const MPI_Comm         comm   = patch.communicator();
+    const IndexSet         owned  = M->locally_owned_range_indices();
+    TrilinosWrappers::MPI::Vector rhs(owned, comm), delta(owned, comm);
+
+    // f = f(Y_k) at the stage value Y_k = base + dt sum_j N_kj K_j, time tk[k]
     auto stage_slope = [&](const unsigned int k) {
-      double *y  = Y.begin();
-      double  ck = 0;
-      for (unsigned int j = 0; j < stages; ++j)
-        ck += A[k][j];
+      double *y = Y.begin();
       for (std::size_t i = 0; i < n; ++i)
         {
           double s = 0;
           for (unsigned int j = 0; j < stages; ++j)
-            s += A[k][j] * K[i * stages + j];
-          y[i] = U0[i] + dt * s;
+            s += N[k][j] * K[i * stages + j];
+          y[i] = base[i] + dt * s;
         }
       patch.gather(Y, W);
-      op.set_time(t + ck * dt);
+      op.set_time(tk[k]);
       op.residual(W.data(), f.data());
     };
     const auto &part = *patch.partitioner();
-    double      prev = 0;
+    double      prev = 0, r_prev = 0, eta = 1e-2;
+    gmres_failed     = false;
     for (unsigned int it = 0; it < settings.newton_max_iterations; ++it)
       {
-        // residual R_k = K_k - f(U0 + dt sum_j a_kj K_j)
+        // residual R_k = K_k - f(Y_k)
         for (unsigned int k = 0; k < stages; ++k)
           {
             stage_slope(k);
@@ -177,22 +303,38 @@ namespace granhydro::diffusion
               rhs[(part.local_to_global(i)) * stages + k] = -(K[i * stages + k] - f[i]);
           }
         rhs.compress(VectorOperation::insert);
-        SolverControl control(1000, std::max(settings.linear_tolerance * rhs.l2_norm(), 1e-300));
+        const double r = rhs.l2_norm();
+        if (settings.inexact_newton && it > 0)
+          {
+            // Eisenstat-Walker choice 2 with its safeguard; r / r_prev is the contraction
+            const double eta_rule = 0.9 * (r / r_prev) * (r / r_prev), eta_safe = 0.9 * eta * eta;
+            eta = std::min(0.1, eta_safe > 0.1 ? std::max(eta_rule, eta_safe) : eta_rule);
+          }
+        r_prev = r;
+        const double  tol = settings.inexact_newton ? std::max(eta, settings.linear_tolerance) :
+                                                       settings.linear_tolerance;
+        SolverControl control(1000, std::max(tol * r, 1e-300));
         delta = 0;
+        Timer timer;
         try
           {
             TrilinosWrappers::SolverGMRES gmres(control);
             if (settings.amg)
-              gmres.solve(M, delta, rhs, amg);
+              gmres.solve(*M, delta, rhs, amg);
             else
-              gmres.solve(M, delta, rhs, ilu);
+              gmres.solve(*M, delta, rhs, ilu);
           }
         catch (const std::exception &)
           {
+            stats.linear_seconds += timer.wall_time();
             ++stats.linear_failures;
+            gmres_failed = true;
             stats.linear_iterations += control.last_step();
+            last_failure = "GMRES did not reach its tolerance in " + std::to_string(control.last_step()) +
+                           " iterations";
             return false;
           }
+        stats.linear_seconds += timer.wall_time();
         stats.linear_iterations += control.last_step();
         ++stats.newton_iterations;
         double      dmax = 0;
@@ -214,33 +356,17 @@ namespace granhydro::diffusion
           break;
         if (dmax <= settings.newton_tolerance * scale)
           {
-            // final slopes K_k = f(Y_k) at the converged stage values: f is in flux form,
-            // so U1 = U0 + dt sum b_k f(Y_k) conserves mass (and energy and momentum where
-            // no source acts) to round-off, not only to the Newton tolerance
+            // final slopes K_k = f(Y_k) at the converged stage values
             std::vector<double> Kf(n * stages);
-            double              friction = 0; // frictional dissipation of the step, this rank
             for (unsigned int k = 0; k < stages; ++k)
               {
                 stage_slope(k);
-                friction += dt * b[k] * op.friction_power();
+                power[k] = op.friction_power();
                 for (std::size_t i = 0; i < n; ++i)
                   Kf[i * stages + k] = f[i];
               }
             K.swap(Kf);
-            // U1 = U0 + dt sum b_i K_i
-            std::vector<double> U1(n);
-            for (std::size_t i = 0; i < n; ++i)
-              {
-                double s = 0;
-                for (unsigned int k = 0; k < stages; ++k)
-                  s += b[k] * K[i * stages + k];
-                U1[i] = U0[i] + dt * s;
-              }
-            if (!admissible_owned(U1))
-              break;
-            std::copy(U1.begin(), U1.end(), U.begin());
-            if (op.friction())
-              stats.friction_dissipation += Utilities::MPI::sum(friction, comm);
+            iterations = it + 1;
             return true;
           }
         if (it > 2 && dmax > 0.9 * prev) // no contraction: give up early
@@ -250,9 +376,9 @@ namespace granhydro::diffusion
                << dmax / scale << " of max|U|, tolerance " << settings.newton_tolerance << ")";
             if (dmax_local * dt == dmax && n > 0) // this rank holds the largest update: where
               {
-                const unsigned int c = imax / (dim + 2);
-                os << ", largest in component " << imax % (dim + 2) << " of the cell at x = "
-                   << patch.center(c) << " m (packing fraction " << U0[c * (dim + 2)] * M_PI / 6
+                const unsigned int c = imax / NC;
+                os << ", largest in component " << imax % NC << " of the cell at x = "
+                   << patch.center(c) << " m (packing fraction " << base[c * NC] * M_PI / 6
                    << ")";
               }
             last_failure = os.str();
@@ -260,11 +386,9 @@ namespace granhydro::diffusion
           }
         prev = dmax;
       }
-    ++stats.newton_failures;
     if (last_failure.empty())
       last_failure = "modified Newton did not converge in " +
                      std::to_string(settings.newton_max_iterations) + " iterations";
-    std::copy(U0.begin(), U0.end(), U.begin());
     return false;
   }
 

@@ -123,12 +123,15 @@ namespace granhydro
           diff->setup();
           diffusion::IntegratorSettings is;
           is.method = scene.integrator == "implicit midpoint" ? diffusion::ImplicitMethod::implicit_midpoint :
+                      scene.integrator == "sdirk2"            ? diffusion::ImplicitMethod::sdirk2 :
                       scene.integrator == "automatic"         ? diffusion::ImplicitMethod::automatic :
                       scene.integrator == "explicit euler"    ? diffusion::ImplicitMethod::explicit_euler :
                                                                 diffusion::ImplicitMethod::gauss_legendre;
           is.newton_tolerance      = scene.newton_tolerance;
           is.newton_max_iterations = scene.newton_max_iterations;
           is.linear_tolerance      = scene.linear_tolerance;
+          is.inexact_newton        = scene.inexact_newton;
+          is.reuse_matrix          = scene.reuse_matrix;
           is.amg                   = scene.preconditioner == "amg";
           is.full_jacobian         = scene.full_jacobian;
           integrator = std::make_unique<diffusion::ImplicitIntegrator<dim>>(*diff, desc, is);
@@ -683,12 +686,20 @@ namespace granhydro
           pcout << "  diffusion step: " << sum.diffusion_seconds << " s, " << ds.steps << " steps, "
                 << ds.newton_iterations << " Newton iterations ("
                 << double(ds.newton_iterations) / std::max<double>(ds.steps, 1) << "/step), "
-                << ds.linear_iterations << " GMRES iterations, " << ds.newton_failures
+                << ds.linear_iterations << " GMRES iterations ("
+                << double(ds.linear_iterations) / std::max<double>(ds.newton_iterations, 1)
+                << "/Newton), " << ds.newton_failures
                 << " Newton failures, " << ds.linear_failures << " GMRES failures, "
                 << ds.switches_to_midpoint << " switches to implicit midpoint, "
                 << ds.full_jacobian_retries << " retries with the fully coupled Jacobian";
           if (ds.explicit_substeps)
             pcout << ", " << ds.explicit_substeps << " explicit sub-steps";
+          if (ds.jacobians)
+            pcout << "\n    of which: " << ds.jacobian_seconds << " s in " << ds.jacobians
+                  << " Jacobians (finite differences + Newton matrix; kept for " << ds.matrix_reuses
+                  << " further steps, " << ds.stale_matrix_retries << " steps redone with a fresh one), "
+                  << ds.preconditioner_seconds
+                  << " s in preconditioner set-ups, " << ds.linear_seconds << " s in GMRES (rank 0)";
           pcout << "\n";
         }
       if (sum.diffusion_active && std::isfinite(sum.diffusion.min_explicit_dt))
@@ -983,6 +994,12 @@ namespace granhydro
         << "diffusion_steps," << ds.steps << "\n"
         << "newton_iterations," << ds.newton_iterations << "\n"
         << "gmres_iterations," << ds.linear_iterations << "\n"
+        << "jacobians," << ds.jacobians << "\n"
+        << "matrix_reuses," << ds.matrix_reuses << "\n"
+        << "stale_matrix_retries," << ds.stale_matrix_retries << "\n"
+        << "jacobian_seconds," << ds.jacobian_seconds << "\n"
+        << "preconditioner_seconds," << ds.preconditioner_seconds << "\n"
+        << "gmres_seconds," << ds.linear_seconds << "\n"
         << "newton_failures," << ds.newton_failures << "\n"
         << "gmres_failures," << ds.linear_failures << "\n"
         << "switches_to_midpoint," << ds.switches_to_midpoint << "\n"

@@ -413,9 +413,11 @@ namespace granhydro
     prm.enter_subsection("Diffusion step");
     {
       prm.declare_entry("Integrator", "gauss-legendre",
-                        Patterns::Selection("gauss-legendre|implicit midpoint|automatic|explicit euler"),
+                        Patterns::Selection("gauss-legendre|implicit midpoint|sdirk2|automatic|explicit euler"),
                         "Time integrator of the diffusion/source step V: 2-stage Gauss-Legendre "
-                        "(order 4), implicit midpoint (order 2), automatic (Gauss-Legendre, "
+                        "(order 4, A-stable), implicit midpoint (order 2, A-stable), sdirk2 "
+                        "(Alexander's 2-stage SDIRK, order 2, L-stable: damps stiff modes; stages "
+                        "solved one after the other), automatic (Gauss-Legendre, "
                         "implicit midpoint when its Newton iteration fails), or the sub-cycled "
                         "explicit Euler baseline.");
       prm.declare_entry("Newton tolerance", "1e-10", Patterns::Double(0, 1),
@@ -425,7 +427,18 @@ namespace granhydro
                         "Cap on modified Newton iterations; a step that does not converge is "
                         "retried with half the time step.");
       prm.declare_entry("Linear solver tolerance", "1e-12", Patterns::Double(0, 1),
-                        "Relative residual of Trilinos GMRES.");
+                        "Relative residual of Trilinos GMRES (with Linear forcing = "
+                        "eisenstat-walker: the smallest one it may ask for).");
+      prm.declare_entry("Linear forcing", "eisenstat-walker", Patterns::Selection("eisenstat-walker|fixed"),
+                        "GMRES tolerance per Newton iteration: eisenstat-walker (inexact Newton, "
+                        "Eisenstat & Walker 1996 choice 2: 0.9 (|r_k|/|r_k-1|)^2 in [Linear solver "
+                        "tolerance, 0.1]; the Newton tolerance stays the accuracy control) or "
+                        "fixed (always Linear solver tolerance).");
+      prm.declare_entry("Reuse Newton matrix", "true", Patterns::Bool(),
+                        "Keep the Newton matrix and its preconditioner for up to 8 further steps "
+                        "while the previous step converged in <= 4 Newton iterations per stage "
+                        "and dt changed by <= 10 %; a step whose iteration then fails is redone "
+                        "with a fresh matrix (counted in the summary).");
       prm.declare_entry("Preconditioner", "ilu", Patterns::Selection("ilu|amg"),
                         "Preconditioner of GMRES: ilu (Ifpack ILU(0)) or amg (ML).");
       prm.declare_entry("Jacobian", "lagged", Patterns::Selection("lagged|full"),
@@ -693,6 +706,8 @@ end
     s.newton_tolerance      = prm.get_double("Newton tolerance");
     s.newton_max_iterations = prm.get_integer("Newton maximum iterations");
     s.linear_tolerance      = prm.get_double("Linear solver tolerance");
+    s.inexact_newton        = prm.get("Linear forcing") == "eisenstat-walker";
+    s.reuse_matrix          = prm.get_bool("Reuse Newton matrix");
     s.preconditioner        = prm.get("Preconditioner");
     s.full_jacobian         = prm.get("Jacobian") == "full";
     prm.leave_subsection();

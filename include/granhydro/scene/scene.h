@@ -145,6 +145,8 @@ namespace granhydro
     double       newton_tolerance   = 1e-10;
     unsigned int newton_max_iterations = 25;
     double       linear_tolerance   = 1e-12;
+    bool         inexact_newton     = true; ///< Linear forcing = eisenstat-walker
+    bool         reuse_matrix       = true; ///< Reuse Newton matrix
     std::string  preconditioner     = "ilu";
     bool         full_jacobian      = false;
 
