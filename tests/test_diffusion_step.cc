@@ -12,7 +12,8 @@
 //     one step ~1000x beyond the explicit limit is multiplied by the integrator's
 //     stability function R(z), z ~ -1e3: SDIRK2 (L-stable) damps it, Gauss-Legendre
 //     keeps it (R -> 1), implicit midpoint flips it (R -> -1).
-//  The order rows include SDIRK2 (order 2) beside Gauss-Legendre and midpoint.
+//  The order rows include SDIRK2 and RKL2 super-time-stepping (both order 2) beside
+//  Gauss-Legendre and midpoint.
 #include "test_common.h"
 
 #include <iomanip>
@@ -112,7 +113,8 @@ int main(int argc, char **argv)
     for (const auto &[integrator, steps, min_order] :
          {std::tuple<std::string, unsigned, double>{"gauss-legendre", 8, 3.8},
           std::tuple<std::string, unsigned, double>{"implicit midpoint", 8, 1.9},
-          std::tuple<std::string, unsigned, double>{"sdirk2", 8, 1.9}})
+          std::tuple<std::string, unsigned, double>{"sdirk2", 8, 1.9},
+          std::tuple<std::string, unsigned, double>{"rkl2", 8, 1.9}})
       {
         double     e[2];
         RunSummary sum;

@@ -701,7 +701,7 @@ FIELDS = ["problem", "family", "cells", "dt_s", "cfl", "error", "error_measure",
           "status", "cpu_seconds", "repeats", "wall_seconds_child",
           "wall_seconds_loop", "steps", "rejected_steps", "newton_iterations",
           "gmres_iterations", "newton_failures", "switches_to_midpoint", "explicit_substeps",
-          "min_dt_s", "max_dt_s", "min_explicit_dt_s", "max_dt_over_explicit",
+          "rkl2_steps", "rkl2_stages", "min_dt_s", "max_dt_s", "min_explicit_dt_s", "max_dt_over_explicit",
           "musta_stages_per_point", "first_order_fallbacks"]
 
 
@@ -768,6 +768,7 @@ def summary_fields(s):
             "gmres_iterations": int(g("gmres_iterations") or 0),
             "newton_failures": int(g("newton_failures") or 0),
             "switches_to_midpoint": int(g("switches_to_midpoint") or 0),
+            "rkl2_steps": int(g("rkl2_steps") or 0), "rkl2_stages": int(g("rkl2_stages") or 0),
             "explicit_substeps": int(g("explicit_substeps") or 0),
             "min_dt_s": g("min_dt"), "max_dt_s": g("max_dt"),
             "min_explicit_dt_s": g("min_explicit_dt"),
@@ -779,7 +780,8 @@ def summary_fields(s):
 # ---------------------------------------------------------------------------
 # the study: problems, families, ladders
 # ---------------------------------------------------------------------------
-INTEGRATORS = ["gauss-legendre", "implicit midpoint", "automatic", "explicit euler"]
+INTEGRATORS = ["gauss-legendre", "implicit midpoint", "sdirk2", "rkl2", "cost-based", "automatic",
+               "explicit euler"]
 
 
 def study_plan(quick):
@@ -1033,7 +1035,9 @@ def plot_problem(rows, problem, out, startup=0.0):
                   "musta-4": ("-", "D"), "musta-2": ("-", "x")}
     integ_style = {"gauss-legendre": ("tab:green", "-", "D", 6), "automatic": ("black", ":", "o", 9),
                    "implicit midpoint": ("tab:blue", "-", "s", 6),
-                   "explicit euler": ("tab:orange", "-", "^", 6)}
+                   "explicit euler": ("tab:orange", "-", "^", 6),
+                   "sdirk2": ("tab:red", "-", "v", 6), "rkl2": ("tab:purple", "-", "P", 6),
+                   "cost-based": ("tab:brown", "--", "x", 8)}
     for i, name in enumerate(names):
         c = fams[name]
         if not c:

@@ -6,11 +6,62 @@
 #include <deal.II/lac/trilinos_solver.h>
 
 #include <cmath>
+#include <stdexcept>
 #include <sstream>
 
 namespace granhydro::diffusion
 {
   using namespace dealii;
+
+  ButcherTableau butcher_tableau(const ImplicitMethod method)
+  {
+    ButcherTableau t;
+    const double   s3 = std::sqrt(3.) / 6., g = 1 - 1 / std::sqrt(2.);
+    switch (method)
+      {
+        case ImplicitMethod::gauss_legendre:
+          t.A = {{0.25, 0.25 - s3}, {0.25 + s3, 0.25}};
+          t.b = {0.5, 0.5};
+          break;
+        case ImplicitMethod::implicit_midpoint:
+          t.A = {{0.5}};
+          t.b = {1.};
+          break;
+        case ImplicitMethod::sdirk2: // L-stable, stiffly accurate (b = last row of A)
+          t.A = {{g, 0.}, {1 - g, g}};
+          t.b = {1 - g, g};
+          break;
+        default:
+          throw std::invalid_argument("butcher_tableau: not an implicit Runge-Kutta method");
+      }
+    for (const auto &row : t.A)
+      {
+        double c = 0;
+        for (const double a : row)
+          c += a;
+        t.c.push_back(c);
+      }
+    return t;
+  }
+
+  RKL2Stage rkl2_stage(const unsigned int j, const unsigned int s)
+  {
+    // b_j = (j^2 + j - 2) / (2 j (j + 1)), b_0 = b_1 = b_2 = 1/3, a_j = 1 - b_j,
+    // w1 = 4 / (s^2 + s - 2)
+    auto         bj = [](const double k) { return k < 2.5 ? 1. / 3. : (k * k + k - 2) / (2 * k * (k + 1)); };
+    const double w1 = 4. / (double(s) * s + s - 2);
+    if (j == 1)
+      return {1., 0., bj(1) * w1, 0.};
+    const double mu = (2. * j - 1) / j * bj(j) / bj(j - 1), nu = -(j - 1.) / j * bj(j) / bj(j - 2);
+    return {mu, nu, mu * w1, -(1 - bj(j - 1)) * mu * w1};
+  }
+
+  unsigned int rkl2_stages(const double ratio)
+  {
+    // (2s + 1)^2 = 9 + 16 ratio at the bound: the 1e-9 keeps a ratio exactly at the bound
+    // of s stages from rounding up to s + 1
+    return std::max(2u, unsigned(std::ceil((std::sqrt(9 + 16 * ratio) - 1) / 2 - 1e-9)));
+  }
 
   template <int dim>
   ImplicitIntegrator<dim>::ImplicitIntegrator(const DiffusionOperator<dim>    &op,
@@ -48,14 +99,11 @@ namespace granhydro::diffusion
   bool ImplicitIntegrator<dim>::step(Vector &U, const double t, const double dt)
   {
     ++stats.steps;
-    const double s3 = std::sqrt(3.) / 6.;
-    const Table               A_gl{{0.25, 0.25 - s3}, {0.25 + s3, 0.25}};
-    const std::vector<double> b_gl{0.5, 0.5};
-    const Table               A_mp{{0.5}};
-    const std::vector<double> b_mp{1.};
-    const double              g = 1 - 1 / std::sqrt(2.); // SDIRK2: L-stable, stiffly accurate
-    const Table               A_sd{{g, 0.}, {1 - g, g}};
-    const std::vector<double> b_sd{1 - g, g};
+    static const ButcherTableau gl = butcher_tableau(ImplicitMethod::gauss_legendre),
+                                mp = butcher_tableau(ImplicitMethod::implicit_midpoint),
+                                sd = butcher_tableau(ImplicitMethod::sdirk2);
+    const Table &A_gl = gl.A, &A_mp = mp.A, &A_sd = sd.A;
+    const auto  &b_gl = gl.b, &b_mp = mp.b, &b_sd = sd.b;
     {
       // the explicit diffusive limit at the start of the step (diagnostic; one
       // coefficient evaluation per cell, a few % of a Newton iteration)
@@ -78,7 +126,28 @@ namespace granhydro::diffusion
         case ImplicitMethod::gauss_legendre:
           return irk_step(U, t, dt, A_gl, b_gl);
         case ImplicitMethod::sdirk2:
-          return irk_step(U, t, dt, A_sd, b_sd);
+          return implicit_step(U, t, dt, A_sd, b_sd);
+        case ImplicitMethod::rkl2:
+          return rkl2_step(U, t, dt);
+        case ImplicitMethod::cost_based:
+          {
+            constexpr double NC = dim + 2;
+            const double     ratio  = dt / explicit_limit;
+            const double     stages = rkl2_stages(ratio);
+            const double     implicit_cost =
+              2 * NC + 1 + 15 + (last_newton_iterations ? last_newton_iterations : 10) * (1 + 2.5) + 3;
+            if (rkl2_blocked > 0)
+              --rkl2_blocked;
+            else if (last_newton_iterations > 0 && stages < implicit_cost)
+              {
+                if (rkl2_step(U, t, dt))
+                  return true;
+                ++stats.rkl2_fallbacks;
+                rkl2_blocked = 10;
+                patch.gather(U, W);
+              }
+            return implicit_step(U, t, dt, A_sd, b_sd);
+          }
         default:
           if (irk_step(U, t, dt, A_gl, b_gl))
             return true;
@@ -125,7 +194,14 @@ namespace granhydro::diffusion
         amg.initialize(*M, data);
       }
     else
-      ilu.initialize(*M);
+      {
+        // on several ranks an additive Schwarz ILU with one layer of overlap: the plain
+        // block-Jacobi ILU drops the couplings across the partition boundary, and GMRES
+        // needs more iterations than on one rank (one rank: identical)
+        TrilinosWrappers::PreconditionILU::AdditionalData data;
+        data.overlap = Utilities::MPI::n_mpi_processes(patch.communicator()) > 1 ? 1 : 0;
+        ilu.initialize(*M, data);
+      }
     stats.preconditioner_seconds += timer.wall_time();
   }
 
@@ -390,6 +466,92 @@ namespace granhydro::diffusion
       last_failure = "modified Newton did not converge in " +
                      std::to_string(settings.newton_max_iterations) + " iterations";
     return false;
+  }
+
+  template <int dim>
+  bool ImplicitIntegrator<dim>::implicit_step(Vector &U, const double t, const double dt, const Table &A,
+                                              const std::vector<double> &b)
+  {
+    Timer              timer;
+    const auto         newton0 = stats.newton_iterations;
+    const bool         ok      = irk_step(U, t, dt, A, b);
+    if (ok)
+      last_newton_iterations = std::max<unsigned long long>(1, stats.newton_iterations - newton0);
+    ++stats.implicit_steps;
+    stats.implicit_seconds += timer.wall_time();
+    return ok;
+  }
+
+  template <int dim>
+  bool ImplicitIntegrator<dim>::rkl2_step(Vector &U, const double t, const double dt)
+  {
+    Timer             timer;
+    constexpr unsigned int NC = dim + 2;
+    const std::size_t n       = std::size_t(patch.n_owned()) * NC;
+    last_failure.clear();
+    // stage count from the stability bound dt <= dt_E (s^2 + s - 2) / 4 (W and
+    // explicit_limit hold U's gather and its explicit limit, from step())
+    const double ratio = dt / explicit_limit;
+    const unsigned int s = rkl2_stages(ratio);
+    if (!(ratio <= 1e6))
+      {
+        last_failure = "RKL2: dt is " + std::to_string(ratio) + " x the explicit limit (cap 1e6)";
+        return false;
+      }
+    if (Y.size() != U.size())
+      Y.reinit(patch.partitioner());
+    U0.assign(U.begin(), U.begin() + n);
+    std::vector<double> L0(n), Ljm1(n), Yjm1(n), Yjm2(U0), Yj(n);
+    f.resize(n);
+    op.set_time(t);
+    op.residual(W.data(), L0.data());
+    // weights beta_j,k: Y_j = Y_0 + dt sum_k beta_j,k f(Y_k), for the frictional dissipation
+    std::vector<double> power(s, 0.), beta_jm2(s, 0.), beta_jm1(s, 0.), beta_j(s, 0.);
+    power[0] = op.friction_power();
+    const double mu1 = rkl2_stage(1, s).mu_tilde;
+    for (std::size_t i = 0; i < n; ++i)
+      Yjm1[i] = U0[i] + mu1 * dt * L0[i];
+    beta_jm1[0]   = mu1;
+    double c_jm2 = 0, c_jm1 = mu1; // stage times (fractions of dt)
+    for (unsigned int j = 2; j <= s; ++j)
+      {
+        const auto   st = rkl2_stage(j, s);
+        const double mu = st.mu, nu = st.nu, mut = st.mu_tilde, gt = st.gamma_tilde;
+        std::copy(Yjm1.begin(), Yjm1.end(), Y.begin());
+        patch.gather(Y, W);
+        op.set_time(t + c_jm1 * dt);
+        op.residual(W.data(), Ljm1.data());
+        power[j - 1] = op.friction_power();
+        for (std::size_t i = 0; i < n; ++i)
+          Yj[i] = mu * Yjm1[i] + nu * Yjm2[i] + (1 - mu - nu) * U0[i] + mut * dt * Ljm1[i] + gt * dt * L0[i];
+        for (unsigned int k = 0; k < s; ++k)
+          beta_j[k] = mu * beta_jm1[k] + nu * beta_jm2[k] + (k == j - 1 ? mut : 0.) + (k == 0 ? gt : 0.);
+        const double c_j = mu * c_jm1 + nu * c_jm2 + mut + gt;
+        c_jm2 = c_jm1;
+        c_jm1 = c_j;
+        Yjm2.swap(Yjm1);
+        Yjm1.swap(Yj);
+        beta_jm2.swap(beta_jm1);
+        beta_jm1.swap(beta_j);
+      }
+    ++stats.rkl2_steps;
+    stats.rkl2_stages += s;
+    const bool ok = admissible_owned(Yjm1);
+    if (ok)
+      {
+        std::copy(Yjm1.begin(), Yjm1.end(), U.begin());
+        if (op.friction())
+          {
+            double friction = 0;
+            for (unsigned int k = 0; k < s; ++k)
+              friction += dt * beta_jm1[k] * power[k];
+            stats.friction_dissipation += Utilities::MPI::sum(friction, patch.communicator());
+          }
+      }
+    else
+      last_failure = "RKL2 (" + std::to_string(s) + " stages): " + last_failure;
+    stats.rkl2_seconds += timer.wall_time();
+    return ok;
   }
 
   template <int dim>

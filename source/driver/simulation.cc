@@ -124,6 +124,8 @@ namespace granhydro
           diffusion::IntegratorSettings is;
           is.method = scene.integrator == "implicit midpoint" ? diffusion::ImplicitMethod::implicit_midpoint :
                       scene.integrator == "sdirk2"            ? diffusion::ImplicitMethod::sdirk2 :
+                      scene.integrator == "rkl2"              ? diffusion::ImplicitMethod::rkl2 :
+                      scene.integrator == "cost-based"        ? diffusion::ImplicitMethod::cost_based :
                       scene.integrator == "automatic"         ? diffusion::ImplicitMethod::automatic :
                       scene.integrator == "explicit euler"    ? diffusion::ImplicitMethod::explicit_euler :
                                                                 diffusion::ImplicitMethod::gauss_legendre;
@@ -694,6 +696,13 @@ namespace granhydro
                 << ds.full_jacobian_retries << " retries with the fully coupled Jacobian";
           if (ds.explicit_substeps)
             pcout << ", " << ds.explicit_substeps << " explicit sub-steps";
+          if (ds.rkl2_steps)
+            pcout << "\n    RKL2: " << ds.rkl2_steps << " steps, " << ds.rkl2_stages << " stages ("
+                  << double(ds.rkl2_stages) / ds.rkl2_steps << "/step), " << ds.rkl2_seconds << " s ("
+                  << ds.rkl2_seconds / ds.rkl2_steps << " s/step); implicit: " << ds.implicit_steps
+                  << " steps, " << ds.implicit_seconds << " s ("
+                  << ds.implicit_seconds / std::max<double>(ds.implicit_steps, 1) << " s/step); "
+                  << ds.rkl2_fallbacks << " failed RKL2 steps redone implicitly";
           if (ds.jacobians)
             pcout << "\n    of which: " << ds.jacobian_seconds << " s in " << ds.jacobians
                   << " Jacobians (finite differences + Newton matrix; kept for " << ds.matrix_reuses
@@ -996,6 +1005,12 @@ namespace granhydro
         << "gmres_iterations," << ds.linear_iterations << "\n"
         << "jacobians," << ds.jacobians << "\n"
         << "matrix_reuses," << ds.matrix_reuses << "\n"
+        << "rkl2_steps," << ds.rkl2_steps << "\n"
+        << "rkl2_stages," << ds.rkl2_stages << "\n"
+        << "rkl2_fallbacks," << ds.rkl2_fallbacks << "\n"
+        << "rkl2_seconds," << ds.rkl2_seconds << "\n"
+        << "implicit_steps," << ds.implicit_steps << "\n"
+        << "implicit_seconds," << ds.implicit_seconds << "\n"
         << "stale_matrix_retries," << ds.stale_matrix_retries << "\n"
         << "jacobian_seconds," << ds.jacobian_seconds << "\n"
         << "preconditioner_seconds," << ds.preconditioner_seconds << "\n"

@@ -413,11 +413,14 @@ namespace granhydro
     prm.enter_subsection("Diffusion step");
     {
       prm.declare_entry("Integrator", "gauss-legendre",
-                        Patterns::Selection("gauss-legendre|implicit midpoint|sdirk2|automatic|explicit euler"),
+                        Patterns::Selection("gauss-legendre|implicit midpoint|sdirk2|rkl2|cost-based|automatic|explicit euler"),
                         "Time integrator of the diffusion/source step V: 2-stage Gauss-Legendre "
                         "(order 4, A-stable), implicit midpoint (order 2, A-stable), sdirk2 "
                         "(Alexander's 2-stage SDIRK, order 2, L-stable: damps stiff modes; stages "
-                        "solved one after the other), automatic (Gauss-Legendre, "
+                        "solved one after the other), rkl2 (Runge-Kutta-Legendre super-time-"
+                        "stepping, order 2, explicit: ~sqrt(dt / explicit limit) evaluations), "
+                        "cost-based (per step the cheaper of sdirk2 and rkl2 by a deterministic "
+                        "cost model), automatic (Gauss-Legendre, "
                         "implicit midpoint when its Newton iteration fails), or the sub-cycled "
                         "explicit Euler baseline.");
       prm.declare_entry("Newton tolerance", "1e-10", Patterns::Double(0, 1),

@@ -31,6 +31,20 @@
  * the implicit midpoint rule (one stage, half the linear system); every switch
  * is counted and logged. A step that fails with every method returns false and
  * the time loop retries with a smaller dt; it is never accepted silently.
+ * RKL2 super-time-stepping (Meyer, Balsara & Aslam 2014, J. Comput. Phys. 257):
+ * an explicit s-stage Runge-Kutta-Legendre method of order 2, stable for
+ * dt <= dt_E (s^2 + s - 2) / 4 with dt_E the explicit limit below, so its cost
+ * grows like sqrt(dt / dt_E) evaluations of f instead of dt / dt_E. Its stages
+ * are combinations of states and f in flux form: mass is conserved to round-off.
+ * A step whose result is inadmissible fails (the time loop retries with a
+ * smaller dt). 'cost-based' chooses per step between SDIRK2 and RKL2 by a
+ * deterministic cost model in units of one evaluation of f (the same choice on
+ * any number of ranks): RKL2 costs s(dt); SDIRK2 costs its Jacobian (2 (dim + 2)
+ * + 1 evaluations of the face fluxes), its preconditioner (calibrated at 15) and
+ * per Newton iteration 1 evaluation plus GMRES (calibrated at 2.5: ~3 GMRES
+ * iterations per Newton iteration with Eisenstat-Walker forcing), with the
+ * Newton count of the last SDIRK2 step. An RKL2 step that fails is redone with
+ * SDIRK2 and RKL2 is not tried again for 10 steps (counted).
  * The explicit variant (forward Euler, sub-cycled at the explicit diffusive
  * limit dt_sub = 0.9 / max_cells sum_d 2 D / dx_d^2) is kept only as the
  * baseline that shows the time-step collapse near close packing.
@@ -43,6 +57,7 @@
 #include <deal.II/lac/trilinos_vector.h>
 
 #include <limits>
+#include <vector>
 #include <string>
 
 namespace granhydro::diffusion
@@ -52,9 +67,32 @@ namespace granhydro::diffusion
     gauss_legendre,
     implicit_midpoint,
     sdirk2,
+    rkl2,
+    cost_based,
     automatic,
     explicit_euler
   };
+
+  /// Butcher table (A, b, c = row sums of A) of the implicit Runge-Kutta methods above
+  struct ButcherTableau
+  {
+    std::vector<std::vector<double>> A;
+    std::vector<double>              b, c;
+  };
+  /// gauss_legendre, implicit_midpoint or sdirk2 (throws for the others)
+  ButcherTableau butcher_tableau(const ImplicitMethod method);
+
+  /// RKL2 stage j (2 <= j <= s) of s: Y_j = mu Y_j-1 + nu Y_j-2 + (1 - mu - nu) Y_0
+  /// + mu_tilde dt f(Y_j-1) + gamma_tilde dt f(Y_0); j = 1 gives Y_1 = Y_0 + mu_tilde dt f(Y_0)
+  /// (mu = 1, nu = gamma_tilde = 0). Meyer, Balsara & Aslam 2014, eq. 16-17.
+  struct RKL2Stage
+  {
+    double mu, nu, mu_tilde, gamma_tilde;
+  };
+  RKL2Stage rkl2_stage(const unsigned int j, const unsigned int s);
+  /// the fewest RKL2 stages (>= 2) stable for dt = ratio x the forward-Euler limit:
+  /// ratio <= (s^2 + s - 2) / 4
+  unsigned int rkl2_stages(const double ratio);
 
   struct IntegratorSettings
   {
@@ -82,6 +120,10 @@ namespace granhydro::diffusion
     /// wall time (this rank) in the finite-difference Jacobian and Newton-matrix assembly,
     /// in the preconditioner set-up, and in GMRES
     double jacobian_seconds = 0, preconditioner_seconds = 0, linear_seconds = 0;
+    /// RKL2 steps, their stages (evaluations of f), failed RKL2 steps redone implicitly
+    /// (cost-based), and the wall time (this rank) of the RKL2 and of the implicit steps
+    unsigned long long rkl2_steps = 0, rkl2_stages = 0, rkl2_fallbacks = 0, implicit_steps = 0;
+    double             rkl2_seconds = 0, implicit_seconds = 0;
     /// the explicit diffusive limit 0.9 / max_cells sum_d 2 D / dx_d^2 (scaled time), smallest
     /// over all steps, and the time (scaled) where it was smallest: what an explicit code
     /// would have been held to; measured in every step, whatever the integrator
@@ -139,6 +181,10 @@ namespace granhydro::diffusion
                 const Table &N, const double scale, std::vector<double> &K, std::vector<double> &power,
                 unsigned int &iterations);
     bool explicit_step(Vector &U, const double t, const double dt);
+    /// RKL2 super-time-step (explicit_limit and W from step())
+    bool rkl2_step(Vector &U, const double t, const double dt);
+    /// implicit SDIRK2 step, timed and counted for the cost model
+    bool implicit_step(Vector &U, const double t, const double dt, const Table &A, const std::vector<double> &b);
     bool admissible_owned(const std::vector<double> &U);
 
     const DiffusionOperator<dim>    &op;
@@ -160,6 +206,9 @@ namespace granhydro::diffusion
     double       matrix_dt  = 0;
     unsigned int matrix_age = 0;
     bool         gmres_failed = false; ///< the last Newton iteration failed in GMRES
+    /// cost model (cost-based): Newton iterations of the last implicit step (0: none yet),
+    /// steps left before RKL2 may be tried again after a failure
+    unsigned int last_newton_iterations = 0, rkl2_blocked = 0;
     dealii::TrilinosWrappers::PreconditionILU ilu;
     dealii::TrilinosWrappers::PreconditionAMG amg;
     std::vector<double>                    W, U0, f;
