@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstring>
 #include <sstream>
+#include <type_traits>
 
 namespace granhydro::convection
 {
@@ -41,6 +42,121 @@ namespace granhydro::convection
     {
       std::sort(v.begin(), v.end());
       v.erase(std::unique(v.begin(), v.end()), v.end());
+    }
+
+    // GCC vectors of doubles (element-wise IEEE arithmetic, no contraction on the default
+    // target): lanes are independent stencils, each bit for bit the scalar result
+    typedef double v2d __attribute__((vector_size(16), aligned(8)));
+    typedef double v4d __attribute__((vector_size(32), aligned(8)));
+
+    template <class T>
+    __attribute__((always_inline)) inline T load(const double *p)
+    {
+      T x;
+      std::memcpy(&x, p, sizeof(T));
+      return x;
+    }
+    template <class T>
+    __attribute__((always_inline)) inline void store(double *p, const T x)
+    {
+      std::memcpy(p, &x, sizeof(T));
+    }
+
+    template <class Recon>
+    constexpr bool has_lanes = std::is_same_v<Recon, Weno5>;
+
+    /**
+     * Point pairs of lanes [j0, j0 + L) of one slot (L = lanes of T): lane j of the
+     * stencil's k-th cell is src[k][j]. Weno5 runs on vectors (all lanes in one call);
+     * the other reconstructions lane by lane.
+     */
+    template <class T, class Recon>
+    __attribute__((always_inline)) inline void pair_chunk(const Recon &rec, const double *const *src,
+                                                          const unsigned int j, const unsigned int p,
+                                                          double *lo, double *hi)
+    {
+      if constexpr (has_lanes<Recon>)
+        {
+          T l, h;
+          rec.template pair_v<T>(load<T>(src[0] + j), load<T>(src[1] + j), load<T>(src[2] + j),
+                                 load<T>(src[3] + j), load<T>(src[4] + j), p, l, h);
+          store<T>(lo + j, l);
+          store<T>(hi + j, h);
+        }
+      else
+        {
+          constexpr int w = 2 * Recon::r + 1;
+          double        v[w];
+          for (int k = 0; k < w; ++k)
+            v[k] = src[k][j];
+          rec.pair(v, p, lo[j], hi[j]);
+        }
+    }
+
+    /**
+     * One reconstruction stage along dir for the slots of list: the input has m = G * NC
+     * values per slot (G groups of NC components), the output 2 m: lane g * NC + c gives
+     * the lower point at out[2 g NC + c] and the upper one at out[(2 g + 1) NC + c].
+     * V: the widest vector type to use.
+     */
+    template <class V, class Recon, int dim>
+    __attribute__((always_inline)) inline void
+    reconstruct_stage(const Recon &rec, const CartesianPatch<dim> &patch,
+                      const std::vector<unsigned int> &list, const unsigned int dir,
+                      const double *in, const unsigned int m, const unsigned int NC,
+                      const unsigned int p, double *outbase)
+    {
+      constexpr int      r  = Recon::r;
+      constexpr int      w  = 2 * r + 1;
+      constexpr unsigned L  = has_lanes<Recon> ? sizeof(V) / sizeof(double) : 1;
+      double             lo[4 * 5], hi[4 * 5];
+      const double      *src[w];
+      for (const unsigned int s : list)
+        {
+          for (int o = -r; o <= r; ++o)
+            src[o + r] = in + std::size_t(patch.neighbor(s, dir, o)) * m;
+          unsigned int j = 0;
+          if constexpr (L > 1)
+            for (; j + L <= m; j += L)
+              pair_chunk<V>(rec, src, j, p, lo, hi);
+          if constexpr (L > 2)
+            for (; j + 2 <= m; j += 2)
+              pair_chunk<v2d>(rec, src, j, p, lo, hi);
+          for (; j < m; ++j)
+            pair_chunk<double>(rec, src, j, p, lo, hi);
+          double *out = outbase + std::size_t(s) * 2 * m;
+          for (unsigned int g = 0; g * NC < m; ++g)
+            for (unsigned int c = 0; c < NC; ++c)
+              {
+                out[2 * g * NC + c]       = lo[g * NC + c];
+                out[(2 * g + 1) * NC + c] = hi[g * NC + c];
+              }
+        }
+    }
+
+    /// reconstruct_stage() compiled for AVX2 (4 lanes per vector; AVX2 without FMA, so
+    /// every lane is the same IEEE operation sequence as on the default target)
+    template <class Recon, int dim>
+    __attribute__((target("avx2"))) void
+    reconstruct_stage_avx2(const Recon &rec, const CartesianPatch<dim> &patch,
+                           const std::vector<unsigned int> &list, const unsigned int dir,
+                           const double *in, const unsigned int m, const unsigned int NC,
+                           const unsigned int p, double *outbase)
+    {
+      reconstruct_stage<v4d>(rec, patch, list, dir, in, m, NC, p, outbase);
+    }
+
+    template <class Recon, int dim>
+    void reconstruct(const Recon &rec, const CartesianPatch<dim> &patch,
+                     const std::vector<unsigned int> &list, const unsigned int dir,
+                     const double *in, const unsigned int m, const unsigned int NC,
+                     const unsigned int p, double *outbase)
+    {
+      static const bool avx2 = __builtin_cpu_supports("avx2");
+      if (has_lanes<Recon> && avx2)
+        reconstruct_stage_avx2(rec, patch, list, dir, in, m, NC, p, outbase);
+      else
+        reconstruct_stage<v2d>(rec, patch, list, dir, in, m, NC, p, outbase);
     }
   } // namespace
 
@@ -154,66 +270,53 @@ namespace granhydro::convection
     for (unsigned int d = 0; d < dim; ++d)
       {
         // stage A: along d to the two faces
-        for (const unsigned int s : listA[d])
-          {
-            int idx[w];
-            for (int o = -r; o <= r; ++o)
-              idx[o + r] = patch.neighbor(s, d, o);
-            double *out = &A[std::size_t(s) * 2 * NC];
-            for (unsigned int c = 0; c < NC; ++c)
-              {
-                double v[w];
-                for (int k = 0; k < w; ++k)
-                  v[k] = Wp[std::size_t(idx[k]) * NC + c];
-                rec.pair(v, 0, out[c], out[NC + c]);
-              }
-          }
+        reconstruct(rec, patch, listA[d], d, Wp, NC, NC, 0, A.data());
         const double *fin = A.data();
         if (transverse)
           {
             // stage B: first transverse direction to its P points (Gauss pair or centre)
             const unsigned int t1 = dim == 3 ? (d + 1) % 3 : 1 - d;
-            for (const unsigned int s : listB[d])
-              {
-                int idx[w];
-                for (int o = -r; o <= r; ++o)
-                  idx[o + r] = patch.neighbor(s, t1, o);
-                double *out = &B[std::size_t(s) * 2 * P * NC];
-                for (unsigned int side = 0; side < 2; ++side)
-                  for (unsigned int c = 0; c < NC; ++c)
-                    {
-                      double v[w];
-                      for (int k = 0; k < w; ++k)
-                        v[k] = A[(std::size_t(idx[k]) * 2 + side) * NC + c];
-                      if (P == 2)
-                        rec.pair(v, 1, out[(side * 2) * NC + c], out[(side * 2 + 1) * NC + c]);
-                      else
+            if (P == 2)
+              reconstruct(rec, patch, listB[d], t1, A.data(), 2 * NC, NC, 1, B.data());
+            else
+              for (const unsigned int s : listB[d])
+                {
+                  int idx[w];
+                  for (int o = -r; o <= r; ++o)
+                    idx[o + r] = patch.neighbor(s, t1, o);
+                  double *out = &B[std::size_t(s) * 2 * NC];
+                  for (unsigned int side = 0; side < 2; ++side)
+                    for (unsigned int c = 0; c < NC; ++c)
+                      {
+                        double v[w];
+                        for (int k = 0; k < w; ++k)
+                          v[k] = A[(std::size_t(idx[k]) * 2 + side) * NC + c];
                         out[side * NC + c] = rec.center(v);
-                    }
-              }
+                      }
+                }
             fin = B.data();
             if (dim == 3)
               {
                 // stage C: second transverse direction
                 const unsigned int t2 = (d + 2) % 3;
-                for (const unsigned int s : listC[d])
-                  {
-                    int idx[w];
-                    for (int o = -r; o <= r; ++o)
-                      idx[o + r] = patch.neighbor(s, t2, o);
-                    double *out = &C[std::size_t(s) * 2 * P * P * NC];
-                    for (unsigned int sq = 0; sq < 2 * P; ++sq) // side*P + q1
-                      for (unsigned int c = 0; c < NC; ++c)
-                        {
-                          double v[w];
-                          for (int k = 0; k < w; ++k)
-                            v[k] = B[(std::size_t(idx[k]) * 2 * P + sq) * NC + c];
-                          if (P == 2)
-                            rec.pair(v, 1, out[(sq * 2) * NC + c], out[(sq * 2 + 1) * NC + c]);
-                          else
+                if (P == 2)
+                  reconstruct(rec, patch, listC[d], t2, B.data(), 4 * NC, NC, 1, C.data());
+                else
+                  for (const unsigned int s : listC[d])
+                    {
+                      int idx[w];
+                      for (int o = -r; o <= r; ++o)
+                        idx[o + r] = patch.neighbor(s, t2, o);
+                      double *out = &C[std::size_t(s) * 2 * NC];
+                      for (unsigned int sq = 0; sq < 2; ++sq)
+                        for (unsigned int c = 0; c < NC; ++c)
+                          {
+                            double v[w];
+                            for (int k = 0; k < w; ++k)
+                              v[k] = B[(std::size_t(idx[k]) * 2 + sq) * NC + c];
                             out[sq * NC + c] = rec.center(v);
-                        }
-                  }
+                          }
+                    }
                 fin = C.data();
               }
           }

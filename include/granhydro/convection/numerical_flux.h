@@ -92,13 +92,15 @@ namespace granhydro::convection
     void musta(const State &UL0, const State &UR0, const unsigned int d, State &F,
                FluxStatistics &stats) const
     {
-      State  UL = UL0, UR = UR0, FL, FR, Uh, Fh, Fprev;
+      State UL = UL0, UR = UR0, FL, FR, Uh, Fh, Fprev;
+      // the pressure of each state once per stage, for its flux and its wave speed
+      double pL = desc.pressure(UL), pR = desc.pressure(UR);
       for (unsigned int l = 0; l < max_stages; ++l)
         {
           ++stats.stages;
-          desc.flux(UL, d, FL);
-          desc.flux(UR, d, FR);
-          const double smax = std::max(desc.max_wave_speed(UL, d), desc.max_wave_speed(UR, d));
+          desc.flux(UL, pL, d, FL);
+          desc.flux(UR, pR, d, FR);
+          const double smax = std::max(desc.max_wave_speed(UL, d, pL), desc.max_wave_speed(UR, d, pR));
           const double r    = cloc / smax; // local dt/dx
           for (unsigned int c = 0; c < NC; ++c)
             Uh[c] = 0.5 * (UL[c] + UR[c]) - 0.5 * r * (FR[c] - FL[c]); // eq. 4.7a
@@ -127,6 +129,8 @@ namespace granhydro::convection
             }
           if (!desc.admissible(UL) || !desc.admissible(UR))
             return; // keep the last FORCE flux, computed from admissible states
+          pL = desc.pressure(UL);
+          pR = desc.pressure(UR);
           Fprev = F;
         }
     }

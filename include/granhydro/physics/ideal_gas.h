@@ -51,7 +51,13 @@ namespace granhydro::physics
     /// |u_d| + c for a state, used by CFL and the Riemann fluxes
     double max_wave_speed(const State<dim> &U, const unsigned int d) const
     {
-      const double p = pressure(U);
+      return max_wave_speed(U, d, pressure(U));
+    }
+
+    /// the same with the state's pressure p = pressure(U) already evaluated (Riemann
+    /// solvers that need p for the flux too)
+    double max_wave_speed(const State<dim> &U, const unsigned int d, const double p) const
+    {
       return std::abs(U[1 + d] / U[0]) + sound_speed(U[0], p > 0 ? p : 0.);
     }
 
@@ -59,8 +65,14 @@ namespace granhydro::physics
     double flux(const State<dim> &U, const unsigned int d, State<dim> &F) const
     {
       const double p = pressure(U);
-      euler_flux<dim>(U, p, d, F);
+      flux(U, p, d, F);
       return p;
+    }
+
+    /// the same with the state's pressure p = pressure(U) already evaluated
+    void flux(const State<dim> &U, const double p, const unsigned int d, State<dim> &F) const
+    {
+      euler_flux<dim>(U, p, d, F);
     }
 
     /// admissible set: n > 0, T > 0, finite
