@@ -134,6 +134,69 @@ namespace granhydro::convection
         }
     }
 
+    /**
+     * The flux of every face of patch.faces(d) (Gauss-weighted sum over its npts points,
+     * wall faces not yet zeroed) into F (NC per face); fin: the points of each slot,
+     * [slot][side][point][component]. V: the vector type for the points as lanes.
+     */
+    template <class V, int dim, class Description>
+    __attribute__((always_inline)) inline void
+    face_fluxes_impl(const NumericalFlux<dim, Description> &numflux, const CartesianPatch<dim> &patch,
+                     const unsigned int d, const double *fin, const unsigned int npts,
+                     const double wq, double *F, FluxStatistics &stats)
+    {
+      constexpr unsigned int NC    = dim + 2;
+      const auto            &faces = patch.faces(d);
+      physics::State<dim>    UL[4], UR[4], Fq[4];
+      for (std::size_t k = 0; k < faces.size(); ++k)
+        {
+          const unsigned int sl = faces[k].l, sr = faces[k].r;
+          const double      *vl = fin + (std::size_t(sl) * 2 + 1) * npts * NC;
+          const double      *vr = fin + (std::size_t(sr) * 2 + 0) * npts * NC;
+          // a hanging (fine sub-) face: the coarse side's Gauss point in this sub-face
+          const int  cp      = npts > 1 ? faces[k].coarse_point : -1;
+          const bool l_fixed = cp >= 0 && patch.level(sl) < patch.level(sr);
+          const bool r_fixed = cp >= 0 && patch.level(sr) < patch.level(sl);
+          for (unsigned int q = 0; q < npts; ++q)
+            {
+              const unsigned int ql = l_fixed ? cp : q, qr = r_fixed ? cp : q;
+              for (unsigned int c = 0; c < NC; ++c)
+                {
+                  UL[q][c] = vl[ql * NC + c];
+                  UR[q][c] = vr[qr * NC + c];
+                }
+            }
+          numflux.template points<V>(UL, UR, npts, d, Fq, stats);
+          double *Fsum = F + k * NC;
+          for (unsigned int c = 0; c < NC; ++c)
+            Fsum[c] = 0.;
+          for (unsigned int q = 0; q < npts; ++q)
+            for (unsigned int c = 0; c < NC; ++c)
+              Fsum[c] += wq * Fq[q][c];
+        }
+    }
+
+    template <int dim, class Description>
+    __attribute__((target("avx2"))) void
+    face_fluxes_avx2(const NumericalFlux<dim, Description> &numflux, const CartesianPatch<dim> &patch,
+                     const unsigned int d, const double *fin, const unsigned int npts,
+                     const double wq, double *F, FluxStatistics &stats)
+    {
+      face_fluxes_impl<v4d>(numflux, patch, d, fin, npts, wq, F, stats);
+    }
+
+    template <int dim, class Description>
+    void face_fluxes(const NumericalFlux<dim, Description> &numflux, const CartesianPatch<dim> &patch,
+                     const unsigned int d, const double *fin, const unsigned int npts,
+                     const double wq, double *F, FluxStatistics &stats)
+    {
+      static const bool avx2 = __builtin_cpu_supports("avx2");
+      if (Description::vector_lanes && avx2)
+        face_fluxes_avx2(numflux, patch, d, fin, npts, wq, F, stats);
+      else
+        face_fluxes_impl<v2d>(numflux, patch, d, fin, npts, wq, F, stats);
+    }
+
     /// reconstruct_stage() compiled for AVX2 (4 lanes per vector; AVX2 without FMA, so
     /// every lane is the same IEEE operation sequence as on the default target)
     template <class Recon, int dim>
@@ -332,13 +395,15 @@ namespace granhydro::convection
               for (unsigned int q = 0; q < 2 * npts && ok; ++q)
                 {
                   physics::State<dim> U;
-                  std::copy(vals + q * NC, vals + (q + 1) * NC, U.begin());
+                  for (unsigned int c = 0; c < NC; ++c)
+                    U[c] = vals[q * NC + c];
                   ok = desc.convectively_admissible(U);
                 }
               if (!ok)
                 {
                   for (unsigned int q = 0; q < 2 * npts; ++q)
-                    std::copy(Wp + std::size_t(s) * NC, Wp + std::size_t(s + 1) * NC, vals + q * NC);
+                    for (unsigned int c = 0; c < NC; ++c)
+                      vals[q * NC + c] = Wp[std::size_t(s) * NC + c];
                   if (s < n_owned)
                     ++stats.limited_cells;
                 }
@@ -349,30 +414,10 @@ namespace granhydro::convection
         const auto          &faces = patch.faces(d);
         std::vector<double> &Fpd   = Fp[d];
         Fpd.resize(faces.size() * NC);
+        face_fluxes(numflux, patch, d, fin, npts, wq, Fpd.data(), stats.flux);
         for (std::size_t k = 0; k < faces.size(); ++k)
-          {
-            const unsigned int sl = faces[k].l, sr = faces[k].r;
-            physics::State<dim> UL, UR, F;
-            double *Fsum = &Fpd[k * NC];
-            std::fill(Fsum, Fsum + NC, 0.);
-            const double *vl = fin + (std::size_t(sl) * 2 + 1) * npts * NC;
-            const double *vr = fin + (std::size_t(sr) * 2 + 0) * npts * NC;
-            // a hanging (fine sub-) face: the coarse side's Gauss point in this sub-face
-            const int  cp      = npts > 1 ? faces[k].coarse_point : -1;
-            const bool l_fixed = cp >= 0 && patch.level(sl) < patch.level(sr);
-            const bool r_fixed = cp >= 0 && patch.level(sr) < patch.level(sl);
-            for (unsigned int q = 0; q < npts; ++q)
-              {
-                const unsigned int ql = l_fixed ? cp : q, qr = r_fixed ? cp : q;
-                std::copy(vl + ql * NC, vl + (ql + 1) * NC, UL.begin());
-                std::copy(vr + qr * NC, vr + (qr + 1) * NC, UR.begin());
-                numflux(UL, UR, d, F, stats.flux);
-                for (unsigned int c = 0; c < NC; ++c)
-                  Fsum[c] += wq * F[c];
-              }
-            if (wall[d][k])
-              wall_flux(wall[d][k], d, Fsum);
-          }
+          if (wall[d][k])
+            wall_flux(wall[d][k], d, &Fpd[k * NC]);
       }
     assemble_rhs(rhs);
   }

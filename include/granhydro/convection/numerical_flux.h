@@ -18,6 +18,7 @@
  * face get bit-identical results.
  */
 #include <granhydro/physics/ideal_gas.h>
+#include <granhydro/physics/lanes.h>
 #include <granhydro/scene/scene.h>
 
 #include <algorithm>
@@ -133,6 +134,114 @@ namespace granhydro::convection
           pR = desc.pressure(UR);
           Fprev = F;
         }
+    }
+
+    /**
+     * The fluxes F[q] of n points q of one face (operator() for each), the points as
+     * lanes of the vector type V where the description takes vectors of states
+     * (MUSTA): every lane does the same operations as musta() on its point, so the
+     * result and the statistics are bit for bit those of operator() point by point.
+     */
+    template <class V>
+    __attribute__((always_inline)) inline void points(const State *UL, const State *UR,
+                                                      const unsigned int n, const unsigned int d,
+                                                      State *F, FluxStatistics &stats) const
+    {
+      unsigned int q = 0;
+      if constexpr (Description::vector_lanes)
+        if (type == FluxType::musta)
+          {
+            constexpr unsigned int L = physics::lanes::width<V>;
+            for (; q + L <= n; q += L)
+              {
+                stats.points += L;
+                musta_lanes<V>(UL + q, UR + q, d, F + q, stats);
+              }
+            typedef double V2 __attribute__((vector_size(16)));
+            if constexpr (L > 2)
+              for (; q + 2 <= n; q += 2)
+                {
+                  stats.points += 2;
+                  musta_lanes<V2>(UL + q, UR + q, d, F + q, stats);
+                }
+          }
+      for (; q < n; ++q)
+        operator()(UL[q], UR[q], d, F[q], stats);
+    }
+
+    /// musta() for the L lanes of V at once (points UL0[i], UR0[i], i < L)
+    template <class V>
+    __attribute__((always_inline)) inline void musta_lanes(const State *UL0, const State *UR0,
+                                                           const unsigned int d, State *Fout,
+                                                           FluxStatistics &stats) const
+    {
+      namespace lanes        = physics::lanes;
+      constexpr unsigned int L = lanes::width<V>;
+      using VS                 = std::array<V, NC>;
+      using M                  = lanes::Mask<V>;
+      VS UL, UR, FL, FR, Uh, Fh, F, Fprev;
+      for (unsigned int c = 0; c < NC; ++c)
+        {
+          for (unsigned int i = 0; i < L; ++i)
+            {
+              UL[c][i] = UL0[i][c];
+              UR[c][i] = UR0[i][c];
+            }
+          F[c] = Fprev[c] = V();
+        }
+      M active = V() == V(), fallback = V() != V(); // all lanes, none
+      V pL = desc.pressure(UL), pR = desc.pressure(UR);
+      for (unsigned int l = 0; l < max_stages; ++l)
+        {
+          for (unsigned int i = 0; i < L; ++i)
+            stats.stages += active[i] != 0;
+          desc.flux(UL, pL, d, FL);
+          desc.flux(UR, pR, d, FR);
+          const V aL = desc.max_wave_speed(UL, d, pL), aR = desc.max_wave_speed(UR, d, pR);
+          const V smax = aL < aR ? aR : aL; // std::max(aL, aR)
+          const V r    = cloc / smax;        // local dt/dx
+          for (unsigned int c = 0; c < NC; ++c)
+            Uh[c] = 0.5 * (UL[c] + UR[c]) - 0.5 * r * (FR[c] - FL[c]); // eq. 4.7a
+          const M ok = desc.admissible(Uh);
+          fallback |= active & ~ok;
+          active &= ok;
+          if (!lanes::any(active))
+            break;
+          desc.flux(Uh, d, Fh);
+          V diff = V(), norm = V();
+          for (unsigned int c = 0; c < NC; ++c)
+            {
+              const V Fc = 0.25 * (FL[c] + 2 * Fh[c] + FR[c] - (UR[c] - UL[c]) / r); // eq. 4.7b, P12
+              diff += (Fc - Fprev[c]) * (Fc - Fprev[c]);
+              norm += Fc * Fc;
+              F[c] = active ? Fc : F[c];
+            }
+          if (l > 0)
+            active &= ~(diff <= tol * tol * norm); // 1 % rule
+          if (l + 1 == max_stages || !lanes::any(active))
+            break;
+          for (unsigned int c = 0; c < NC; ++c)
+            {
+              UL[c] -= r * (F[c] - FL[c]); // eq. 4.8
+              UR[c] -= r * (FR[c] - F[c]); // eq. 4.9
+            }
+          // a lane whose states leave the admissible set keeps its last FORCE flux
+          active &= desc.admissible(UL) & desc.admissible(UR);
+          if (!lanes::any(active))
+            break;
+          pL    = desc.pressure(UL);
+          pR    = desc.pressure(UR);
+          Fprev = F;
+        }
+      for (unsigned int i = 0; i < L; ++i)
+        if (fallback[i])
+          {
+            ++stats.fallbacks;
+            rusanov(UL0[i], UR0[i], d, Fout[i]);
+          }
+        else
+          for (unsigned int c = 0; c < NC; ++c)
+            Fout[i][c] = F[c][i];
     }
 
   private:

@@ -24,6 +24,8 @@ namespace granhydro::physics
     static constexpr unsigned int n_components = dim + 2;
     static constexpr unsigned int energy       = dim + 1;
     static constexpr double       phi_per_n    = M_PI / 6.; // sigma = 1
+    /// the formulas are for double only (IdealGas also takes vectors of states)
+    static constexpr bool vector_lanes = false;
 
     GarzoDufty1999  model;
     double          phi_c = 0.64;
