@@ -4,6 +4,7 @@
 #include <deal.II/base/mpi.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
 #include <sstream>
 #include <type_traits>
@@ -176,6 +177,19 @@ namespace granhydro::convection
         }
     }
 
+    /// AVX2 paths on x86 CPUs that have it; GRANHYDRO_NO_AVX2 (set, any value) forces the
+    /// default-target vectors (testing: both paths give the same results bit for bit)
+    bool use_avx2()
+    {
+#if defined(__x86_64__) || defined(__i386__)
+      static const bool avx2 = __builtin_cpu_supports("avx2") && std::getenv("GRANHYDRO_NO_AVX2") == nullptr;
+      return avx2;
+#else
+      return false;
+#endif
+    }
+
+#if defined(__x86_64__) || defined(__i386__)
     template <int dim, class Description>
     __attribute__((target("avx2"))) void
     face_fluxes_avx2(const NumericalFlux<dim, Description> &numflux, const CartesianPatch<dim> &patch,
@@ -184,19 +198,22 @@ namespace granhydro::convection
     {
       face_fluxes_impl<v4d>(numflux, patch, d, fin, npts, wq, F, stats);
     }
+#endif
 
     template <int dim, class Description>
     void face_fluxes(const NumericalFlux<dim, Description> &numflux, const CartesianPatch<dim> &patch,
                      const unsigned int d, const double *fin, const unsigned int npts,
                      const double wq, double *F, FluxStatistics &stats)
     {
-      static const bool avx2 = __builtin_cpu_supports("avx2");
-      if (Description::vector_lanes && avx2)
+#if defined(__x86_64__) || defined(__i386__)
+      if (Description::vector_lanes && use_avx2())
         face_fluxes_avx2(numflux, patch, d, fin, npts, wq, F, stats);
       else
+#endif
         face_fluxes_impl<v2d>(numflux, patch, d, fin, npts, wq, F, stats);
     }
 
+#if defined(__x86_64__) || defined(__i386__)
     /// reconstruct_stage() compiled for AVX2 (4 lanes per vector; AVX2 without FMA, so
     /// every lane is the same IEEE operation sequence as on the default target)
     template <class Recon, int dim>
@@ -208,6 +225,7 @@ namespace granhydro::convection
     {
       reconstruct_stage<v4d>(rec, patch, list, dir, in, m, NC, p, outbase);
     }
+#endif
 
     template <class Recon, int dim>
     void reconstruct(const Recon &rec, const CartesianPatch<dim> &patch,
@@ -215,10 +233,11 @@ namespace granhydro::convection
                      const double *in, const unsigned int m, const unsigned int NC,
                      const unsigned int p, double *outbase)
     {
-      static const bool avx2 = __builtin_cpu_supports("avx2");
-      if (has_lanes<Recon> && avx2)
+#if defined(__x86_64__) || defined(__i386__)
+      if (has_lanes<Recon> && use_avx2())
         reconstruct_stage_avx2(rec, patch, list, dir, in, m, NC, p, outbase);
       else
+#endif
         reconstruct_stage<v2d>(rec, patch, list, dir, in, m, NC, p, outbase);
     }
   } // namespace

@@ -93,47 +93,7 @@ namespace granhydro::convection
     void musta(const State &UL0, const State &UR0, const unsigned int d, State &F,
                FluxStatistics &stats) const
     {
-      State UL = UL0, UR = UR0, FL, FR, Uh, Fh, Fprev;
-      // the pressure of each state once per stage, for its flux and its wave speed
-      double pL = desc.pressure(UL), pR = desc.pressure(UR);
-      for (unsigned int l = 0; l < max_stages; ++l)
-        {
-          ++stats.stages;
-          desc.flux(UL, pL, d, FL);
-          desc.flux(UR, pR, d, FR);
-          const double smax = std::max(desc.max_wave_speed(UL, d, pL), desc.max_wave_speed(UR, d, pR));
-          const double r    = cloc / smax; // local dt/dx
-          for (unsigned int c = 0; c < NC; ++c)
-            Uh[c] = 0.5 * (UL[c] + UR[c]) - 0.5 * r * (FR[c] - FL[c]); // eq. 4.7a
-          if (!desc.admissible(Uh))
-            {
-              ++stats.fallbacks;
-              rusanov(UL0, UR0, d, F);
-              return;
-            }
-          desc.flux(Uh, d, Fh);
-          double diff = 0, norm = 0;
-          for (unsigned int c = 0; c < NC; ++c)
-            {
-              F[c] = 0.25 * (FL[c] + 2 * Fh[c] + FR[c] - (UR[c] - UL[c]) / r); // eq. 4.7b, P12
-              diff += (F[c] - Fprev[c]) * (F[c] - Fprev[c]);
-              norm += F[c] * F[c];
-            }
-          if (l > 0 && diff <= tol * tol * norm) // 1 % rule
-            return;
-          if (l + 1 == max_stages)
-            return;
-          for (unsigned int c = 0; c < NC; ++c)
-            {
-              UL[c] -= r * (F[c] - FL[c]); // eq. 4.8
-              UR[c] -= r * (FR[c] - F[c]); // eq. 4.9
-            }
-          if (!desc.admissible(UL) || !desc.admissible(UR))
-            return; // keep the last FORCE flux, computed from admissible states
-          pL = desc.pressure(UL);
-          pR = desc.pressure(UR);
-          Fprev = F;
-        }
+      musta_lanes<double>(&UL0, &UR0, d, &F, stats);
     }
 
     /**
@@ -169,7 +129,14 @@ namespace granhydro::convection
         operator()(UL[q], UR[q], d, F[q], stats);
     }
 
-    /// musta() for the L lanes of V at once (points UL0[i], UR0[i], i < L)
+    /**
+     * MUSTA for the L lanes of V at once (points UL0[i], UR0[i] -> Fout[i], i < L; V =
+     * double: one point). Each stage uses each state's pressure once, for its flux and
+     * its wave speed. A lane stops when its flux has converged, at the stage cap, or
+     * when its states leave the admissible set (it keeps its last FORCE flux); a lane
+     * whose predictor state is inadmissible takes the Rusanov flux of its original
+     * states. The other lanes go on; every lane does the operations of one point alone.
+     */
     template <class V>
     __attribute__((always_inline)) inline void musta_lanes(const State *UL0, const State *UR0,
                                                            const unsigned int d, State *Fout,
@@ -184,8 +151,8 @@ namespace granhydro::convection
         {
           for (unsigned int i = 0; i < L; ++i)
             {
-              UL[c][i] = UL0[i][c];
-              UR[c][i] = UR0[i][c];
+              lanes::ref(UL[c], i) = UL0[i][c];
+              lanes::ref(UR[c], i) = UR0[i][c];
             }
           F[c] = Fprev[c] = V();
         }
@@ -194,7 +161,7 @@ namespace granhydro::convection
       for (unsigned int l = 0; l < max_stages; ++l)
         {
           for (unsigned int i = 0; i < L; ++i)
-            stats.stages += active[i] != 0;
+            stats.stages += lanes::set(active, i);
           desc.flux(UL, pL, d, FL);
           desc.flux(UR, pR, d, FR);
           const V aL = desc.max_wave_speed(UL, d, pL), aR = desc.max_wave_speed(UR, d, pR);
@@ -203,8 +170,8 @@ namespace granhydro::convection
           for (unsigned int c = 0; c < NC; ++c)
             Uh[c] = 0.5 * (UL[c] + UR[c]) - 0.5 * r * (FR[c] - FL[c]); // eq. 4.7a
           const M ok = desc.admissible(Uh);
-          fallback |= active & ~ok;
-          active &= ok;
+          fallback   = fallback || (active && !ok);
+          active     = active && ok;
           if (!lanes::any(active))
             break;
           desc.flux(Uh, d, Fh);
@@ -217,7 +184,7 @@ namespace granhydro::convection
               F[c] = active ? Fc : F[c];
             }
           if (l > 0)
-            active &= ~(diff <= tol * tol * norm); // 1 % rule
+            active = active && !(diff <= tol * tol * norm); // 1 % rule
           if (l + 1 == max_stages || !lanes::any(active))
             break;
           for (unsigned int c = 0; c < NC; ++c)
@@ -225,8 +192,8 @@ namespace granhydro::convection
               UL[c] -= r * (F[c] - FL[c]); // eq. 4.8
               UR[c] -= r * (FR[c] - F[c]); // eq. 4.9
             }
-          // a lane whose states leave the admissible set keeps its last FORCE flux
-          active &= desc.admissible(UL) & desc.admissible(UR);
+          // keep the last FORCE flux, computed from admissible states
+          active = active && desc.admissible(UL) && desc.admissible(UR);
           if (!lanes::any(active))
             break;
           pL    = desc.pressure(UL);
@@ -234,14 +201,14 @@ namespace granhydro::convection
           Fprev = F;
         }
       for (unsigned int i = 0; i < L; ++i)
-        if (fallback[i])
+        if (lanes::set(fallback, i))
           {
             ++stats.fallbacks;
             rusanov(UL0[i], UR0[i], d, Fout[i]);
           }
         else
           for (unsigned int c = 0; c < NC; ++c)
-            Fout[i][c] = F[c][i];
+            Fout[i][c] = lanes::get(F[c], i);
     }
 
   private:

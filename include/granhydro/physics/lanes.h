@@ -70,6 +70,28 @@ namespace granhydro::physics::lanes
     return x - x == T();
   }
 
+  /// lane i of x (x itself for double), to read and to write
+  __attribute__((always_inline)) inline double get(const double x, const unsigned int) { return x; }
+  __attribute__((always_inline)) inline double &ref(double &x, const unsigned int) { return x; }
+  template <class T, std::enable_if_t<!std::is_arithmetic_v<T>, int> = 0>
+  __attribute__((always_inline)) inline double get(const T &x, const unsigned int i)
+  {
+    return x[i];
+  }
+  template <class T, std::enable_if_t<!std::is_arithmetic_v<T>, int> = 0>
+  __attribute__((always_inline)) inline double &ref(T &x, const unsigned int i)
+  {
+    return reinterpret_cast<double *>(&x)[i];
+  }
+
+  /// whether lane i of a mask is set
+  __attribute__((always_inline)) inline bool set(const bool m, const unsigned int) { return m; }
+  template <class M, std::enable_if_t<!std::is_same_v<M, bool>, int> = 0>
+  __attribute__((always_inline)) inline bool set(const M m, const unsigned int i)
+  {
+    return m[i] != 0;
+  }
+
   /// true if any lane of the mask is set
   __attribute__((always_inline)) inline bool any(const bool m) { return m; }
   template <class M, std::enable_if_t<!std::is_same_v<M, bool>, int> = 0>
