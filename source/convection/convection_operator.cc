@@ -4,8 +4,10 @@
 #include <deal.II/base/mpi.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
 #include <sstream>
+#include <type_traits>
 
 namespace granhydro::convection
 {
@@ -41,6 +43,202 @@ namespace granhydro::convection
     {
       std::sort(v.begin(), v.end());
       v.erase(std::unique(v.begin(), v.end()), v.end());
+    }
+
+    // GCC vectors of doubles (element-wise IEEE arithmetic, no contraction on the default
+    // target): lanes are independent stencils, each bit for bit the scalar result
+    typedef double v2d __attribute__((vector_size(16), aligned(8)));
+    typedef double v4d __attribute__((vector_size(32), aligned(8)));
+
+    template <class T>
+    __attribute__((always_inline)) inline T load(const double *p)
+    {
+      T x;
+      std::memcpy(&x, p, sizeof(T));
+      return x;
+    }
+    template <class T>
+    __attribute__((always_inline)) inline void store(double *p, const T x)
+    {
+      std::memcpy(p, &x, sizeof(T));
+    }
+
+    template <class Recon>
+    constexpr bool has_lanes = std::is_same_v<Recon, Weno5>;
+
+    /**
+     * Point pairs of lanes [j0, j0 + L) of one slot (L = lanes of T): lane j of the
+     * stencil's k-th cell is src[k][j]. Weno5 runs on vectors (all lanes in one call);
+     * the other reconstructions lane by lane.
+     */
+    template <class T, class Recon>
+    __attribute__((always_inline)) inline void pair_chunk(const Recon &rec, const double *const *src,
+                                                          const unsigned int j, const unsigned int p,
+                                                          double *lo, double *hi)
+    {
+      if constexpr (has_lanes<Recon>)
+        {
+          T l, h;
+          rec.template pair_v<T>(load<T>(src[0] + j), load<T>(src[1] + j), load<T>(src[2] + j),
+                                 load<T>(src[3] + j), load<T>(src[4] + j), p, l, h);
+          store<T>(lo + j, l);
+          store<T>(hi + j, h);
+        }
+      else
+        {
+          constexpr int w = 2 * Recon::r + 1;
+          double        v[w];
+          for (int k = 0; k < w; ++k)
+            v[k] = src[k][j];
+          rec.pair(v, p, lo[j], hi[j]);
+        }
+    }
+
+    /**
+     * One reconstruction stage along dir for the slots of list: the input has m = G * NC
+     * values per slot (G groups of NC components), the output 2 m: lane g * NC + c gives
+     * the lower point at out[2 g NC + c] and the upper one at out[(2 g + 1) NC + c].
+     * V: the widest vector type to use.
+     */
+    template <class V, class Recon, int dim>
+    __attribute__((always_inline)) inline void
+    reconstruct_stage(const Recon &rec, const CartesianPatch<dim> &patch,
+                      const std::vector<unsigned int> &list, const unsigned int dir,
+                      const double *in, const unsigned int m, const unsigned int NC,
+                      const unsigned int p, double *outbase)
+    {
+      constexpr int      r  = Recon::r;
+      constexpr int      w  = 2 * r + 1;
+      constexpr unsigned L  = has_lanes<Recon> ? sizeof(V) / sizeof(double) : 1;
+      double             lo[4 * 5], hi[4 * 5];
+      const double      *src[w];
+      for (const unsigned int s : list)
+        {
+          for (int o = -r; o <= r; ++o)
+            src[o + r] = in + std::size_t(patch.neighbor(s, dir, o)) * m;
+          unsigned int j = 0;
+          if constexpr (L > 1)
+            for (; j + L <= m; j += L)
+              pair_chunk<V>(rec, src, j, p, lo, hi);
+          if constexpr (L > 2)
+            for (; j + 2 <= m; j += 2)
+              pair_chunk<v2d>(rec, src, j, p, lo, hi);
+          for (; j < m; ++j)
+            pair_chunk<double>(rec, src, j, p, lo, hi);
+          double *out = outbase + std::size_t(s) * 2 * m;
+          for (unsigned int g = 0; g * NC < m; ++g)
+            for (unsigned int c = 0; c < NC; ++c)
+              {
+                out[2 * g * NC + c]       = lo[g * NC + c];
+                out[(2 * g + 1) * NC + c] = hi[g * NC + c];
+              }
+        }
+    }
+
+    /**
+     * The flux of every face of patch.faces(d) (Gauss-weighted sum over its npts points,
+     * wall faces not yet zeroed) into F (NC per face); fin: the points of each slot,
+     * [slot][side][point][component]. V: the vector type for the points as lanes.
+     */
+    template <class V, int dim, class Description>
+    __attribute__((always_inline)) inline void
+    face_fluxes_impl(const NumericalFlux<dim, Description> &numflux, const CartesianPatch<dim> &patch,
+                     const unsigned int d, const double *fin, const unsigned int npts,
+                     const double wq, double *F, FluxStatistics &stats)
+    {
+      constexpr unsigned int NC    = dim + 2;
+      const auto            &faces = patch.faces(d);
+      physics::State<dim>    UL[4], UR[4], Fq[4];
+      for (std::size_t k = 0; k < faces.size(); ++k)
+        {
+          const unsigned int sl = faces[k].l, sr = faces[k].r;
+          const double      *vl = fin + (std::size_t(sl) * 2 + 1) * npts * NC;
+          const double      *vr = fin + (std::size_t(sr) * 2 + 0) * npts * NC;
+          // a hanging (fine sub-) face: the coarse side's Gauss point in this sub-face
+          const int  cp      = npts > 1 ? faces[k].coarse_point : -1;
+          const bool l_fixed = cp >= 0 && patch.level(sl) < patch.level(sr);
+          const bool r_fixed = cp >= 0 && patch.level(sr) < patch.level(sl);
+          for (unsigned int q = 0; q < npts; ++q)
+            {
+              const unsigned int ql = l_fixed ? cp : q, qr = r_fixed ? cp : q;
+              for (unsigned int c = 0; c < NC; ++c)
+                {
+                  UL[q][c] = vl[ql * NC + c];
+                  UR[q][c] = vr[qr * NC + c];
+                }
+            }
+          numflux.template points<V>(UL, UR, npts, d, Fq, stats);
+          double *Fsum = F + k * NC;
+          for (unsigned int c = 0; c < NC; ++c)
+            Fsum[c] = 0.;
+          for (unsigned int q = 0; q < npts; ++q)
+            for (unsigned int c = 0; c < NC; ++c)
+              Fsum[c] += wq * Fq[q][c];
+        }
+    }
+
+    /// AVX2 paths on x86 CPUs that have it; GRANHYDRO_NO_AVX2 (set, any value) forces the
+    /// default-target vectors (testing: both paths give the same results bit for bit)
+    bool use_avx2()
+    {
+#if defined(__x86_64__) || defined(__i386__)
+      static const bool avx2 = __builtin_cpu_supports("avx2") && std::getenv("GRANHYDRO_NO_AVX2") == nullptr;
+      return avx2;
+#else
+      return false;
+#endif
+    }
+
+#if defined(__x86_64__) || defined(__i386__)
+    template <int dim, class Description>
+    __attribute__((target("avx2"))) void
+    face_fluxes_avx2(const NumericalFlux<dim, Description> &numflux, const CartesianPatch<dim> &patch,
+                     const unsigned int d, const double *fin, const unsigned int npts,
+                     const double wq, double *F, FluxStatistics &stats)
+    {
+      face_fluxes_impl<v4d>(numflux, patch, d, fin, npts, wq, F, stats);
+    }
+#endif
+
+    template <int dim, class Description>
+    void face_fluxes(const NumericalFlux<dim, Description> &numflux, const CartesianPatch<dim> &patch,
+                     const unsigned int d, const double *fin, const unsigned int npts,
+                     const double wq, double *F, FluxStatistics &stats)
+    {
+#if defined(__x86_64__) || defined(__i386__)
+      if (Description::vector_lanes && use_avx2())
+        face_fluxes_avx2(numflux, patch, d, fin, npts, wq, F, stats);
+      else
+#endif
+        face_fluxes_impl<v2d>(numflux, patch, d, fin, npts, wq, F, stats);
+    }
+
+#if defined(__x86_64__) || defined(__i386__)
+    /// reconstruct_stage() compiled for AVX2 (4 lanes per vector; AVX2 without FMA, so
+    /// every lane is the same IEEE operation sequence as on the default target)
+    template <class Recon, int dim>
+    __attribute__((target("avx2"))) void
+    reconstruct_stage_avx2(const Recon &rec, const CartesianPatch<dim> &patch,
+                           const std::vector<unsigned int> &list, const unsigned int dir,
+                           const double *in, const unsigned int m, const unsigned int NC,
+                           const unsigned int p, double *outbase)
+    {
+      reconstruct_stage<v4d>(rec, patch, list, dir, in, m, NC, p, outbase);
+    }
+#endif
+
+    template <class Recon, int dim>
+    void reconstruct(const Recon &rec, const CartesianPatch<dim> &patch,
+                     const std::vector<unsigned int> &list, const unsigned int dir,
+                     const double *in, const unsigned int m, const unsigned int NC,
+                     const unsigned int p, double *outbase)
+    {
+#if defined(__x86_64__) || defined(__i386__)
+      if (has_lanes<Recon> && use_avx2())
+        reconstruct_stage_avx2(rec, patch, list, dir, in, m, NC, p, outbase);
+      else
+#endif
+        reconstruct_stage<v2d>(rec, patch, list, dir, in, m, NC, p, outbase);
     }
   } // namespace
 
@@ -154,66 +352,53 @@ namespace granhydro::convection
     for (unsigned int d = 0; d < dim; ++d)
       {
         // stage A: along d to the two faces
-        for (const unsigned int s : listA[d])
-          {
-            int idx[w];
-            for (int o = -r; o <= r; ++o)
-              idx[o + r] = patch.neighbor(s, d, o);
-            double *out = &A[std::size_t(s) * 2 * NC];
-            for (unsigned int c = 0; c < NC; ++c)
-              {
-                double v[w];
-                for (int k = 0; k < w; ++k)
-                  v[k] = Wp[std::size_t(idx[k]) * NC + c];
-                rec.pair(v, 0, out[c], out[NC + c]);
-              }
-          }
+        reconstruct(rec, patch, listA[d], d, Wp, NC, NC, 0, A.data());
         const double *fin = A.data();
         if (transverse)
           {
             // stage B: first transverse direction to its P points (Gauss pair or centre)
             const unsigned int t1 = dim == 3 ? (d + 1) % 3 : 1 - d;
-            for (const unsigned int s : listB[d])
-              {
-                int idx[w];
-                for (int o = -r; o <= r; ++o)
-                  idx[o + r] = patch.neighbor(s, t1, o);
-                double *out = &B[std::size_t(s) * 2 * P * NC];
-                for (unsigned int side = 0; side < 2; ++side)
-                  for (unsigned int c = 0; c < NC; ++c)
-                    {
-                      double v[w];
-                      for (int k = 0; k < w; ++k)
-                        v[k] = A[(std::size_t(idx[k]) * 2 + side) * NC + c];
-                      if (P == 2)
-                        rec.pair(v, 1, out[(side * 2) * NC + c], out[(side * 2 + 1) * NC + c]);
-                      else
+            if (P == 2)
+              reconstruct(rec, patch, listB[d], t1, A.data(), 2 * NC, NC, 1, B.data());
+            else
+              for (const unsigned int s : listB[d])
+                {
+                  int idx[w];
+                  for (int o = -r; o <= r; ++o)
+                    idx[o + r] = patch.neighbor(s, t1, o);
+                  double *out = &B[std::size_t(s) * 2 * NC];
+                  for (unsigned int side = 0; side < 2; ++side)
+                    for (unsigned int c = 0; c < NC; ++c)
+                      {
+                        double v[w];
+                        for (int k = 0; k < w; ++k)
+                          v[k] = A[(std::size_t(idx[k]) * 2 + side) * NC + c];
                         out[side * NC + c] = rec.center(v);
-                    }
-              }
+                      }
+                }
             fin = B.data();
             if (dim == 3)
               {
                 // stage C: second transverse direction
                 const unsigned int t2 = (d + 2) % 3;
-                for (const unsigned int s : listC[d])
-                  {
-                    int idx[w];
-                    for (int o = -r; o <= r; ++o)
-                      idx[o + r] = patch.neighbor(s, t2, o);
-                    double *out = &C[std::size_t(s) * 2 * P * P * NC];
-                    for (unsigned int sq = 0; sq < 2 * P; ++sq) // side*P + q1
-                      for (unsigned int c = 0; c < NC; ++c)
-                        {
-                          double v[w];
-                          for (int k = 0; k < w; ++k)
-                            v[k] = B[(std::size_t(idx[k]) * 2 * P + sq) * NC + c];
-                          if (P == 2)
-                            rec.pair(v, 1, out[(sq * 2) * NC + c], out[(sq * 2 + 1) * NC + c]);
-                          else
+                if (P == 2)
+                  reconstruct(rec, patch, listC[d], t2, B.data(), 4 * NC, NC, 1, C.data());
+                else
+                  for (const unsigned int s : listC[d])
+                    {
+                      int idx[w];
+                      for (int o = -r; o <= r; ++o)
+                        idx[o + r] = patch.neighbor(s, t2, o);
+                      double *out = &C[std::size_t(s) * 2 * NC];
+                      for (unsigned int sq = 0; sq < 2; ++sq)
+                        for (unsigned int c = 0; c < NC; ++c)
+                          {
+                            double v[w];
+                            for (int k = 0; k < w; ++k)
+                              v[k] = B[(std::size_t(idx[k]) * 2 + sq) * NC + c];
                             out[sq * NC + c] = rec.center(v);
-                        }
-                  }
+                          }
+                    }
                 fin = C.data();
               }
           }
@@ -229,13 +414,15 @@ namespace granhydro::convection
               for (unsigned int q = 0; q < 2 * npts && ok; ++q)
                 {
                   physics::State<dim> U;
-                  std::copy(vals + q * NC, vals + (q + 1) * NC, U.begin());
+                  for (unsigned int c = 0; c < NC; ++c)
+                    U[c] = vals[q * NC + c];
                   ok = desc.convectively_admissible(U);
                 }
               if (!ok)
                 {
                   for (unsigned int q = 0; q < 2 * npts; ++q)
-                    std::copy(Wp + std::size_t(s) * NC, Wp + std::size_t(s + 1) * NC, vals + q * NC);
+                    for (unsigned int c = 0; c < NC; ++c)
+                      vals[q * NC + c] = Wp[std::size_t(s) * NC + c];
                   if (s < n_owned)
                     ++stats.limited_cells;
                 }
@@ -246,30 +433,10 @@ namespace granhydro::convection
         const auto          &faces = patch.faces(d);
         std::vector<double> &Fpd   = Fp[d];
         Fpd.resize(faces.size() * NC);
+        face_fluxes(numflux, patch, d, fin, npts, wq, Fpd.data(), stats.flux);
         for (std::size_t k = 0; k < faces.size(); ++k)
-          {
-            const unsigned int sl = faces[k].l, sr = faces[k].r;
-            physics::State<dim> UL, UR, F;
-            double *Fsum = &Fpd[k * NC];
-            std::fill(Fsum, Fsum + NC, 0.);
-            const double *vl = fin + (std::size_t(sl) * 2 + 1) * npts * NC;
-            const double *vr = fin + (std::size_t(sr) * 2 + 0) * npts * NC;
-            // a hanging (fine sub-) face: the coarse side's Gauss point in this sub-face
-            const int  cp      = npts > 1 ? faces[k].coarse_point : -1;
-            const bool l_fixed = cp >= 0 && patch.level(sl) < patch.level(sr);
-            const bool r_fixed = cp >= 0 && patch.level(sr) < patch.level(sl);
-            for (unsigned int q = 0; q < npts; ++q)
-              {
-                const unsigned int ql = l_fixed ? cp : q, qr = r_fixed ? cp : q;
-                std::copy(vl + ql * NC, vl + (ql + 1) * NC, UL.begin());
-                std::copy(vr + qr * NC, vr + (qr + 1) * NC, UR.begin());
-                numflux(UL, UR, d, F, stats.flux);
-                for (unsigned int c = 0; c < NC; ++c)
-                  Fsum[c] += wq * F[c];
-              }
-            if (wall[d][k])
-              wall_flux(wall[d][k], d, Fsum);
-          }
+          if (wall[d][k])
+            wall_flux(wall[d][k], d, &Fpd[k * NC]);
       }
     assemble_rhs(rhs);
   }

@@ -18,6 +18,7 @@
  * face get bit-identical results.
  */
 #include <granhydro/physics/ideal_gas.h>
+#include <granhydro/physics/lanes.h>
 #include <granhydro/scene/scene.h>
 
 #include <algorithm>
@@ -92,43 +93,122 @@ namespace granhydro::convection
     void musta(const State &UL0, const State &UR0, const unsigned int d, State &F,
                FluxStatistics &stats) const
     {
-      State  UL = UL0, UR = UR0, FL, FR, Uh, Fh, Fprev;
+      musta_lanes<double>(&UL0, &UR0, d, &F, stats);
+    }
+
+    /**
+     * The fluxes F[q] of n points q of one face (operator() for each), the points as
+     * lanes of the vector type V where the description takes vectors of states
+     * (MUSTA): every lane does the same operations as musta() on its point, so the
+     * result and the statistics are bit for bit those of operator() point by point.
+     */
+    template <class V>
+    __attribute__((always_inline)) inline void points(const State *UL, const State *UR,
+                                                      const unsigned int n, const unsigned int d,
+                                                      State *F, FluxStatistics &stats) const
+    {
+      unsigned int q = 0;
+      if constexpr (Description::vector_lanes)
+        if (type == FluxType::musta)
+          {
+            constexpr unsigned int L = physics::lanes::width<V>;
+            for (; q + L <= n; q += L)
+              {
+                stats.points += L;
+                musta_lanes<V>(UL + q, UR + q, d, F + q, stats);
+              }
+            typedef double V2 __attribute__((vector_size(16)));
+            if constexpr (L > 2)
+              for (; q + 2 <= n; q += 2)
+                {
+                  stats.points += 2;
+                  musta_lanes<V2>(UL + q, UR + q, d, F + q, stats);
+                }
+          }
+      for (; q < n; ++q)
+        operator()(UL[q], UR[q], d, F[q], stats);
+    }
+
+    /**
+     * MUSTA for the L lanes of V at once (points UL0[i], UR0[i] -> Fout[i], i < L; V =
+     * double: one point). Each stage uses each state's pressure once, for its flux and
+     * its wave speed. A lane stops when its flux has converged, at the stage cap, or
+     * when its states leave the admissible set (it keeps its last FORCE flux); a lane
+     * whose predictor state is inadmissible takes the Rusanov flux of its original
+     * states. The other lanes go on; every lane does the operations of one point alone.
+     */
+    template <class V>
+    __attribute__((always_inline)) inline void musta_lanes(const State *UL0, const State *UR0,
+                                                           const unsigned int d, State *Fout,
+                                                           FluxStatistics &stats) const
+    {
+      namespace lanes        = physics::lanes;
+      constexpr unsigned int L = lanes::width<V>;
+      using VS                 = std::array<V, NC>;
+      using M                  = lanes::Mask<V>;
+      VS UL, UR, FL, FR, Uh, Fh, F, Fprev;
+      for (unsigned int c = 0; c < NC; ++c)
+        {
+          for (unsigned int i = 0; i < L; ++i)
+            {
+              lanes::ref(UL[c], i) = UL0[i][c];
+              lanes::ref(UR[c], i) = UR0[i][c];
+            }
+          F[c] = Fprev[c] = V();
+        }
+      M active = V() == V(), fallback = V() != V(); // all lanes, none
+      V pL = desc.pressure(UL), pR = desc.pressure(UR);
       for (unsigned int l = 0; l < max_stages; ++l)
         {
-          ++stats.stages;
-          desc.flux(UL, d, FL);
-          desc.flux(UR, d, FR);
-          const double smax = std::max(desc.max_wave_speed(UL, d), desc.max_wave_speed(UR, d));
-          const double r    = cloc / smax; // local dt/dx
+          for (unsigned int i = 0; i < L; ++i)
+            stats.stages += lanes::set(active, i);
+          desc.flux(UL, pL, d, FL);
+          desc.flux(UR, pR, d, FR);
+          const V aL = desc.max_wave_speed(UL, d, pL), aR = desc.max_wave_speed(UR, d, pR);
+          const V smax = aL < aR ? aR : aL; // std::max(aL, aR)
+          const V r    = cloc / smax;        // local dt/dx
           for (unsigned int c = 0; c < NC; ++c)
             Uh[c] = 0.5 * (UL[c] + UR[c]) - 0.5 * r * (FR[c] - FL[c]); // eq. 4.7a
-          if (!desc.admissible(Uh))
-            {
-              ++stats.fallbacks;
-              rusanov(UL0, UR0, d, F);
-              return;
-            }
+          const M ok = desc.admissible(Uh);
+          fallback   = fallback || (active && !ok);
+          active     = active && ok;
+          if (!lanes::any(active))
+            break;
           desc.flux(Uh, d, Fh);
-          double diff = 0, norm = 0;
+          V diff = V(), norm = V();
           for (unsigned int c = 0; c < NC; ++c)
             {
-              F[c] = 0.25 * (FL[c] + 2 * Fh[c] + FR[c] - (UR[c] - UL[c]) / r); // eq. 4.7b, P12
-              diff += (F[c] - Fprev[c]) * (F[c] - Fprev[c]);
-              norm += F[c] * F[c];
+              const V Fc = 0.25 * (FL[c] + 2 * Fh[c] + FR[c] - (UR[c] - UL[c]) / r); // eq. 4.7b, P12
+              diff += (Fc - Fprev[c]) * (Fc - Fprev[c]);
+              norm += Fc * Fc;
+              F[c] = active ? Fc : F[c];
             }
-          if (l > 0 && diff <= tol * tol * norm) // 1 % rule
-            return;
-          if (l + 1 == max_stages)
-            return;
+          if (l > 0)
+            active = active && !(diff <= tol * tol * norm); // 1 % rule
+          if (l + 1 == max_stages || !lanes::any(active))
+            break;
           for (unsigned int c = 0; c < NC; ++c)
             {
               UL[c] -= r * (F[c] - FL[c]); // eq. 4.8
               UR[c] -= r * (FR[c] - F[c]); // eq. 4.9
             }
-          if (!desc.admissible(UL) || !desc.admissible(UR))
-            return; // keep the last FORCE flux, computed from admissible states
+          // keep the last FORCE flux, computed from admissible states
+          active = active && desc.admissible(UL) && desc.admissible(UR);
+          if (!lanes::any(active))
+            break;
+          pL    = desc.pressure(UL);
+          pR    = desc.pressure(UR);
           Fprev = F;
         }
+      for (unsigned int i = 0; i < L; ++i)
+        if (lanes::set(fallback, i))
+          {
+            ++stats.fallbacks;
+            rusanov(UL0[i], UR0[i], d, Fout[i]);
+          }
+        else
+          for (unsigned int c = 0; c < NC; ++c)
+            Fout[i][c] = lanes::get(F[c], i);
     }
 
   private:

@@ -109,9 +109,12 @@ namespace granhydro::convection
     /// v^2, and a fixed 1e-6 made results depend on 'Numerics/Reference velocity'
     /// (L1 error of Sod 2.825e-3 / 2.997e-3 / 2.936e-3 for three reference velocities)
     double eps = 1e-6;
-    double scaled_eps(const double *v) const
+    double scaled_eps(const double *v) const { return scaled_eps_v<double>(v[0], v[1], v[2], v[3], v[4]); }
+    template <class T>
+    __attribute__((always_inline)) inline T scaled_eps_v(const T v0, const T v1, const T v2,
+                                                         const T v3, const T v4) const
     {
-      return eps * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3] + v[4] * v[4]) / 5. + 1e-100; // 1e-100: (eps + b)^2 must not underflow for v = 0
+      return eps * (v0 * v0 + v1 * v1 + v2 * v2 + v3 * v3 + v4 * v4) / 5. + 1e-100; // 1e-100: (eps + b)^2 must not underflow for v = 0
     }
     double center(const double *v) const
     {
@@ -134,23 +137,33 @@ namespace granhydro::convection
     }
     void pair(const double *v, const unsigned int p, double &lo, double &hi) const
     {
-      const double t0 = v[0] - 2 * v[1] + v[2], t1 = v[1] - 2 * v[2] + v[3], t2 = v[2] - 2 * v[3] + v[4];
-      const double s0 = v[0] - 4 * v[1] + 3 * v[2], s1 = v[1] - v[3], s2 = 3 * v[2] - 4 * v[3] + v[4];
-      const double b0 = 13. / 12. * t0 * t0 + 0.25 * s0 * s0;
-      const double b1 = 13. / 12. * t1 * t1 + 0.25 * s1 * s1;
-      const double b2 = 13. / 12. * t2 * t2 + 0.25 * s2 * s2;
-      const double eps = scaled_eps(v);
-      const double i0 = 1. / ((eps + b0) * (eps + b0)), i1 = 1. / ((eps + b1) * (eps + b1)),
-                   i2 = 1. / ((eps + b2) * (eps + b2));
-      double out[2];
+      pair_v<double>(v[0], v[1], v[2], v[3], v[4], p, lo, hi);
+    }
+    /// pair() for a value type T that is double or a GCC vector of doubles (lanes: independent
+    /// stencils, e.g. the components of a cell): the same operations in the same order as the
+    /// scalar version, so every lane is bit for bit what pair() gives for it
+    template <class T>
+    __attribute__((always_inline)) inline void pair_v(const T v0, const T v1, const T v2,
+                                                      const T v3, const T v4,
+                                                      const unsigned int p, T &lo, T &hi) const
+    {
+      const T t0 = v0 - 2 * v1 + v2, t1 = v1 - 2 * v2 + v3, t2 = v2 - 2 * v3 + v4;
+      const T s0 = v0 - 4 * v1 + 3 * v2, s1 = v1 - v3, s2 = 3 * v2 - 4 * v3 + v4;
+      const T b0 = 13. / 12. * t0 * t0 + 0.25 * s0 * s0;
+      const T b1 = 13. / 12. * t1 * t1 + 0.25 * s1 * s1;
+      const T b2 = 13. / 12. * t2 * t2 + 0.25 * s2 * s2;
+      const T eps = scaled_eps_v<T>(v0, v1, v2, v3, v4);
+      const T i0 = 1. / ((eps + b0) * (eps + b0)), i1 = 1. / ((eps + b1) * (eps + b1)),
+              i2 = 1. / ((eps + b2) * (eps + b2));
+      T out[2];
       for (unsigned int s = 0; s < 2; ++s)
         {
-          const auto  &cc = c[p][s];
-          const double a0 = d[p][s][0] * i0, a1 = d[p][s][1] * i1, a2 = d[p][s][2] * i2;
-          const double q0 = cc[0][0] * v[0] + cc[0][1] * v[1] + cc[0][2] * v[2];
-          const double q1 = cc[1][0] * v[1] + cc[1][1] * v[2] + cc[1][2] * v[3];
-          const double q2 = cc[2][0] * v[2] + cc[2][1] * v[3] + cc[2][2] * v[4];
-          out[s]          = (a0 * q0 + a1 * q1 + a2 * q2) / (a0 + a1 + a2);
+          const auto &cc = c[p][s];
+          const T     a0 = d[p][s][0] * i0, a1 = d[p][s][1] * i1, a2 = d[p][s][2] * i2;
+          const T     q0 = cc[0][0] * v0 + cc[0][1] * v1 + cc[0][2] * v2;
+          const T     q1 = cc[1][0] * v1 + cc[1][1] * v2 + cc[1][2] * v3;
+          const T     q2 = cc[2][0] * v2 + cc[2][1] * v3 + cc[2][2] * v4;
+          out[s]         = (a0 * q0 + a1 * q1 + a2 * q2) / (a0 + a1 + a2);
         }
       lo = out[0];
       hi = out[1];

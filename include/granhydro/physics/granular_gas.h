@@ -24,6 +24,8 @@ namespace granhydro::physics
     static constexpr unsigned int n_components = dim + 2;
     static constexpr unsigned int energy       = dim + 1;
     static constexpr double       phi_per_n    = M_PI / 6.; // sigma = 1
+    /// the formulas are for double only (IdealGas also takes vectors of states)
+    static constexpr bool vector_lanes = false;
 
     GarzoDufty1999  model;
     double          phi_c = 0.64;
@@ -88,11 +90,15 @@ namespace granhydro::physics
 
     double max_wave_speed(const State<dim> &U, const unsigned int d) const
     {
+      return max_wave_speed(U, d, contact.active ? 0. : pressure(U));
+    }
+
+    /// the same with the state's pressure p = pressure(U) already evaluated (Riemann
+    /// solvers that need p for the flux too; with the dense closure p is not used)
+    double max_wave_speed(const State<dim> &U, const unsigned int d, const double p) const
+    {
       if (!contact.active)
-        {
-          const double p = pressure(U);
-          return std::abs(U[1 + d] / U[0]) + sound_speed(U[0], p > 0 ? p : 0.);
-        }
+        return std::abs(U[1 + d] / U[0]) + sound_speed(U[0], p > 0 ? p : 0.);
       // with the closure: one evaluation of the contact potential for p_f, n w and dp_f/dn
       const double n = U[0], phi = n * phi_per_n, Z = model.Z(phi);
       double       W, pf, dpf;
@@ -105,8 +111,14 @@ namespace granhydro::physics
     double flux(const State<dim> &U, const unsigned int d, State<dim> &F) const
     {
       const double p = pressure(U);
-      euler_flux<dim>(U, p, d, F);
+      flux(U, p, d, F);
       return p;
+    }
+
+    /// the same with the state's pressure p = pressure(U) already evaluated
+    void flux(const State<dim> &U, const double p, const unsigned int d, State<dim> &F) const
+    {
+      euler_flux<dim>(U, p, d, F);
     }
 
     /// With the dense closure, nE = KE + n w(n) + (3/2) n T holds the contact energy n w

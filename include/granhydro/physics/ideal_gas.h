@@ -15,6 +15,7 @@
  * description (Garzó–Dufty granular gas) follows the same interface.
  */
 #include <granhydro/physics/euler_flux.h>
+#include <granhydro/physics/lanes.h>
 
 #include <array>
 #include <cmath>
@@ -26,6 +27,11 @@ namespace granhydro::physics
   {
     static constexpr unsigned int n_components = dim + 2;
     static constexpr unsigned int energy       = dim + 1;
+    /// the convective formulas below are templates on the value type T: double or a
+    /// vector of doubles whose lanes are independent states (physics/lanes.h)
+    static constexpr bool vector_lanes = true;
+    template <class T>
+    using StateT = std::array<T, dim + 2>;
 
     /// adiabatic index gamma_a; 5/3 = monatomic gas = elastic dilute grains
     double gamma = 5. / 3.;
@@ -33,9 +39,11 @@ namespace granhydro::physics
     /// internal energy per grain in units of T: 1/(gamma_a - 1)
     double heat_capacity() const { return 1. / (gamma - 1.); }
 
-    double kinetic_energy(const State<dim> &U) const { return physics::kinetic_energy<dim>(U); }
+    template <class T>
+    T kinetic_energy(const StateT<T> &U) const { return physics::kinetic_energy<dim>(U); }
 
-    double pressure(const State<dim> &U) const
+    template <class T>
+    T pressure(const StateT<T> &U) const
     {
       return (gamma - 1.) * (U[energy] - kinetic_energy(U));
     }
@@ -43,33 +51,48 @@ namespace granhydro::physics
     /// granular temperature in energy units: T = p / n
     double temperature(const State<dim> &U) const { return pressure(U) / U[0]; }
 
-    double sound_speed(const double n, const double p) const
+    template <class T>
+    T sound_speed(const T n, const T p) const
     {
-      return std::sqrt(gamma * p / n);
+      return lanes::sqrt(gamma * p / n);
     }
 
     /// |u_d| + c for a state, used by CFL and the Riemann fluxes
     double max_wave_speed(const State<dim> &U, const unsigned int d) const
     {
-      const double p = pressure(U);
-      return std::abs(U[1 + d] / U[0]) + sound_speed(U[0], p > 0 ? p : 0.);
+      return max_wave_speed(U, d, pressure(U));
+    }
+
+    /// the same with the state's pressure p = pressure(U) already evaluated (Riemann
+    /// solvers that need p for the flux too)
+    template <class T>
+    T max_wave_speed(const StateT<T> &U, const unsigned int d, const T p) const
+    {
+      return lanes::abs(U[1 + d] / U[0]) + sound_speed(U[0], p > T() ? p : T());
     }
 
     /// physical flux F_d(U) (paper 2.6 with m = 1); returns the pressure too
-    double flux(const State<dim> &U, const unsigned int d, State<dim> &F) const
+    template <class T>
+    T flux(const StateT<T> &U, const unsigned int d, StateT<T> &F) const
     {
-      const double p = pressure(U);
-      euler_flux<dim>(U, p, d, F);
+      const T p = pressure(U);
+      flux(U, p, d, F);
       return p;
     }
 
-    /// admissible set: n > 0, T > 0, finite
-    bool admissible(const State<dim> &U) const
+    /// the same with the state's pressure p = pressure(U) already evaluated
+    template <class T>
+    void flux(const StateT<T> &U, const T p, const unsigned int d, StateT<T> &F) const
     {
-      if (!(U[0] > 0.) || !std::isfinite(U[energy]))
-        return false;
-      const double p = pressure(U);
-      return p > 0. && std::isfinite(p);
+      euler_flux<dim>(U, p, d, F);
+    }
+
+    /// admissible set: n > 0, T > 0, finite (per lane: a mask)
+    template <class T>
+    lanes::Mask<T> admissible(const StateT<T> &U) const
+    {
+      const T p = pressure(U);
+      return (U[0] > T()) & lanes::isfinite(U[energy]) & (p > T()) & lanes::isfinite(p);
     }
 
     /// the same test inside the convective step (GranularGas distinguishes them)
