@@ -194,14 +194,7 @@ namespace granhydro::diffusion
         amg.initialize(*M, data);
       }
     else
-      {
-        // on several ranks an additive Schwarz ILU with one layer of overlap: the plain
-        // block-Jacobi ILU drops the couplings across the partition boundary, and GMRES
-        // needs more iterations than on one rank (one rank: identical)
-        TrilinosWrappers::PreconditionILU::AdditionalData data;
-        data.overlap = Utilities::MPI::n_mpi_processes(patch.communicator()) > 1 ? 1 : 0;
-        ilu.initialize(*M, data);
-      }
+      ilu.initialize(*M);
     stats.preconditioner_seconds += timer.wall_time();
   }
 
