@@ -349,6 +349,25 @@ namespace granhydro::convection
     const unsigned int npts = transverse ? (dim == 3 ? P * P : P) : 1;
     const double       wq   = 1. / npts;
 
+    // midpoint quadrature: a transverse stage takes the 2 face values of each slot (2 NC
+    // doubles) to the cell centre along direction t
+    auto centre_stage = [&](const auto &list, const unsigned int t, const double *in, double *out_all) {
+      for (const unsigned int s : list)
+        {
+          int idx[w];
+          for (int o = -r; o <= r; ++o)
+            idx[o + r] = patch.neighbor(s, t, o);
+          double *out = out_all + std::size_t(s) * 2 * NC;
+          for (unsigned int side = 0; side < 2; ++side)
+            for (unsigned int c = 0; c < NC; ++c)
+              {
+                double v[w];
+                for (int k = 0; k < w; ++k)
+                  v[k] = in[(std::size_t(idx[k]) * 2 + side) * NC + c];
+                out[side * NC + c] = rec.center(v);
+              }
+        }
+    };
     for (unsigned int d = 0; d < dim; ++d)
       {
         // stage A: along d to the two faces
@@ -361,21 +380,7 @@ namespace granhydro::convection
             if (P == 2)
               reconstruct(rec, patch, listB[d], t1, A.data(), 2 * NC, NC, 1, B.data());
             else
-              for (const unsigned int s : listB[d])
-                {
-                  int idx[w];
-                  for (int o = -r; o <= r; ++o)
-                    idx[o + r] = patch.neighbor(s, t1, o);
-                  double *out = &B[std::size_t(s) * 2 * NC];
-                  for (unsigned int side = 0; side < 2; ++side)
-                    for (unsigned int c = 0; c < NC; ++c)
-                      {
-                        double v[w];
-                        for (int k = 0; k < w; ++k)
-                          v[k] = A[(std::size_t(idx[k]) * 2 + side) * NC + c];
-                        out[side * NC + c] = rec.center(v);
-                      }
-                }
+              centre_stage(listB[d], t1, A.data(), B.data());
             fin = B.data();
             if (dim == 3)
               {
@@ -384,21 +389,7 @@ namespace granhydro::convection
                 if (P == 2)
                   reconstruct(rec, patch, listC[d], t2, B.data(), 4 * NC, NC, 1, C.data());
                 else
-                  for (const unsigned int s : listC[d])
-                    {
-                      int idx[w];
-                      for (int o = -r; o <= r; ++o)
-                        idx[o + r] = patch.neighbor(s, t2, o);
-                      double *out = &C[std::size_t(s) * 2 * NC];
-                      for (unsigned int sq = 0; sq < 2; ++sq)
-                        for (unsigned int c = 0; c < NC; ++c)
-                          {
-                            double v[w];
-                            for (int k = 0; k < w; ++k)
-                              v[k] = B[(std::size_t(idx[k]) * 2 + sq) * NC + c];
-                            out[sq * NC + c] = rec.center(v);
-                          }
-                    }
+                  centre_stage(listC[d], t2, B.data(), C.data());
                 fin = C.data();
               }
           }

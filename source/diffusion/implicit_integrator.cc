@@ -102,8 +102,6 @@ namespace granhydro::diffusion
     static const ButcherTableau gl = butcher_tableau(ImplicitMethod::gauss_legendre),
                                 mp = butcher_tableau(ImplicitMethod::implicit_midpoint),
                                 sd = butcher_tableau(ImplicitMethod::sdirk2);
-    const Table &A_gl = gl.A, &A_mp = mp.A, &A_sd = sd.A;
-    const auto  &b_gl = gl.b, &b_mp = mp.b, &b_sd = sd.b;
     {
       // the explicit diffusive limit at the start of the step (diagnostic; one
       // coefficient evaluation per cell, a few % of a Newton iteration)
@@ -122,11 +120,11 @@ namespace granhydro::diffusion
         case ImplicitMethod::explicit_euler:
           return explicit_step(U, t, dt);
         case ImplicitMethod::implicit_midpoint:
-          return irk_step(U, t, dt, A_mp, b_mp);
+          return irk_step(U, t, dt, mp);
         case ImplicitMethod::gauss_legendre:
-          return irk_step(U, t, dt, A_gl, b_gl);
+          return irk_step(U, t, dt, gl);
         case ImplicitMethod::sdirk2:
-          return implicit_step(U, t, dt, A_sd, b_sd);
+          return implicit_step(U, t, dt, sd);
         case ImplicitMethod::rkl2:
           return rkl2_step(U, t, dt);
         case ImplicitMethod::cost_based:
@@ -142,32 +140,31 @@ namespace granhydro::diffusion
               {
                 if (rkl2_step(U, t, dt))
                   return true;
-                ++stats.rkl2_fallbacks;
+                ++stats.rkl2_fallbacks; // U is unchanged; the implicit step gathers it again
                 rkl2_blocked = 10;
-                patch.gather(U, W);
               }
-            return implicit_step(U, t, dt, A_sd, b_sd);
+            return implicit_step(U, t, dt, sd);
           }
         default:
-          if (irk_step(U, t, dt, A_gl, b_gl))
+          if (irk_step(U, t, dt, gl))
             return true;
           ++stats.switches_to_midpoint;
-          return irk_step(U, t, dt, A_mp, b_mp);
+          return irk_step(U, t, dt, mp);
       }
   }
 
   template <int dim>
-  bool ImplicitIntegrator<dim>::irk_step(Vector &U, const double t, const double dt, const Table &A,
-                                         const std::vector<double> &b)
+  bool ImplicitIntegrator<dim>::irk_step(Vector &U, const double t, const double dt,
+                                         const ButcherTableau &tableau)
   {
-    if (irk_attempt(U, t, dt, A, b, settings.full_jacobian))
+    if (irk_attempt(U, t, dt, tableau, settings.full_jacobian))
       return true;
     if (settings.full_jacobian)
       return false;
     // the lagged cross terms can stall the iteration where they are stiff (near
     // vacuum, P14): redo the step with the fully coupled Jacobian
     ++stats.full_jacobian_retries;
-    return irk_attempt(U, t, dt, A, b, true);
+    return irk_attempt(U, t, dt, tableau, true);
   }
 
   template <int dim>
@@ -199,9 +196,11 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
-  bool ImplicitIntegrator<dim>::irk_attempt(Vector &U, const double t, const double dt, const Table &A,
-                                            const std::vector<double> &b, const bool full)
+  bool ImplicitIntegrator<dim>::irk_attempt(Vector &U, const double t, const double dt,
+                                            const ButcherTableau &tableau, const bool full)
   {
+    const Table &A = tableau.A;
+    const auto  &b = tableau.b, &c = tableau.c;
     constexpr unsigned int NC     = dim + 2;
     const unsigned int     stages = A.size();
     last_failure.clear();
@@ -214,10 +213,6 @@ namespace granhydro::diffusion
     for (std::size_t i = 0; i < n; ++i)
       scale = std::max(scale, std::abs(U0[i]));
     scale = Utilities::MPI::max(scale, comm);
-    std::vector<double> c(stages, 0.);
-    for (unsigned int k = 0; k < stages; ++k)
-      for (unsigned int j = 0; j < stages; ++j)
-        c[k] += A[k][j];
     // diagonally implicit (lower triangular, one diagonal value): stage by stage
     bool dirk = stages > 1;
     for (unsigned int k = 0; k < stages; ++k)
@@ -265,7 +260,7 @@ namespace granhydro::diffusion
           return false;
         }
       ++stats.stale_matrix_retries; // the kept matrix did not do: a fresh one
-      return irk_attempt(U, t, dt, A, b, full);
+      return irk_attempt(U, t, dt, tableau, full);
     };
 
     std::vector<double> K(n * stages), power(stages, 0.);
@@ -462,12 +457,12 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
-  bool ImplicitIntegrator<dim>::implicit_step(Vector &U, const double t, const double dt, const Table &A,
-                                              const std::vector<double> &b)
+  bool ImplicitIntegrator<dim>::implicit_step(Vector &U, const double t, const double dt,
+                                              const ButcherTableau &tableau)
   {
     Timer              timer;
     const auto         newton0 = stats.newton_iterations;
-    const bool         ok      = irk_step(U, t, dt, A, b);
+    const bool         ok      = irk_step(U, t, dt, tableau);
     if (ok)
       last_newton_iterations = std::max<unsigned long long>(1, stats.newton_iterations - newton0);
     ++stats.implicit_steps;
@@ -485,17 +480,16 @@ namespace granhydro::diffusion
     // stage count from the stability bound dt <= dt_E (s^2 + s - 2) / 4 (W and
     // explicit_limit hold U's gather and its explicit limit, from step())
     const double ratio = dt / explicit_limit;
-    const unsigned int s = rkl2_stages(ratio);
     if (!(ratio <= 1e6))
       {
         last_failure = "RKL2: dt is " + std::to_string(ratio) + " x the explicit limit (cap 1e6)";
         return false;
       }
+    const unsigned int s = rkl2_stages(ratio);
     if (Y.size() != U.size())
       Y.reinit(patch.partitioner());
     U0.assign(U.begin(), U.begin() + n);
     std::vector<double> L0(n), Ljm1(n), Yjm1(n), Yjm2(U0), Yj(n);
-    f.resize(n);
     op.set_time(t);
     op.residual(W.data(), L0.data());
     // weights beta_j,k: Y_j = Y_0 + dt sum_k beta_j,k f(Y_k), for the frictional dissipation

@@ -165,12 +165,11 @@ namespace granhydro::diffusion
     IntegratorStatistics        global_statistics() const;
 
   private:
-    /// one step of the Runge-Kutta method (A, b); diagonally implicit methods (A lower
+    /// one step of the Runge-Kutta method of the tableau; diagonally implicit methods (A lower
     /// triangular with one diagonal value) are solved stage by stage. Redone with the
     /// fully coupled Jacobian when the lagged one stalls.
-    bool irk_step(Vector &U, const double t, const double dt, const Table &A, const std::vector<double> &b);
-    bool irk_attempt(Vector &U, const double t, const double dt, const Table &A, const std::vector<double> &b,
-                     const bool full);
+    bool irk_step(Vector &U, const double t, const double dt, const ButcherTableau &tableau);
+    bool irk_attempt(Vector &U, const double t, const double dt, const ButcherTableau &tableau, const bool full);
     /// Newton matrix I - dt N (x) J with J at the gathered state W, and its preconditioner
     void setup_newton(const double dt, const Table &N, const bool coupled);
     /// modified Newton for the slopes K (interleaved, N.size() stages) of the stage values
@@ -184,7 +183,7 @@ namespace granhydro::diffusion
     /// RKL2 super-time-step (explicit_limit and W from step())
     bool rkl2_step(Vector &U, const double t, const double dt);
     /// implicit SDIRK2 step, timed and counted for the cost model
-    bool implicit_step(Vector &U, const double t, const double dt, const Table &A, const std::vector<double> &b);
+    bool implicit_step(Vector &U, const double t, const double dt, const ButcherTableau &tableau);
     bool admissible_owned(const std::vector<double> &U);
 
     const DiffusionOperator<dim>    &op;
