@@ -313,20 +313,25 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
-  void DiffusionOperator<dim>::assemble_newton_matrix(const double *W,
-                                                      const std::vector<std::vector<double>> &A,
-                                                      const double dt,
-                                                      TrilinosWrappers::SparseMatrix &M,
-                                                      const bool cross_terms) const
+  void DiffusionOperator<dim>::jacobian(const double *W, JacobianBlocks &J, const bool cross_terms) const
   {
     std::vector<double> Wc; // perturbable copy of the slot array (cross-term derivatives)
     if (cross_terms)
       Wc.assign(W, W + std::size_t(patch.n_slots()) * NC);
-    const auto        &part   = *patch.partitioner();
-    const unsigned int n_own  = patch.n_owned();
-    const unsigned int stages = A.size();
-    // J blocks per owned cell: J[s] = sum over stencil cells t of block (NC x NC) df_s/dU_t
-    std::vector<std::vector<std::pair<unsigned int, std::array<double, NC * NC>>>> J(n_own);
+    const unsigned int n_own = patch.n_owned();
+    // J blocks per owned cell: J[s] = sum over stencil cells t of block (NC x NC) df_s/dU_t;
+    // each row reserved for its face neighbours (no doubling of the capacity)
+    J.assign(n_own, {});
+    for (unsigned int s = 0; s < n_own; ++s)
+      {
+        unsigned int faces = 1;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            const auto [b, e] = patch.cell_faces(d, s);
+            faces += e - b;
+          }
+        J[s].reserve(cross_terms ? 4 * faces : faces);
+      }
     auto add_block = [&](const unsigned int s, unsigned int t, const std::array<double, NC * NC> &B,
                          const double sign) {
       // t may be a boundary ghost: U_t = Flip U_src(t) -> columns of src with signs
@@ -451,6 +456,20 @@ namespace granhydro::diffusion
           }
         add_block(s, s, B, 1.);
       }
+  }
+
+  template <int dim>
+  void DiffusionOperator<dim>::assemble_newton_matrix(const double *W,
+                                                      const std::vector<std::vector<double>> &A,
+                                                      const double dt,
+                                                      TrilinosWrappers::SparseMatrix &M,
+                                                      const bool cross_terms) const
+  {
+    const auto        &part   = *patch.partitioner();
+    const unsigned int n_own  = patch.n_owned();
+    const unsigned int stages = A.size();
+    JacobianBlocks     J;
+    jacobian(W, J, cross_terms);
     // M = I - dt A (x) J, interleaved numbering dof * stages + stage
     M = 0;
     std::vector<types::global_dof_index> cols;

@@ -3,6 +3,7 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
 #include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/solver_gmres.h>
 #include <deal.II/lac/trilinos_solver.h>
 
 #include <cmath>
@@ -129,14 +130,16 @@ namespace granhydro::diffusion
           return rkl2_step(U, t, dt);
         case ImplicitMethod::cost_based:
           {
-            constexpr double NC = dim + 2;
+            // cost in evaluations of f, from global quantities only (dt and the explicit
+            // limit): the same choice on any number of ranks and after a restart
+            constexpr double NC     = dim + 2;
             const double     ratio  = dt / explicit_limit;
             const double     stages = rkl2_stages(ratio);
-            const double     implicit_cost =
-              2 * NC + 1 + 15 + (last_newton_iterations ? last_newton_iterations : 10) * (1 + 2.5) + 3;
+            const bool       blocks = settings.block_ilu && !settings.amg;
+            const double     implicit_cost = sdirk2_cost(NC, blocks);
             if (rkl2_blocked > 0)
               --rkl2_blocked;
-            else if (last_newton_iterations > 0 && stages < implicit_cost)
+            else if (stages < implicit_cost)
               {
                 if (rkl2_step(U, t, dt))
                   return true;
@@ -168,10 +171,32 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
-  void ImplicitIntegrator<dim>::setup_newton(const double dt, const Table &N, const bool coupled)
+  bool ImplicitIntegrator<dim>::setup_newton(const double dt, const Table &N, const bool coupled)
   {
     Timer      timer;
     const auto stages = N.size();
+    if (settings.block_ilu && !settings.amg)
+      {
+        // release the old matrix and factors first: the peak memory is the Jacobian
+        // blocks plus one matrix, then one matrix plus its factors
+        bilu.clear();
+        bmat.clear();
+        {
+          typename DiffusionOperator<dim>::JacobianBlocks J;
+          op.jacobian(W.data(), J, coupled);
+          bmat.assemble<dim + 2>(J, N, dt);
+        }
+        if (!block_part[stages])
+          block_part[stages] = block_partitioner(*patch.partitioner(), stages);
+        ++stats.jacobians;
+        stats.jacobian_seconds += timer.wall_time();
+        timer.restart();
+        const bool ok = bilu.initialize(bmat);
+        stats.preconditioner_seconds += timer.wall_time();
+        if (!ok)
+          last_failure = "block ILU(0): singular diagonal block in the Newton matrix";
+        return ok;
+      }
     M                 = &M_[stages][coupled];
     if (!have_pattern[stages][coupled])
       {
@@ -193,6 +218,7 @@ namespace granhydro::diffusion
     else
       ilu.initialize(*M);
     stats.preconditioner_seconds += timer.wall_time();
+    return true;
   }
 
   template <int dim>
@@ -243,7 +269,12 @@ namespace granhydro::diffusion
       }
     else
       {
-        setup_newton(dt, N, coupled);
+        if (!setup_newton(dt, N, coupled))
+          {
+            matrix_valid = false;
+            ++stats.newton_failures;
+            return false;
+          }
         matrix_valid   = true;
         matrix_coupled = coupled;
         matrix_N       = N;
@@ -337,8 +368,18 @@ namespace granhydro::diffusion
     const unsigned int     stages = N.size();
     const std::size_t      n      = std::size_t(patch.n_owned()) * NC;
     const MPI_Comm         comm   = patch.communicator();
-    const IndexSet         owned  = M->locally_owned_range_indices();
-    TrilinosWrappers::MPI::Vector rhs(owned, comm), delta(owned, comm);
+    const bool             blocks = settings.block_ilu && !settings.amg;
+    TrilinosWrappers::MPI::Vector rhs, delta;
+    if (blocks)
+      {
+        brhs.reinit(block_part[stages]);
+        bdelta.reinit(block_part[stages]);
+      }
+    else
+      {
+        rhs.reinit(M->locally_owned_range_indices(), comm);
+        delta.reinit(M->locally_owned_range_indices(), comm);
+      }
 
     // f = f(Y_k) at the stage value Y_k = base + dt sum_j N_kj K_j, time tk[k]
     auto stage_slope = [&](const unsigned int k) {
@@ -363,11 +404,16 @@ namespace granhydro::diffusion
         for (unsigned int k = 0; k < stages; ++k)
           {
             stage_slope(k);
-            for (std::size_t i = 0; i < n; ++i)
-              rhs[(part.local_to_global(i)) * stages + k] = -(K[i * stages + k] - f[i]);
+            if (blocks) // local numbering: unknown i, stage k at i * stages + k
+              for (std::size_t i = 0; i < n; ++i)
+                brhs.local_element(i * stages + k) = -(K[i * stages + k] - f[i]);
+            else
+              for (std::size_t i = 0; i < n; ++i)
+                rhs[(part.local_to_global(i)) * stages + k] = -(K[i * stages + k] - f[i]);
           }
-        rhs.compress(VectorOperation::insert);
-        const double r = rhs.l2_norm();
+        if (!blocks)
+          rhs.compress(VectorOperation::insert);
+        const double r = blocks ? brhs.l2_norm() : rhs.l2_norm();
         if (settings.inexact_newton && it > 0)
           {
             // Eisenstat-Walker choice 2 with its safeguard; r / r_prev is the contraction
@@ -378,15 +424,27 @@ namespace granhydro::diffusion
         const double  tol = settings.inexact_newton ? std::max(eta, settings.linear_tolerance) :
                                                        settings.linear_tolerance;
         SolverControl control(1000, std::max(tol * r, 1e-300));
-        delta = 0;
+        delta  = 0;
+        bdelta = 0;
         Timer timer;
         try
           {
-            TrilinosWrappers::SolverGMRES gmres(control);
-            if (settings.amg)
-              gmres.solve(*M, delta, rhs, amg);
+            if (blocks)
+              {
+                // right preconditioning: GMRES measures the true residual, like AztecOO;
+                // 32 temporary vectors = restart after 30 iterations, as Trilinos' default
+                using BV = LinearAlgebra::distributed::Vector<double>;
+                SolverGMRES<BV> gmres(control, typename SolverGMRES<BV>::AdditionalData(32, true));
+                gmres.solve(bmat, bdelta, brhs, bilu);
+              }
             else
-              gmres.solve(*M, delta, rhs, ilu);
+              {
+                TrilinosWrappers::SolverGMRES gmres(control);
+                if (settings.amg)
+                  gmres.solve(*M, delta, rhs, amg);
+                else
+                  gmres.solve(*M, delta, rhs, ilu);
+              }
           }
         catch (const std::exception &)
           {
@@ -406,7 +464,8 @@ namespace granhydro::diffusion
         for (std::size_t i = 0; i < n; ++i)
           for (unsigned int k = 0; k < stages; ++k)
             {
-              const double d = delta[part.local_to_global(i) * stages + k];
+              const double d =
+                blocks ? bdelta.local_element(i * stages + k) : delta[part.local_to_global(i) * stages + k];
               K[i * stages + k] += d;
               if (std::abs(d) > dmax)
                 {
@@ -460,11 +519,8 @@ namespace granhydro::diffusion
   bool ImplicitIntegrator<dim>::implicit_step(Vector &U, const double t, const double dt,
                                               const ButcherTableau &tableau)
   {
-    Timer              timer;
-    const auto         newton0 = stats.newton_iterations;
-    const bool         ok      = irk_step(U, t, dt, tableau);
-    if (ok)
-      last_newton_iterations = std::max<unsigned long long>(1, stats.newton_iterations - newton0);
+    Timer      timer;
+    const bool ok = irk_step(U, t, dt, tableau);
     ++stats.implicit_steps;
     stats.implicit_seconds += timer.wall_time();
     return ok;

@@ -1,5 +1,7 @@
 #include <granhydro/driver/simulation.h>
 
+#include <sys/resource.h>
+
 #include <deal.II/base/function_parser.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature_lib.h>
@@ -135,6 +137,7 @@ namespace granhydro
           is.inexact_newton        = scene.inexact_newton;
           is.reuse_matrix          = scene.reuse_matrix;
           is.amg                   = scene.preconditioner == "amg";
+          is.block_ilu             = scene.preconditioner == "block ilu";
           is.full_jacobian         = scene.full_jacobian;
           integrator = std::make_unique<diffusion::ImplicitIntegrator<dim>>(*diff, desc, is);
         }
@@ -614,6 +617,8 @@ namespace granhydro
     double       steady_ke = 0, steady_com = 0;
     const std::string checkpoint = scene.output_directory + "/" + scene.base_name + ".checkpoint";
     auto write_checkpoint_now = [&]() {
+      if (integrator) // a restart starts here: the integrator forgets its history too
+        integrator->restart_point();
       if (scene.write_checkpoint)
         write_checkpoint(checkpoint, t, step);
     };
@@ -656,6 +661,13 @@ namespace granhydro
     sum.temperature_repairs = Utilities::MPI::sum(temperature_repairs, comm);
     sum.max_temperature_repair = Utilities::MPI::max(max_repair, comm);
       sum.ranks              = Utilities::MPI::n_mpi_processes(comm);
+      {
+        rusage usage{};
+        getrusage(RUSAGE_SELF, &usage);
+        const double bytes    = 1024. * usage.ru_maxrss; // Linux: kilobytes
+        sum.peak_memory_max   = Utilities::MPI::max(bytes, comm);
+        sum.peak_memory_total = Utilities::MPI::sum(bytes, comm);
+      }
       sum.time_si            = t * t0;
       sum.wall_seconds       = std::chrono::duration<double>(clock::now() - start).count();
       sum.convection_seconds = Utilities::MPI::max(conv_seconds, comm);
@@ -717,6 +729,9 @@ namespace granhydro
               << " s (at t = " << sum.diffusion.min_explicit_dt_time * t0 << " s); steps up to "
               << sum.diffusion.max_dt_over_explicit << " x that limit\n";
       pcout << "  mass drift " << sum.mass_drift << " (relative)\n";
+      pcout << "  memory: peak resident " << sum.peak_memory_max / 1048576. << " MiB (largest rank), "
+            << sum.peak_memory_total / 1024. / std::max<double>(sum.max_cells, 1)
+            << " KiB per cell (all ranks, at the most cells)\n";
       if (sum.diffusion.friction_dissipation > 0)
         pcout << "  frictional dissipation (dense closure, work of mu_f lost to heat): "
               << friction_dissipation_si(sum) << (dim == 3 ? " J" : dim == 2 ? " J/m" : " J/m^2")
@@ -994,6 +1009,8 @@ namespace granhydro
         << "min_cfl_dt," << sum.min_cfl_dt_si << "\n"
         << "min_cfl_dt_time," << sum.min_cfl_dt_time_si << "\n"
         << "mass_drift," << sum.mass_drift << "\n"
+        << "peak_memory_bytes_max_rank," << sum.peak_memory_max << "\n"
+        << "peak_memory_bytes_all_ranks," << sum.peak_memory_total << "\n"
         << "temperature_repairs," << sum.temperature_repairs << "\n"
         << "max_temperature_repair_J," << sum.max_temperature_repair * units_.energy() << "\n"
         << "flux_points," << cs.flux.points << "\n"

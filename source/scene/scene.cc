@@ -412,7 +412,7 @@ namespace granhydro
 
     prm.enter_subsection("Diffusion step");
     {
-      prm.declare_entry("Integrator", "gauss-legendre",
+      prm.declare_entry("Integrator", "cost-based",
                         Patterns::Selection("gauss-legendre|implicit midpoint|sdirk2|rkl2|cost-based|automatic|explicit euler"),
                         "Time integrator of the diffusion/source step V: 2-stage Gauss-Legendre "
                         "(order 4, A-stable), implicit midpoint (order 2, A-stable), sdirk2 "
@@ -442,8 +442,11 @@ namespace granhydro
                         "while the previous step converged in <= 4 Newton iterations per stage "
                         "and dt changed by <= 10 %; a step whose iteration then fails is redone "
                         "with a fresh matrix (counted in the summary).");
-      prm.declare_entry("Preconditioner", "ilu", Patterns::Selection("ilu|amg"),
-                        "Preconditioner of GMRES: ilu (Ifpack ILU(0)) or amg (ML).");
+      prm.declare_entry("Preconditioner", "block ilu", Patterns::Selection("block ilu|ilu|amg"),
+                        "Newton matrix and preconditioner of GMRES: block ilu (granhydro's "
+                        "block-sparse matrix, one dense block per pair of neighbouring cells, "
+                        "with block ILU(0): the leanest and fastest), ilu (Trilinos Epetra "
+                        "matrix with Ifpack ILU(0)) or amg (Trilinos Epetra matrix with ML).");
       prm.declare_entry("Jacobian", "lagged", Patterns::Selection("lagged|full"),
                         "Cross-derivative terms in the Newton matrix: lagged (deferred "
                         "correction; a step whose iteration stalls is redone fully coupled) "

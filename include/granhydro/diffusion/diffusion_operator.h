@@ -83,6 +83,13 @@ namespace granhydro::diffusion
     void make_sparsity(dealii::TrilinosWrappers::SparsityPattern &sp, const unsigned int stages,
                        const bool edge_neighbours) const;
 
+    /// J = df/dU at the slot array W by finite differences: per owned cell s, the
+    /// NC x NC blocks df_s/dU_t of the cells t of its stencil (t in the partitioner's local
+    /// cell numbering: owned, then MPI ghosts; each t once). Face neighbours always; with
+    /// cross_terms also the gradient (edge) neighbours of the tangential derivatives.
+    using JacobianBlocks = std::vector<std::vector<std::pair<unsigned int, std::array<double, (dim + 2) * (dim + 2)>>>>;
+    void jacobian(const double *W, JacobianBlocks &J, const bool cross_terms = false) const;
+
     /**
      * M = I - dt (A (x) J) for the Butcher matrix A (stages x stages) with J = df/dU
      * at the slot array W, assembled into M (built on make_sparsity()).

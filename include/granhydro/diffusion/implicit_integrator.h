@@ -40,15 +40,16 @@
  * smaller dt). 'cost-based' chooses per step between SDIRK2 and RKL2 by a
  * deterministic cost model in units of one evaluation of f (the same choice on
  * any number of ranks): RKL2 costs s(dt); SDIRK2 costs its Jacobian (2 (dim + 2)
- * + 1 evaluations of the face fluxes), its preconditioner (calibrated at 15) and
+ * + 1 evaluations of the face fluxes), its preconditioner (Ifpack: calibrated at 15) and
  * per Newton iteration 1 evaluation plus GMRES (calibrated at 2.5: ~3 GMRES
- * iterations per Newton iteration with Eisenstat-Walker forcing), with the
- * Newton count of the last SDIRK2 step. An RKL2 step that fails is redone with
- * SDIRK2 and RKL2 is not tried again for 10 steps (counted).
+ * iterations per Newton iteration with Eisenstat-Walker forcing; block ILU: 2 and
+ * 1), for a fixed 12 Newton iterations per step (sdirk2_cost()). An RKL2 step that
+ * fails is redone with SDIRK2 and RKL2 is not tried again for 10 steps (counted).
  * The explicit variant (forward Euler, sub-cycled at the explicit diffusive
  * limit dt_sub = 0.9 / max_cells sum_d 2 D / dx_d^2) is kept only as the
  * baseline that shows the time-step collapse near close packing.
  */
+#include <granhydro/diffusion/block_sparse.h>
 #include <granhydro/diffusion/diffusion_operator.h>
 
 #include <deal.II/lac/la_parallel_vector.h>
@@ -93,6 +94,17 @@ namespace granhydro::diffusion
   /// the fewest RKL2 stages (>= 2) stable for dt = ratio x the forward-Euler limit:
   /// ratio <= (s^2 + s - 2) / 4
   unsigned int rkl2_stages(const double ratio);
+  /// the cost model's price of one SDIRK2 step in evaluations of f, for NC unknowns per
+  /// cell: the finite-difference Jacobian (2 NC + 1 face-flux sweeps), the preconditioner
+  /// set-up, 12 Newton iterations (two stages; 12.3-14.3 per step measured on the three
+  /// stiff benchmark scenes) of one f and GMRES each, and 3 for the final slopes.
+  /// Calibrated on bouncing_bed-ci, 1 rank: block ILU(0) 2 for the set-up and 1 per Newton
+  /// iteration for GMRES (1.3 ms and 0.9 ms against 0.84 ms per f); Trilinos' Ifpack ILU 15
+  /// and 2.5. A constant, so that the choice depends on dt and the explicit limit alone.
+  inline double sdirk2_cost(const double NC, const bool block_ilu)
+  {
+    return 2 * NC + 1 + (block_ilu ? 2. : 15.) + 12 * (1 + (block_ilu ? 1. : 2.5)) + 3;
+  }
 
   struct IntegratorSettings
   {
@@ -101,6 +113,9 @@ namespace granhydro::diffusion
     unsigned int   newton_max_iterations = 25;
     double         linear_tolerance   = 1e-12; ///< relative GMRES residual
     bool           amg                = false;
+    /// the Newton matrix as granhydro's block-sparse matrix with block ILU(0) (true) or as a
+    /// Trilinos matrix with Ifpack ILU(0) / ML AMG (false; amg needs false)
+    bool           block_ilu          = true;
     /// GMRES tolerance: Eisenstat-Walker forcing (true) or linear_tolerance always (false)
     bool           inexact_newton     = true;
     /// keep the Newton matrix and its preconditioner across steps while the modified
@@ -155,7 +170,21 @@ namespace granhydro::diffusion
       matrix_valid = false;
       for (auto &row : have_pattern)
         row[0] = row[1] = false;
+      for (auto &p : block_part)
+        p.reset();
+      bmat.clear();
+      bilu.clear();
       Y.reinit(0);
+    }
+
+    /// forget what the step history decides - the kept Newton matrix and the cost model's
+    /// counts - as at the start of a run. Called at every output time (where a checkpoint
+    /// may be written), so that a run restarted from a checkpoint takes exactly the
+    /// decisions of the uninterrupted run, whether checkpoints are written or not
+    void restart_point()
+    {
+      matrix_valid = false;
+      rkl2_blocked = 0;
     }
 
     const IntegratorStatistics &statistics() const { return stats; }
@@ -171,7 +200,8 @@ namespace granhydro::diffusion
     bool irk_step(Vector &U, const double t, const double dt, const ButcherTableau &tableau);
     bool irk_attempt(Vector &U, const double t, const double dt, const ButcherTableau &tableau, const bool full);
     /// Newton matrix I - dt N (x) J with J at the gathered state W, and its preconditioner
-    void setup_newton(const double dt, const Table &N, const bool coupled);
+    /// false if the block ILU met a singular diagonal block (Newton then fails)
+    bool setup_newton(const double dt, const Table &N, const bool coupled);
     /// modified Newton for the slopes K (interleaved, N.size() stages) of the stage values
     /// Y_k = base + dt sum_j N_kj K_j at the times tk[k], with the matrix of setup_newton;
     /// K holds the first guess. On success K_k = f(Y_k) at the converged stage values and
@@ -205,10 +235,15 @@ namespace granhydro::diffusion
     double       matrix_dt  = 0;
     unsigned int matrix_age = 0;
     bool         gmres_failed = false; ///< the last Newton iteration failed in GMRES
-    /// cost model (cost-based): Newton iterations of the last implicit step (0: none yet),
-    /// steps left before RKL2 may be tried again after a failure
-    unsigned int last_newton_iterations = 0, rkl2_blocked = 0;
+    /// cost-based: steps left before RKL2 may be tried again after a failure
+    unsigned int rkl2_blocked = 0;
     dealii::TrilinosWrappers::PreconditionILU ilu;
+    /// settings.block_ilu: the Newton matrix, its block ILU(0), and vectors on the
+    /// partitioner with `stages` values per unknown (index: stages)
+    BlockSparseMatrix bmat;
+    BlockILU          bilu;
+    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> block_part[3];
+    Vector            brhs, bdelta;
     dealii::TrilinosWrappers::PreconditionAMG amg;
     std::vector<double>                    W, U0, f;
     std::string                            last_failure;

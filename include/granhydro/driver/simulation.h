@@ -60,6 +60,9 @@ namespace granhydro
     /// thermal-energy deficit repaired per grain (scaled)
     unsigned long long temperature_repairs = 0;
     double             max_temperature_repair = 0;
+    /// peak resident memory of the process [bytes]: the largest over the ranks, and the
+    /// sum over the ranks (at the end of the run; getrusage's ru_maxrss)
+    double peak_memory_max = 0, peak_memory_total = 0;
   };
 
   /// the time loop of a scene with the constitutive description Description

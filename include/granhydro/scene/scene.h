@@ -141,13 +141,13 @@ namespace granhydro
     unsigned int vibration_direction = 1;
 
     // Diffusion step
-    std::string  integrator         = "gauss-legendre";
+    std::string  integrator         = "cost-based";
     double       newton_tolerance   = 1e-10;
     unsigned int newton_max_iterations = 25;
     double       linear_tolerance   = 1e-12;
     bool         inexact_newton     = true; ///< Linear forcing = eisenstat-walker
     bool         reuse_matrix       = true; ///< Reuse Newton matrix
-    std::string  preconditioner     = "ilu";
+    std::string  preconditioner     = "block ilu";
     bool         full_jacobian      = false;
 
     /// true if the implicit diffusion/source step V runs (granular model only)
