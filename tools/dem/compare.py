@@ -182,7 +182,11 @@ def compare(a):
         f.write(",".join(cols) + "\n")
         for r in rows:
             f.write(",".join("%.8g" % r[c] for c in cols) + "\n")
-    plot(os.path.join(a.out, "compare.png"), pairs, keycol, hcol, fcol, a, sc)
+    try:
+        plot(os.path.join(a.out, "compare.png"), pairs, keycol, hcol, fcol, a, sc)
+        plotted = "compare.png written"
+    except ImportError:
+        plotted = "compare.png not written: matplotlib is missing (apt-get install python3-matplotlib)"
     # report
     summ = read_summary(os.path.join(a.model, "summary.csv"))
     ens = {}
@@ -208,6 +212,7 @@ def compare(a):
                  % (r[keycol], r["D_phi"], r["D_flux"], r["D_T"], r["noise_phi"], r["noise_flux"], r["noise_T"],
                     1e3 * r["model_front_height_m"], 1e3 * r["dem_front_height_m"], r["model_floor_phi"], r["dem_floor_phi"],
                     1e3 * r["model_pile_height_m"], 1e3 * r["dem_pile_height_m"], 1e3 * r["model_gap_m"], 1e3 * r["dem_gap_m"]))
+    L.append(plotted)
     L.append("(D = sum|model - DEM| / sum|DEM| over the bins; n_* = the DEM's noise floor sum SE / sum|DEM|;"
              " front at phi = %g, pile phi > %g, gap phi < %g)" % (a.front_threshold, a.pile_threshold, a.gap_threshold))
     text = "\n".join(L)
