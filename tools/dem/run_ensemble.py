@@ -84,8 +84,8 @@ def run_ensemble(args, log=print):
             last[0] = now
             done = steps_done_total + step
             el = now - t_start
-            eta = el / done * (total_steps - done) if done > 0 else float("nan")
-            log("seed %d/%d  t = %.4g / %.4g s  wall %.1f s  ETA %.0f s" % (i + 1, len(seeds), step * dt, nsteps * dt, el, eta))
+            eta = "%.0f s" % (el / done * (total_steps - done)) if done > 0 else "?"
+            log("seed %d/%d  t = %.4g / %.4g s  wall %.1f s  ETA %s" % (i + 1, len(seeds), step * dt, nsteps * dt, el, eta))
             sys.stdout.flush()
 
         wall = run_one(exe, rd, args.nice, progress)
