@@ -44,7 +44,7 @@ import warnings
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from scene import AXES, Scene  # noqa: E402
+from scene import AXES  # noqa: E402
 import packing  # noqa: E402
 
 
@@ -191,6 +191,10 @@ def ensemble(run_dirs, phase_bins=0, skip_time=0.0, log=None):
         per_seed.append(sums)
         diags.append(diag)
     meta = metas[0]
+    for other in metas[1:]:
+        for k in ("bin_edges_m", "box_lo_m", "box_hi_m", "profile_direction", "vibration", "dump_interval_s"):
+            if other.get(k) != meta.get(k):
+                raise ValueError("coarse_grain: the runs differ in '%s' (not one ensemble)" % k)
     edges = np.array(meta["bin_edges_m"])
     pd = meta["profile_direction"]
     lo, hi = np.array(meta["box_lo_m"]), np.array(meta["box_hi_m"])

@@ -56,7 +56,6 @@ def find_pairs(pos, lo, hi, periodic, cutoff):
     start = np.concatenate([[0], np.cumsum(count)[:-1]])
     Is, Js = [], []
     offs = np.array([(a, b, c) for a in (-1, 0, 1) for b in (-1, 0, 1) for c in (-1, 0, 1)])
-    seen = set()
     for o in offs:
         nb = cell + o
         ok = np.ones(n, bool)
