@@ -44,6 +44,19 @@ namespace granhydro::diffusion
         }
     }
 
+    /// Z = X Y for dense B x B blocks (row-major; Y in the factors' single precision)
+    inline void block_product(const double *X, const float *Y, double *Z, const unsigned int B)
+    {
+      for (unsigned int r = 0; r < B; ++r)
+        for (unsigned int c = 0; c < B; ++c)
+          {
+            double s = 0;
+            for (unsigned int m = 0; m < B; ++m)
+              s += X[r * B + m] * Y[m * B + c];
+            Z[r * B + c] = s;
+          }
+    }
+
     /// calls f.template operator()<BB>() with BB = B for the usual block sizes (NC s with
     /// NC = 3, 4, 5 and s = 1, 2), BB = 0 (run-time size) otherwise
     template <class F>
@@ -126,12 +139,6 @@ namespace granhydro::diffusion
     src.zero_out_ghost_values();
   }
 
-  std::size_t BlockSparseMatrix::memory() const
-  {
-    return (row_ptr.capacity() + col.capacity() + diag.capacity()) * sizeof(unsigned int) +
-           val.capacity() * sizeof(double);
-  }
-
   void BlockSparseMatrix::clear()
   {
     std::vector<unsigned int>().swap(row_ptr);
@@ -147,7 +154,7 @@ namespace granhydro::diffusion
     AssertThrow(B <= 16, ExcMessage("block ILU: blocks larger than 16 x 16 are not supported"));
     const std::size_t BB = std::size_t(B) * B;
     lu.assign(A.val.size(), 0.f);
-    std::vector<double> row, L(BB); // the block row being eliminated, in double
+    std::vector<double> row, L(BB), LU(BB); // the block row being eliminated, in double
     // IKJ ILU(0) over the owned block rows; columns >= n (ghost cells) are left out. Row i
     // is eliminated in double with the finished rows k < i (stored in single precision)
     for (unsigned int i = 0; i < n; ++i)
@@ -158,16 +165,8 @@ namespace granhydro::diffusion
           {
             const unsigned int k = A.col[p];
             // L_ik = A_ik U_kk^{-1} (the diagonal block of row k holds U_kk^{-1})
-            const float *Dk  = &lu[A.diag[k] * BB];
-            double      *Aik = &row[(p - p0) * BB];
-            for (unsigned int r = 0; r < B; ++r)
-              for (unsigned int c = 0; c < B; ++c)
-                {
-                  double s = 0;
-                  for (unsigned int m = 0; m < B; ++m)
-                    s += Aik[r * B + m] * Dk[m * B + c];
-                  L[r * B + c] = s;
-                }
+            double *Aik = &row[(p - p0) * BB];
+            block_product(Aik, &lu[A.diag[k] * BB], L.data(), B);
             std::copy(L.begin(), L.end(), Aik);
             // A_ij -= L_ik U_kj for j > k present in row i (both rows sorted)
             unsigned int q = p + 1;
@@ -182,16 +181,10 @@ namespace granhydro::diffusion
                   break;
                 if (A.col[q] != j)
                   continue;
-                const float *Ukj = &lu[pk * BB];
-                double      *Aij = &row[(q - p0) * BB];
-                for (unsigned int r = 0; r < B; ++r)
-                  for (unsigned int c = 0; c < B; ++c)
-                    {
-                      double s = 0;
-                      for (unsigned int m = 0; m < B; ++m)
-                        s += L[r * B + m] * Ukj[m * B + c];
-                      Aij[r * B + c] -= s;
-                    }
+                double *Aij = &row[(q - p0) * BB];
+                block_product(L.data(), &lu[pk * BB], LU.data(), B);
+                for (std::size_t e = 0; e < BB; ++e)
+                  Aij[e] -= LU[e];
               }
           }
         if (!invert(&row[(A.diag[i] - p0) * BB], B))
@@ -244,8 +237,6 @@ namespace granhydro::diffusion
         }
     });
   }
-
-  std::size_t BlockILU::memory() const { return lu.capacity() * sizeof(float); }
 
   void BlockILU::clear()
   {

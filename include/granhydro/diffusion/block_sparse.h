@@ -52,11 +52,8 @@ namespace granhydro::diffusion
     /// dst = M src (src's ghost values are imported here)
     void vmult(Vector &dst, const Vector &src) const;
 
-    unsigned int block_size() const { return B; }
     unsigned int n_block_rows() const { return row_ptr.empty() ? 0 : row_ptr.size() - 1; }
-    /// bytes held by the matrix
-    std::size_t memory() const;
-    void        clear();
+    void         clear();
 
     unsigned int              B = 0;
     std::vector<unsigned int> row_ptr, col, diag; ///< CSR of blocks; diag: position of (s, s)
@@ -71,9 +68,8 @@ namespace granhydro::diffusion
     /// factorise; false if a diagonal block is singular (then unusable)
     bool initialize(const BlockSparseMatrix &M);
     /// dst = (LU)^{-1} src on the owned entries
-    void        vmult(Vector &dst, const Vector &src) const;
-    std::size_t memory() const;
-    void        clear();
+    void vmult(Vector &dst, const Vector &src) const;
+    void clear();
 
   private:
     const BlockSparseMatrix *M = nullptr;

@@ -5,9 +5,10 @@
  * with an implicit Runge-Kutta method, solved by a modified Newton iteration
  * with a frozen Jacobian (Houbak, Norsett & Thomsen 1985):
  *   stage slopes K_i = f(U0 + dt sum_j a_ij K_j),  U1 = U0 + dt sum_i b_i K_i,
- *   Newton matrix I - dt A (x) J with J = df/dU at U0, assembled once per step
- *   into a Trilinos matrix (interleaved numbering dof * stages + stage), solved
- *   by Trilinos GMRES with an ILU (Ifpack) or AMG (ML) preconditioner.
+ *   Newton matrix I - dt A (x) J with J = df/dU at U0 (interleaved numbering
+ *   dof * stages + stage), assembled into granhydro's block-sparse matrix and
+ *   solved by GMRES with block ILU(0) (block_sparse.h), or into a Trilinos matrix
+ *   with Ifpack ILU or ML AMG (IntegratorSettings::block_ilu, amg).
  * Butcher tables (physics.md P13; the paper's 5.14/5.15 are garbled):
  *   Gauss-Legendre 2: c = 1/2 -+ sqrt(3)/6, A = [[1/4, 1/4 - sqrt(3)/6], [1/4 + sqrt(3)/6, 1/4]], b = (1/2, 1/2)
  *   implicit midpoint: c = 1/2, A = [[1/2]], b = 1
