@@ -84,7 +84,7 @@ int main(int argc, char **argv)
       s.viscous    = visc;
       s.heat       = heat;
       s.cooling    = cool;
-      s.gravity[1] = grav ? g_scaled : 0.;
+      s.body.gravity[1] = grav ? g_scaled : 0.;
       diffusion::DiffusionOperator<2> op(patch, sim.description(), s, L);
       op.setup();
       std::vector<double> f(std::size_t(patch.n_owned()) * 4);

@@ -177,26 +177,11 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
-  std::array<double, 3> DiffusionOperator<dim>::body_force() const
-  {
-    std::array<double, 3> g = settings.gravity;
-    if (settings.vibration_amplitude != 0) // container frame: g - d^2 s/dt^2 (physics.md 5.3)
-      g[settings.vibration_direction] += settings.vibration_amplitude * settings.vibration_omega *
-                                         settings.vibration_omega *
-                                         std::sin(settings.vibration_omega * time);
-    return g;
-  }
-
-  template <int dim>
   void DiffusionOperator<dim>::source(const State<dim> &U, State<dim> &S) const
   {
     S.fill(0.);
-    const auto g = body_force();
-    for (unsigned int d = 0; d < dim; ++d)
-      {
-        S[1 + d] += U[0] * g[d];     // n g (scaled: m = 1)
-        S[dim + 1] += U[1 + d] * g[d]; // m n u . g
-      }
+    if (settings.body.active())
+      physics::BodyForce::add_source<dim>(body_force(), U.data(), S.data());
     if (settings.cooling && desc.model.eps() < 1)
       {
         const double n = U[0], T = std::max(desc.temperature(U), 0.);

@@ -97,6 +97,22 @@ namespace granhydro
   }
 
   template <int dim, class Description>
+  physics::BodyForce Simulation<dim, Description>::body_force() const
+  {
+    physics::BodyForce f;
+    // vibrated container, scaled: A / L0, omega t0
+    if (scene.vibration_amplitude > 0 && scene.vibration_frequency > 0)
+      {
+        f.amplitude = scene.vibration_amplitude / units_.length;
+        f.omega     = 2 * M_PI * scene.vibration_frequency * units_.time();
+        f.direction = scene.vibration_direction;
+      }
+    for (unsigned int d = 0; d < dim; ++d) // scaled: g L0 / V0^2
+      f.gravity[d] = scene.gravity[d] * units_.length / (units_.velocity * units_.velocity);
+    return f;
+  }
+
+  template <int dim, class Description>
   void Simulation<dim, Description>::setup()
   {
     const unsigned int r =
@@ -115,12 +131,7 @@ namespace granhydro
           ds.diagonal_only = scene.diagonal_flux;
           ds.max_free_path = scene.max_free_path / units_.length;
           ds.wall_restitution = scene.wall_restitution;
-          // vibrated container, scaled: A / L0, omega t0
-          ds.vibration_amplitude = scene.vibration_amplitude / units_.length;
-          ds.vibration_omega     = 2 * M_PI * scene.vibration_frequency * units_.time();
-          ds.vibration_direction = scene.vibration_direction;
-          for (unsigned int d = 0; d < dim; ++d) // scaled: g L0 / V0^2
-            ds.gravity[d] = scene.gravity[d] * units_.length / (units_.velocity * units_.velocity);
+          ds.body = body_force();
           diff = std::make_unique<diffusion::DiffusionOperator<dim>>(*patch_, desc, ds, units_.length);
           diff->setup();
           diffusion::IntegratorSettings is;

@@ -37,6 +37,7 @@
  * uses when the lagged iteration stalls (near-vacuum, physics.md P14).
  */
 #include <granhydro/mesh/cartesian_patch.h>
+#include <granhydro/physics/body_force.h>
 #include <granhydro/physics/granular_gas.h>
 
 #include <deal.II/lac/trilinos_sparse_matrix.h>
@@ -54,12 +55,10 @@ namespace granhydro::diffusion
     /// Knudsen cap (scaled, grain diameters; 0 = off): eta, gamma, kappa, mu times
     /// min(1, L / l) with the dilute mean free path l = 1/(sqrt(2) pi n)
     double                max_free_path = 0;
-    std::array<double, 3> gravity{{0, 0, 0}}; ///< scaled units
+    /// gravity and the container's motion, when the body force acts in this step (scaled)
+    physics::BodyForce body;
     /// grain-wall restitution per boundary id (2 d + upper for a box); < 1: dissipative wall heat flux
     std::array<double, 6> wall_restitution{{1, 1, 1, 1, 1, 1}};
-    /// vibrated container (physics.md 5.3), scaled units: g_eff(t) = g + A w^2 sin(w t) e_s
-    double       vibration_amplitude = 0, vibration_omega = 0;
-    unsigned int vibration_direction = 0;
   };
 
   template <int dim>
@@ -119,7 +118,7 @@ namespace granhydro::diffusion
     void set_time(const double t) const { time = t; }
 
     /// the body force per unit mass at the current time (scaled units)
-    std::array<double, 3> body_force() const;
+    std::array<double, 3> body_force() const { return settings.body.at(time); }
 
   private:
     /// a face on a dissipative wall: eps_w and the sign of the wall's outward normal

@@ -128,6 +128,8 @@ namespace granhydro
     unsigned int n_adaptations() const { return adaptations; }
 
   private:
+    /// gravity and the container's inertial force in scaled units
+    physics::BodyForce body_force() const;
     /// rebuild the operators' tables after the patch changed
     void mesh_changed();
     void print_header() const;
