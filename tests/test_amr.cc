@@ -160,11 +160,17 @@ end
   {
     double rho[2], u[2], p[2], gamma, t_end;
   };
+  /// studies (mode "sod-study") may change the problem, the finest lattice and reuse a
+  /// uniform reference through GRANHYDRO_SOD_* environment variables; the ctest (mode
+  /// "sod") never reads them, so the environment cannot change what it asserts
+  bool study_mode = false;
+  const char *study_env(const char *name) { return study_mode ? std::getenv(name) : nullptr; }
+
   /// Sod (gamma 5/3, t = 0.2), or Toro's 123 problem (two rarefactions leaving a
-  /// near-vacuum, gamma 1.4, t = 0.15) if GRANHYDRO_SOD_PROBLEM=123
+  /// near-vacuum, gamma 1.4, t = 0.15) if GRANHYDRO_SOD_PROBLEM=123 (studies only)
   RiemannCase riemann_case()
   {
-    const char *pr = std::getenv("GRANHYDRO_SOD_PROBLEM");
+    const char *pr = study_env("GRANHYDRO_SOD_PROBLEM");
     if (pr && std::string(pr) == "123")
       return {{1, 1}, {-2, 2}, {0.4, 0.4}, 1.4, 0.15};
     return {{1, 0.125}, {0, 0}, {1, 0.1}, 5. / 3., 0.2};
@@ -259,10 +265,10 @@ end
         const int bin = std::min(39, std::max(0, int(xs / double(dim) * 40)));
         by_xi[bin] += interior ? ec : 0.;
       }
-    if (std::getenv("GRANHYDRO_SOD_LEVELS"))
+    if (study_env("GRANHYDRO_SOD_LEVELS"))
       for (unsigned int l = 0; l < 8; ++l)
         std::cout << "    level " << l / 2 << (l % 2 ? " fallback" : " uniform") << ": " << by_level[l] << "\n";
-    if (std::getenv("GRANHYDRO_SOD_LEVELS"))
+    if (study_env("GRANHYDRO_SOD_LEVELS"))
       for (unsigned int b = 0; b < 40; ++b)
         std::cout << "    interior, (x+y(+z))/dim in [" << b / 40. << ", " << (b + 1) / 40.
                   << "): " << by_xi[b] << "\n";
@@ -351,12 +357,13 @@ int main(int argc, char **argv)
           compare_ranks<2, physics::GranularGas<2>>("2D granular gas with AMR, all effects",
                                                     parse_scene(granular_2d, "granular_2d"), chk, 1e-10);
         }
-      else if (what == "sod" && argc >= 3)
+      else if ((what == "sod" || what == "sod-study") && argc >= 3)
         {
+          study_mode = what == "sod-study";
           const unsigned int dim    = std::atoi(argv[2]);
           const unsigned int level  = argc > 6 ? std::atoi(argv[6]) : 2;
           // finest lattice: 256^2 / 32^3 unless GRANHYDRO_SOD_FINEST says otherwise
-          const char        *fe     = std::getenv("GRANHYDRO_SOD_FINEST");
+          const char        *fe     = study_env("GRANHYDRO_SOD_FINEST");
           const unsigned int finest = fe ? std::atoi(fe) : (dim == 2 ? 256 : 32);
           const unsigned int base   = finest >> level;
           const double       refine = argc > 3 ? std::atof(argv[3]) : 0.1;
@@ -370,7 +377,7 @@ int main(int argc, char **argv)
           const std::string  amr = sod_diagonal(dim, base, level, refine, coarsen, buffer, ind, interval);
           // GRANHYDRO_SOD_UNIFORM="error,error_all,cells,cell_steps,wall" reuses a uniform run
           // printed before (for parameter scans on large meshes)
-          if (const char *ue = std::getenv("GRANHYDRO_SOD_UNIFORM"))
+          if (const char *ue = study_env("GRANHYDRO_SOD_UNIFORM"))
             {
               std::istringstream is(ue);
               char               sep;
@@ -381,7 +388,7 @@ int main(int argc, char **argv)
             sod_run<2>(uni, eu, eu_all, nu, mu, cu, wu);
           else
             sod_run<3>(uni, eu, eu_all, nu, mu, cu, wu);
-          if (chk.root && !std::getenv("GRANHYDRO_SOD_UNIFORM"))
+          if (chk.root && !study_env("GRANHYDRO_SOD_UNIFORM"))
             std::cout << "uniform: GRANHYDRO_SOD_UNIFORM=" << std::setprecision(17) << eu << "," << eu_all << ","
                       << nu << "," << cu << "," << wu << std::setprecision(6) << std::endl;
           if (dim == 2)
@@ -411,7 +418,7 @@ int main(int argc, char **argv)
         }
       else
         {
-          std::cerr << "usage: test_amr conservation|mpi|sod DIM" << std::endl;
+          std::cerr << "usage: test_amr conservation|mpi|sod DIM [refine coarsen buffer levels indicator interval]|sod-study DIM [...] (reads GRANHYDRO_SOD_*)" << std::endl;
           return 2;
         }
     }

@@ -1,3 +1,4 @@
+#include <granhydro/physics/packing_fraction.h>
 #include <granhydro/convection/convection_operator.h>
 #include <granhydro/physics/granular_gas.h>
 
@@ -488,7 +489,7 @@ namespace granhydro::convection
                   {
                     std::ostringstream os;
                     os << "convective stage at x = " << patch.center(s)
-                       << " m even with first-order fluxes: packing fraction " << S[0] * M_PI / 6
+                       << " m even with first-order fluxes: packing fraction " << physics::packing_fraction(S[0])
                        << ", T = " << desc.temperature(S) << " (scaled units)";
                     last_failure = os.str();
                   }
@@ -586,7 +587,7 @@ namespace granhydro::convection
         for (unsigned int c = 0; c < NC; ++c)
           S[c] = U.local_element(std::size_t(bad) * NC + c);
         os << "cell at x = " << patch.center(bad) << " m: n*sigma^3 = " << S[0]
-           << ", packing fraction " << S[0] * M_PI / 6 << ", T = " << desc.temperature(S)
+           << ", packing fraction " << physics::packing_fraction(S[0]) << ", T = " << desc.temperature(S)
            << " (scaled units)";
         *what = os.str();
       }

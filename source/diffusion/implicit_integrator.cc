@@ -1,3 +1,4 @@
+#include <granhydro/physics/packing_fraction.h>
 #include <granhydro/diffusion/implicit_integrator.h>
 
 #include <deal.II/base/mpi.h>
@@ -88,7 +89,7 @@ namespace granhydro::diffusion
           {
             std::ostringstream os;
             os << "diffusion step result inadmissible at x = " << patch.center(s)
-               << " m: packing fraction " << S[0] * M_PI / 6 << ", T = " << desc.temperature(S)
+               << " m: packing fraction " << physics::packing_fraction(S[0]) << ", T = " << desc.temperature(S)
                << " (scaled units)";
             last_failure = os.str();
           }
@@ -501,7 +502,7 @@ namespace granhydro::diffusion
               {
                 const unsigned int c = imax / NC;
                 os << ", largest in component " << imax % NC << " of the cell at x = "
-                   << patch.center(c) << " m (packing fraction " << base[c * NC] * M_PI / 6
+                   << patch.center(c) << " m (packing fraction " << physics::packing_fraction(base[c * NC])
                    << ")";
               }
             last_failure = os.str();

@@ -1,3 +1,4 @@
+#include <granhydro/physics/packing_fraction.h>
 #include <granhydro/driver/simulation.h>
 
 #include <sys/resource.h>
@@ -949,7 +950,7 @@ namespace granhydro
         for (unsigned int s = 0; s < patch_->n_owned(); ++s)
           {
             const double n   = V.local_element(std::size_t(s) * NC);
-            const double phi = n * M_PI / 6;
+            const double phi = physics::packing_fraction(n);
             all += n;
             if (phi > max_phi)
               {

@@ -1,3 +1,4 @@
+#include <granhydro/physics/packing_fraction.h>
 #include <granhydro/io/output.h>
 
 #include <deal.II/base/mpi.h>
@@ -68,7 +69,7 @@ namespace granhydro::io
               U[c] = in.solution_values[q][c];
             const double n = U[0], p = desc.pressure(U), T = desc.temperature(U);
             unsigned int k = 0;
-            out[q][k++] = n * M_PI / 6.; // phi (sigma = 1 in scaled units)
+            out[q][k++] = physics::packing_fraction(n);
             out[q][k++] = n * units.number_density();
             out[q][k++] = n * units.number_density() * units.mass;
             for (unsigned int d = 0; d < dim; ++d)
@@ -250,7 +251,7 @@ namespace granhydro::io
           {
             for (unsigned int c = 0; c < NC; ++c)
               sum[l * ncol + c] += w * S[c];
-            sum[l * ncol + NC]     += w * S[0] * M_PI / 6.;
+            sum[l * ncol + NC]     += physics::packing_fraction(w * S[0]);
             sum[l * ncol + NC + 1] += w * T;
             sum[l * ncol + NC + 2] += w * ke;
             sum[l * ncol + NC + 3] += w * th;
@@ -341,7 +342,7 @@ namespace granhydro::io
                   v[0] += w * S[0];
                   for (unsigned int d = 0; d < 3; ++d)
                     v[1 + d] += w * S[1 + d];
-                  v[4] += w * S[0] * M_PI / 6.;
+                  v[4] += physics::packing_fraction(w * S[0]);
                   v[5] += w * T;
                   v[6] += w;
                   v[7] += w * S[4];

@@ -891,8 +891,9 @@ namespace granhydro
     // ---- virtual cells ----------------------------------------------------------------------
     // Every position of the reconstruction box (Chebyshev radius r) of a face cell that is
     // not a leaf of the cell's level gets a virtual cell: the volume average of the finer
-    // leaves inside it (restriction) or the value of the coarser leaf that contains it
-    // (prolongation, piecewise constant); outside a wall, the mirror of such a position.
+    // leaves inside it (restriction) or the linear prolongation of the coarser leaf that
+    // contains it (its value plus central-difference slopes, region_sources below); outside
+    // a wall, the mirror of such a position.
     // WENO then runs on a uniform (partly virtual) neighbourhood everywhere.
     struct Virtual
     {

@@ -31,8 +31,8 @@
  * has a level k and lattice coordinates at its own level; neighbor(s, d, o)
  * is the neighbour at the same level: a leaf, a wall ghost, or a *virtual
  * cell* where the neighbourhood is refined (volume average of the leaves
- * inside: restriction) or coarser (the coarse leaf's value: piecewise-constant
- * prolongation), so WENO runs on a uniform neighbourhood everywhere (the
+ * inside: restriction) or coarser (the coarse leaf's value plus its
+ * central-difference slopes at the virtual cell's centre: linear prolongation), so WENO runs on a uniform neighbourhood everywhere (the
  * approach of AMReX, Athena++, ForestClaw). uniform(s) is true when s's whole
  * (r)-box (Chebyshev radius r = ghost_width - 1) consists of leaves or wall
  * ghosts of its level (output field 'uniform_stencil').

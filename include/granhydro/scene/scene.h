@@ -190,7 +190,7 @@ namespace granhydro
   /// declare every parameter with its default, pattern and documentation
   void declare_scene_parameters(dealii::ParameterHandler &prm);
 
-  /// the embedded default scene (a Sod shock tube in the ideal-gas limit)
+  /// the embedded default scene (a 2D cylindrical blast in the ideal-gas limit)
   std::string default_scene_text();
 
   /**
