@@ -6,6 +6,7 @@
 #include <deal.II/base/utilities.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -762,11 +763,35 @@ end
   {
     if (filename.empty())
       return parse_scene(default_scene_text(), "<default scene>");
+    // a scene is a regular text file of reasonable size: a directory, /dev/null or
+    // /dev/zero would otherwise run the default scene or exhaust the memory
+    std::error_code ec;
+    const auto      status = std::filesystem::status(filename, ec);
+    if (ec || !std::filesystem::exists(status))
+      throw SceneError("cannot open scene file '" + filename + "': no such file");
+    if (!std::filesystem::is_regular_file(status))
+      throw SceneError("scene file '" + filename +
+                       "' is not a regular file (a directory or a device); give a .prm file");
+    constexpr std::uintmax_t max_bytes = 16u << 20;
+    if (std::filesystem::file_size(filename, ec) > max_bytes || ec)
+      throw SceneError("scene file '" + filename + "' is larger than 16 MiB (or unreadable); a "
+                       "scene is a short parameter file");
     std::ifstream in(filename);
     if (!in)
       throw SceneError("cannot open scene file '" + filename + "'");
     std::stringstream ss;
     ss << in.rdbuf();
+    // only comments and blank lines: refuse rather than silently run every default
+    std::istringstream lines(ss.str());
+    bool               statement = false;
+    for (std::string line; !statement && std::getline(lines, line);)
+      {
+        const auto b = line.find_first_not_of(" \t\r");
+        statement    = b != std::string::npos && line[b] != '#';
+      }
+    if (!statement)
+      throw SceneError("scene file '" + filename + "' sets no parameter (it is empty or holds only "
+                       "comments); run granhydro without a file for the default scene");
     return parse_scene(ss.str(), filename);
   }
 
