@@ -452,9 +452,13 @@ namespace granhydro::diffusion
             stats.linear_seconds += timer.wall_time();
             ++stats.linear_failures;
             gmres_failed = true;
-            stats.linear_iterations += control.last_step();
-            last_failure = "GMRES did not reach its tolerance in " + std::to_string(control.last_step()) +
-                           " iterations";
+            // a solver that fails before its first check leaves last_step() at
+            // invalid_unsigned_int: count its full budget, never a wrapped 2^32 - 1
+            const unsigned int k = control.last_step() == numbers::invalid_unsigned_int ?
+                                     control.max_steps() :
+                                     control.last_step();
+            stats.linear_iterations += k;
+            last_failure = "GMRES did not reach its tolerance in " + std::to_string(k) + " iterations";
             return false;
           }
         stats.linear_seconds += timer.wall_time();

@@ -920,15 +920,29 @@ namespace granhydro
             last_progress       = now;
             const double wall   = std::chrono::duration<double>(now - start).count();
             const double frac   = t / t_end;
+            // rate and ETA from this run's own steps and time (a restart starts mid-way);
+            // with Time/Maximum steps the run ends at whichever comes first
+            const double done   = (t - start_time_) / std::max(t_end - start_time_, 1e-300);
+            const double rate   = (step - start_step_) / std::max(wall, 1e-12);
+            double       eta    = wall * (1 - done) / std::max(done, 1e-12);
+            if (scene.max_steps > 0 && rate > 0)
+              eta = std::min(eta, (double(scene.max_steps) - step) / rate);
             pcout << "  t = " << std::scientific << std::setprecision(4) << t * t0 << " s ("
                   << std::fixed << std::setprecision(1) << 100 * frac << " %)  dt = "
                   << std::scientific << std::setprecision(3) << dt * t0 << " s  step " << step
-                  << "  " << std::fixed << std::setprecision(1) << step / wall << " steps/s  ETA "
-                  << hms(wall * (1 - frac) / std::max(frac, 1e-12)) << std::defaultfloat
-                  << std::setprecision(6) << "\n";
+                  << "  " << std::fixed << std::setprecision(1) << rate << " steps/s  ETA "
+                  << hms(eta) << std::defaultfloat << std::setprecision(6) << "\n";
           }
       }
-    finish(sum.steady ? "steady" : (wall_limited ? "wall time limit" : "completed"));
+    // Time/Maximum steps reached before the end time: say so, not "completed"
+    const bool step_limited = !sum.steady && !wall_limited && t < t_end * (1 - 1e-12);
+    if (step_limited)
+      pcout << "  step limit (Time/Maximum steps = " << scene.max_steps << ") reached at t = " << t * t0
+            << " s of " << scene.end_time << " s\n";
+    finish(sum.steady ? "steady" :
+           wall_limited ? "wall time limit" :
+           step_limited ? "maximum steps" :
+                          "completed");
     return sum;
   }
 
