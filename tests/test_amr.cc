@@ -1,4 +1,4 @@
-// Adaptive octree refinement (issue 5).
+// Adaptive octree refinement (README, "Adaptive mesh refinement").
 //   test_amr conservation : a 3D periodic blast (ideal gas, WENO5) refined and coarsened
 //                           every 5 steps for 500 steps: mass and energy are conserved to
 //                           1e-13 relative (hanging-face fluxes are fine sub-faces taken by
@@ -404,7 +404,7 @@ int main(int argc, char **argv)
              << " x; whole domain " << ea_all << ", " << ea_all / eu_all << " x), cells at the end " << na << " (" << double(na) / nu
              << "), at most " << ma << " (" << double(ma) / nu << "), cell-steps " << ca / cu
              << " of the uniform run's, " << wa << " s (" << wa / wu << " x)";
-          // Issue 5's target: the uniform mesh's L1 error within 10 % with at most 30 % of
+          // The target: the uniform mesh's L1 error within 10 % with at most 30 % of
           // its cells (the largest count the adaptive mesh had at any time), asserted on
           // both errors: the interior one (where the 1D solution is exact) and the whole
           // domain's (dominated by the outflow corners). Measured with the defaults (256^2

@@ -1,4 +1,4 @@
-// Issue 4 acceptance 3: the sedimentation scene resolved as a 1D column
+// The sedimentation scene resolved as a 1D column
 // (parameters/sedimentation_column_1d.prm) and in 3D (parameters/sedimentation-ci.prm,
 // horizontally periodic) agree in their horizontal averages. The 3D state stays
 // horizontally uniform, so transverse fluxes cancel exactly and the 3D run performs

@@ -1,4 +1,4 @@
-// Acceptance 3 of the foundation issue: mass, momentum and energy are conserved
+// Mass, momentum and energy are conserved
 // to 1e-13 relative on a periodic box over 1000 steps, with a strong blast so
 // that shocks, the positivity limiter and the a-posteriori first-order fallback
 // are exercised. The scheme is conservative by construction (one flux per face,

@@ -1,9 +1,8 @@
-// Plane Couette flow between no-slip adiabatic walls (physics.md 6(c); issue 4
-// acceptance 1): walls at y = 0 and y = H move with -+ gdot H/2 along x, no gravity.
+// Plane Couette flow between no-slip adiabatic walls (doc/physics.md 6(c)): walls at y = 0 and y = H move with -+ gdot H/2 along x, no gravity.
 // The uniform state with a linear velocity profile is an exact solution whose
 // temperature follows ds/dt = A - B s^2 (s = sqrt(T), A = eta^ gdot^2/(3n),
 // B = zeta^/2) towards the simple-shear steady state T_s, where viscous heating
-// (supplied by the walls' shear stress, physics.md 5.1 / P10) balances cooling.
+// (supplied by the walls' shear stress, doc/physics.md 5.1 / P10) balances cooling.
 // Checks the transient at 0.05 s and the steady state to 1 % (phi = 0.3, eps = 0.9,
 // gdot = 10/s: T_s = 1.683131e-10 J, T(0.05 s) = 1.896610e-9 J from T0 = 1e-8 J),
 // and that with slip walls (no wall shear stress) the gas just cools (Haff).
@@ -43,7 +42,7 @@ namespace
     return os.str();
   }
 
-  /// exact homogeneous temperature under shear (physics.md 6(c))
+  /// exact homogeneous temperature under shear (doc/physics.md 6(c))
   double T_exact(const double t, const double shear)
   {
     const physics::GarzoDufty1999 gd(eps);
@@ -91,10 +90,10 @@ int main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   Checker                                  chk;
-  // the exact formula reproduces physics.md's numbers
+  // the exact formula reproduces doc/physics.md's numbers
   chk.check(std::abs(T_exact(0.05, gdot) / 1.896610e-9 - 1) < 1e-6 &&
               std::abs(T_exact(100., gdot) / 1.683131e-10 - 1) < 1e-6,
-            "exact shear transient reproduces physics.md 6(c): T(0.05 s) = 1.896610e-9 J, T_s = 1.683131e-10 J");
+            "exact shear transient reproduces doc/physics.md 6(c): T(0.05 s) = 1.896610e-9 J, T_s = 1.683131e-10 J");
   for (const double t : {0.05, 0.2, 1.5})
     {
       double     Tm;

@@ -1,4 +1,4 @@
-// The diffusion/source step V and the Strang splitting (issue acceptance 4, 4b):
+// The diffusion/source step V and the Strang splitting :
 //  A. temporal order of the implicit integrators on a nonlinear diffusion problem
 //     (1D granular gas, eps = 0.9: viscosity, heat conduction with the mu term,
 //     cooling; convection off), against a reference with 16x smaller steps:

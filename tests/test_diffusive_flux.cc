@@ -1,4 +1,4 @@
-// Unit test of include/granhydro/physics/diffusive_flux.h (physics.md 4.1-4.3,
+// Unit test of include/granhydro/physics/diffusive_flux.h (doc/physics.md 4.1-4.3,
 // paper (2.2), (2.3), (5.1)-(5.9), (A1)-(A10)). Standalone, no framework:
 //   g++ -std=c++17 -O2 -Wall -Wextra -I<repo>/include test_diffusive_flux.cc
 // Exit status 0 on success; otherwise a message names the failing check.
@@ -6,7 +6,7 @@
 // Tolerance. Every comparison below is between two evaluations of the same
 // exact expression, so they differ only by floating-point round-off. Errors
 // are measured relative to a *flux scale*: the sum of absolute values of all
-// terms of the primitive formula (physics.md 4.1), with each primitive
+// terms of the primitive formula (doc/physics.md 4.1), with each primitive
 // gradient inflated by the magnitudes the chain rule of 4.1 combines to
 // recover it from dU (the conditioning of conservative -> primitive, which can
 // cancel heavily, e.g. d(nE) - E dn at small T). Standard error analysis bounds
@@ -397,7 +397,7 @@ int main()
       }
   }
 
-  // Dense closure (physics.md 4.5): the contact potential energy n w(n) is part of nE but
+  // Dense closure (doc/physics.md 4.5): the contact potential energy n w(n) is part of nE but
   // not thermal, so the temperature gradient recovered from dU must not contain it.
   // Default Johnson-Jackson closure in scaled units (1 mm glass grains: F = 0.05 Pa is
   // 3.7e-3 m g / sigma^2), phi_min 0.5, phi_c 0.64, across 0.5 < phi < 0.63.

@@ -1,4 +1,4 @@
-// Effects (design.md "Scenes and effects"; issue 4 acceptance 2):
+// Effects: only the operators a scene calls for are built and run:
 //  a. a granular scene with eps = 1, no gravity and no transport builds no diffusion
 //     step (0 Newton/GMRES work, counted) and equals, bit for bit, a hand-written
 //     SSP-RK3 loop over the bare convection operator with the same time steps;
@@ -103,7 +103,7 @@ int main(int argc, char **argv)
         physics::State<2> U;
         std::copy(&W[s * 4], &W[s * 4 + 4], U.begin());
         const double n = U[0], T = desc.temperature(U);
-        // hand-made references of the sources (physics.md 1, 3.5; scaled units m = sigma = 1)
+        // hand-made references of the sources (doc/physics.md 1, 3.5; scaled units m = sigma = 1)
         const double cool = -1.5 * n * T * desc.model.zeta0(n, T, 1., 1.);
         const double gref[4] = {0, 0, n * g_scaled, U[2] * g_scaled};
         for (unsigned int c = 0; c < 4; ++c)

@@ -1,12 +1,12 @@
-// Homogeneous cooling state (physics.md 6(a)): a uniform granular gas at rest in a
+// Homogeneous cooling state (doc/physics.md 6(a)): a uniform granular gas at rest in a
 // 3D periodic box cools by Haff's law T(t) = T0 / (1 + zeta0(T0) t / 2)^2.
 // Runs the full code path (Strang splitting with the convective step, the implicit
 // diffusion/source step with Newton and GMRES) for eps = 0.9, 0.7 and phi = 0.1, 0.5
-// over 10 collision times (1/nu0, physics.md 3.1) with the Gauss-Legendre and the
+// over 10 collision times (1/nu0, doc/physics.md 3.1) with the Gauss-Legendre and the
 // implicit-midpoint integrators, and asserts
-//  - |T - T_Haff| / T_Haff <= 1e-6 at the end (issue acceptance 3), and
+//  - |T - T_Haff| / T_Haff <= 1e-6 at the end, and
 //  - the temporal order on this nonlinear ODE from two step sizes:
-//    Gauss-Legendre >= 3.8, implicit midpoint and SDIRK2 >= 1.9 (acceptance 4, integrator part).
+//    Gauss-Legendre >= 3.8, implicit midpoint and SDIRK2 >= 1.9 .
 #include "test_common.h"
 
 #include <iomanip>

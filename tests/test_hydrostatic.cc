@@ -1,4 +1,4 @@
-// Isothermal hydrostatic column (physics.md 6(d); issue acceptance 5): elastic
+// Isothermal hydrostatic column (doc/physics.md 6(d)): elastic
 // grains (eps = 1: no cooling, mu = 0), gravity -g e_x, slip walls at bottom and top,
 // started from the exact equilibrium profile G(phi(y)) = G(phi0) - (m g / T) y with
 // G = ln phi + Z + 2 (1 + eps) X (cell averages by Gauss quadrature). After 1000

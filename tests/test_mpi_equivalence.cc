@@ -1,4 +1,4 @@
-// Acceptance 4 of the foundation issue: a run on N MPI ranks gives the same
+// A run on N MPI ranks gives the same
 // state as on 1 rank (here: bit for bit; the assertion allows 1e-12 relative).
 // Run under mpirun -np N: the N-rank run uses MPI_COMM_WORLD, then rank 0
 // repeats the scene alone on MPI_COMM_SELF and compares cell by cell (cells

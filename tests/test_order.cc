@@ -1,4 +1,4 @@
-// Acceptance 2 of the foundation issue: measured order of accuracy in L1 on
+// Measured order of accuracy in L1 on
 // smooth periodic problems, on the finest pair of a refinement ladder, with a
 // time step small enough that SSP-RK3 (third order) does not limit it:
 //  - 1D density wave, WENO5: >= 4.5 (dt ~ h^(5/3), so dt^3 ~ h^5)

@@ -1,4 +1,4 @@
-// Acceptance 1 of the foundation issue: Sod, Lax and the 123 problem on 200
+// Exact Riemann problems: Sod, Lax and the 123 problem on 200
 // cells against the exact Riemann solution (tests/exact_riemann.h), in 1D and
 // laid along x, y and z of a 3D box (3 periodic cells across), where the
 // three orientations must agree to round-off by symmetry.

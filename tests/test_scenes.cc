@@ -1,4 +1,4 @@
-// Issue 4 acceptance 5: the small (-ci) variants of the paper's three scenes run to
+// The small (-ci) variants of the paper's three scenes run to
 // their end time as the parameter files say (only the output is switched off) and
 //  - stay admissible (n > 0, T > 0, phi < phi_c) with no NaN,
 //  - conserve mass to 1e-12 relative (all three scenes are closed or periodic; the

@@ -1,4 +1,4 @@
-// Issue 6: the stability suite. Each hard case is a scene in parameters/hard/ (the
+// The stability suite. Each hard case is a scene in parameters/hard/ (the
 // -ci file at CI size; the file without -ci is the larger version of the README).
 // Every case must
 //  - reach its end time (or, for the collapse without a closure, stop with the

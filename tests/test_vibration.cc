@@ -1,4 +1,4 @@
-// Vibrated container as a non-inertial frame (physics.md 5.3; issue 4 acceptance 1):
+// Vibrated container as a non-inertial frame (doc/physics.md 5.3):
 //  1. uniform elastic gas in a periodic box (no walls to push it): in the container
 //     frame it accelerates uniformly with g_eff(t) = A w^2 sin(w t), u(t) = A w (1 - cos w t),
 //     with n and T unchanged; in the lab frame (output adds ds/dt = A w cos w t) it moves

@@ -1,11 +1,11 @@
-// Boundary types with known answers (issue 4 acceptance 1):
+// Boundary types with known answers:
 //  1. a slip wall reflects a 1D shock exactly as the symmetric Riemann problem
 //     (mirror data across the wall): the half-domain run with the wall equals the
 //     left half of the full symmetric run bit for bit;
 //  2. an elastic closed box (granular, eps = 1, viscosity and heat conduction, no
 //     gravity) conserves mass and energy to round-off, with slip walls and with
 //     no-slip walls at rest (no work, no heat through the walls);
-//  3. a dissipative wall drains energy at the rate of physics.md 5.2:
+//  3. a dissipative wall drains energy at the rate of doc/physics.md 5.2:
 //     dE/dt = -(1 - eps_w) p sqrt(2 T/(pi m)) per unit wall area for a uniform gas at rest.
 #include "test_common.h"
 
@@ -100,7 +100,7 @@ int main(int argc, char **argv)
       // flux form in both steps and the final stage slopes f(Y) of the implicit step: round-off
       chk.check(sum.steps == 40 && dm < 1e-13 && de < 1e-13, os.str());
     }
-  // ---- 3. dissipative walls drain energy at the rate of physics.md 5.2 ----------------
+  // ---- 3. dissipative walls drain energy at the rate of doc/physics.md 5.2 ----------------
   {
     const double sigma = 1e-3, m = 2600 * M_PI * 1e-9 / 6, phi = 0.2, T = 1e-8, eps_w = 0.8, dt = 1e-6;
     Simulation<2, physics::GranularGas<2>> sim(parse_scene(granular_box("slip wall", eps_w, 1, "0.2", "1e-8", dt), "box"),

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The explicit-diffusion baseline on the hard cases (issue 6): each scene runs twice,
+"""The explicit-diffusion baseline on the hard cases: each scene runs twice,
 with its own implicit diffusion step and with 'Diffusion step/Integrator = explicit
 euler' (forward Euler sub-cycled at the explicit diffusive limit 0.9 / max sum_d 2D/dx_d^2,
 at most 1e6 sub-steps per step, then the run stops and says where the limit collapsed),

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Work-precision study of granhydro's scheme choices (issue 6, first bullet).
+"""Work-precision study of granhydro's scheme choices: what accuracy costs in time.
 
 Runs ladders of resolutions / time steps for several scheme choices on
 reference problems with known answers, records error and cost per run, draws
@@ -242,11 +242,11 @@ class ExactRiemann:
 
 
 # ---------------------------------------------------------------------------
-# physics needed by the references (physics.md sections 2, 3)
+# physics needed by the references (doc/physics.md sections 2, 3)
 # ---------------------------------------------------------------------------
 
 def torquato_chi(phi, phi_f=0.49, phi_c=0.64, delta=1e-3):
-    """Torquato's pair correlation at contact with the C1 guard (physics.md 2)."""
+    """Torquato's pair correlation at contact with the C1 guard (doc/physics.md 2)."""
     def pole(x):
         if x <= phi_f:
             return (1 - x / 2) / (1 - x) ** 3, (2.5 - x) / (1 - x) ** 4
@@ -260,7 +260,7 @@ def torquato_chi(phi, phi_f=0.49, phi_c=0.64, delta=1e-3):
 
 
 def haff_rates(phi, eps, T, sigma, rho_s):
-    """(zeta0, nu0) [1/s] of Garzo-Dufty (1999), physics.md 3.1-3.5."""
+    """(zeta0, nu0) [1/s] of Garzo-Dufty (1999), doc/physics.md 3.1-3.5."""
     m = rho_s * math.pi * sigma ** 3 / 6
     a = eps
     cstar = 32 * (1 - a) * (1 - 2 * a * a) / (81 - 17 * a + 30 * a * a * (1 - a))
@@ -271,7 +271,7 @@ def haff_rates(phi, eps, T, sigma, rho_s):
 
 
 def haff_temperature(T0, zeta0_T0, t):
-    """Haff's law T0 / (1 + zeta0(T0) t / 2)^2 (physics.md 6(a))."""
+    """Haff's law T0 / (1 + zeta0(T0) t / 2)^2 (doc/physics.md 6(a))."""
     return T0 / (1 + zeta0_T0 * t / 2) ** 2
 
 
@@ -1176,7 +1176,7 @@ def report(out):
 # ---------------------------------------------------------------------------
 
 def self_test():
-    """The exact solutions against published numbers (physics.md 6, Toro's tables)."""
+    """The exact solutions against published numbers (doc/physics.md 6, Toro's tables)."""
     ok = True
 
     def check(what, got, want, rel):
@@ -1210,7 +1210,7 @@ def self_test():
 def parse_args(argv, repo):
     p = argparse.ArgumentParser(
         prog="work_precision.py",
-        description="Work-precision study of granhydro's scheme choices (issue 6).")
+        description="Work-precision study of granhydro's scheme choices.")
     p.add_argument("--granhydro", default=os.path.join(repo, "build", "granhydro"),
                    help="the granhydro executable (default: build/granhydro of this checkout)")
     p.add_argument("--out", default="study", help="output directory (default: study)")

@@ -102,8 +102,8 @@ namespace granhydro::diffusion
     // The gradients come from differences of the *thermal* states U* = U - (0, .., 0, n w(n)):
     // the contact energy n w of a dense closure is not thermal, and w changes by orders of
     // magnitude across a cell near phi_c, so it is removed exactly from each cell's state
-    // before the chain rule of physics.md 4.1 (at the face state) turns the differences into
-    // gradients of u and of the granular T - never of T + 2w/3 (physics.md 4.5).
+    // before the chain rule of doc/physics.md 4.1 (at the face state) turns the differences into
+    // gradients of u and of the granular T - never of T + 2w/3 (doc/physics.md 4.5).
     // physics::primitive_gradients(..., dw_dn) is the pointwise form of the same
     // correction. Without a closure U* = U and nothing changes.
     auto thermal = [&](const double *U, double *Us) {
@@ -151,7 +151,7 @@ namespace granhydro::diffusion
       {
         // frictional (contact) shear stress of the dense closure: its momentum flux is
         // part of F, its work tau_f.u is not - that energy leaves the grains as heat
-        // (physics.md 4.5); residual() adds u . div(tau_f) to the energy instead, so that
+        // (doc/physics.md 4.5); residual() adds u . div(tau_f) to the energy instead, so that
         // T obeys the kinetic equation only. friction = (work flux, momentum flux).
         const physics::DiffusiveCoefficients cf{desc.contact.viscosity(nf), 0., 0., 0.};
         const State<dim> Ff = physics::viscous_flux_primitive<dim>(Uf, g, cf, 1., d);
@@ -169,7 +169,7 @@ namespace granhydro::diffusion
       friction->fill(0.);
     if (wall.sign != 0)
       {
-        // energy into the wall (physics.md 5.2, contact theorem, m = 1). The cell update
+        // energy into the wall (doc/physics.md 5.2, contact theorem, m = 1). The cell update
         // is (F_e - F_w)/dx: a loss through the upper wall (the cell's east face) needs
         // F^E -= q_w, through the lower wall (west face) F^E += q_w
         F[dim + 1] -= wall.sign * desc.wall_heat_flux(wall.sign > 0 ? UL : UR, wall.eps_w);
@@ -185,7 +185,7 @@ namespace granhydro::diffusion
     if (settings.cooling && desc.model.eps() < 1)
       {
         const double n = U[0], T = std::max(desc.temperature(U), 0.);
-        S[dim + 1] -= 1.5 * n * T * desc.model.zeta0(n, T, 1., 1.); // physics.md 3.5
+        S[dim + 1] -= 1.5 * n * T * desc.model.zeta0(n, T, 1., 1.); // doc/physics.md 3.5
       }
   }
 
@@ -238,7 +238,7 @@ namespace granhydro::diffusion
           {
             // the energy gets the kinetic-energy change of the frictional force, u . div tau_f,
             // and not the work flux div(tau_f . u): the difference, ~ mu_f Phi_f >= 0, is the
-            // frictional dissipation, lost to heat (physics.md 4.5)
+            // frictional dissipation, lost to heat (doc/physics.md 4.5)
             double uw = 0, vol = 1;
             for (unsigned int k = 0; k < dim; ++k)
               uw += U[1 + k] / U[0] * div_tf[1 + k];
@@ -496,7 +496,7 @@ namespace granhydro::diffusion
         auto         c = coefficients(n, desc.temperature(U));
         if (friction_active) // the frictional viscosity is a shear viscosity as well
           c.eta += desc.contact.viscosity(n);
-        // momentum diffusivity (gamma/eta + 4/3) eta/(m n), thermal 2 kappa/(3 n) (physics.md 4.4)
+        // momentum diffusivity (gamma/eta + 4/3) eta/(m n), thermal 2 kappa/(3 n) (doc/physics.md 4.4)
         const double D = std::max((c.gamma + 4. / 3. * c.eta) / n, 2. * c.kappa / (3. * n));
         double       rate = 0;
         for (unsigned int d = 0; d < dim; ++d)

@@ -146,7 +146,7 @@ namespace granhydro::io
   template <int dim, class Description>
   std::array<double, 3> Output<dim, Description>::frame_velocity(const double time_si) const
   {
-    // vibrated container (physics.md 5.3): s(t) = A sin(w t) e_s, ds/dt = A w cos(w t) e_s
+    // vibrated container (doc/physics.md 5.3): s(t) = A sin(w t) e_s, ds/dt = A w cos(w t) e_s
     std::array<double, 3> v{{0, 0, 0}};
     if (scene.vibration_amplitude > 0)
       {

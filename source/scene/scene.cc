@@ -239,7 +239,7 @@ namespace granhydro
                             std::string("Boundary condition on the ") + s +
                               " side: periodic (both sides of a direction), slip wall "
                               "(reflecting, no tangential stress), no-slip wall (velocity "
-                              "of the wall imposed, wall shear stress kept: physics.md 5.1, "
+                              "of the wall imposed, wall shear stress kept: doc/physics.md 5.1, "
                               "P10), outflow (transmissive, zero-gradient ghost state).");
           prm.declare_entry(std::string("Wall velocity ") + s, "0, 0, 0", Patterns::Anything(),
                             std::string("Velocity of the ") + s +
@@ -248,7 +248,7 @@ namespace granhydro
                             std::string("Grain-wall restitution eps_w of the ") + s +
                               " wall: 1 = elastic (adiabatic), < 1 = dissipative wall with "
                               "the heat flux q_w = (1 - eps_w) p_w sqrt(2T/(pi m)) "
-                              "(physics.md 5.2, contact theorem; granular model).");
+                              "(doc/physics.md 5.2, contact theorem; granular model).");
         }
     }
     prm.leave_subsection();
@@ -286,7 +286,7 @@ namespace granhydro
                         "Constitutive model. 'ideal gas': verification model (p = n T, "
                         "no transport), the dilute elastic limit of granular gases. "
                         "'granular': hard spheres, p = n T Z(phi) with Torquato's pair "
-                        "correlation and Garzo-Dufty (1999) transport (physics.md 2, 3).");
+                        "correlation and Garzo-Dufty (1999) transport (doc/physics.md 2, 3).");
       prm.declare_entry("Restitution coefficient", "1", Patterns::Double(0, 1),
                         "Normal coefficient of restitution eps of grain-grain collisions "
                         "(granular model; 0.5 <= eps <= 1).");
@@ -296,13 +296,13 @@ namespace granhydro
                         "phi_c, random close packing: chi has its pole here (granular model).");
       prm.declare_entry("Close packing guard", "1e-3", Patterns::Double(0, 0.1),
                         "delta: chi is continued linearly (C1) beyond phi_c - delta, so "
-                        "coefficients stay finite (physics.md 2, guard).");
+                        "coefficients stay finite (doc/physics.md 2, guard).");
       prm.declare_entry("Maximum mean free path", "0", Patterns::Double(0, Patterns::Double::max_double_value),
                         "Knudsen cap L [m] (granular model; 0 = off, the paper's model): where "
                         "the mean free path l = 1/(sqrt(2) pi n sigma^2) exceeds L, the "
                         "transport coefficients eta, gamma, kappa, mu are scaled by L/l, so the "
                         "diffusivities stay below ~L sqrt(T/m) instead of diverging as n -> 0 "
-                        "(physics.md P14). Hydrodynamics has no meaning there anyway; use a few "
+                        "(doc/physics.md P14). Hydrodynamics has no meaning there anyway; use a few "
                         "cell sizes for scenes with near-vacuum.");
       prm.declare_entry("Grain diameter", "1e-3", Patterns::Double(0, Patterns::Double::max_double_value),
                         "Grain diameter sigma [m].");
@@ -360,7 +360,7 @@ namespace granhydro
                         "diffusion step alone.");
       prm.declare_entry("Flux", "musta", Patterns::Selection("musta|rusanov|hll"),
                         "Numerical flux: musta (multi-stage FORCE, paper eqs. 4.7-4.9 with "
-                        "dx/dt in the dissipation term, physics.md P12), rusanov, hll.");
+                        "dx/dt in the dissipation term, doc/physics.md P12), rusanov, hll.");
       prm.declare_entry("MUSTA maximum stages", "4", Patterns::Integer(1, 20),
                         "Cap on the number of FORCE stages of the MUSTA flux (1 = FORCE).");
       prm.declare_entry("MUSTA tolerance", "0.01", Patterns::Double(0, 1),
@@ -393,7 +393,7 @@ namespace granhydro
       prm.declare_entry("Cooling", "true", Patterns::Bool(),
                         "Inelastic cooling -(3/2) n T zeta0 (granular model, eps < 1).");
       prm.declare_entry("Diffusive flux", "full", Patterns::Selection("full|diagonal"),
-                        "full: all cross-derivative terms (physics.md 4.3); diagonal: only "
+                        "full: all cross-derivative terms (doc/physics.md 4.3); diagonal: only "
                         "D_ii d_i U as in the paper's eq. 5.6.");
       prm.declare_entry("Gravity", "0, 0, 0", Patterns::Anything(),
                         "Body force per unit mass g [m/s^2], one value per dimension "
@@ -402,7 +402,7 @@ namespace granhydro
                         "Amplitude A [m] of the container motion s(t) = A sin(2 pi f t) e_s. "
                         "The equations are solved in the container frame (all walls at rest) "
                         "with the inertial body force g + A (2 pi f)^2 sin(2 pi f t) e_s "
-                        "(physics.md 5.3); output velocities and kinetic energy densities are in "
+                        "(doc/physics.md 5.3); output velocities and kinetic energy densities are in "
                         "the lab frame (container velocity ds/dt added).");
       prm.declare_entry("Vibration frequency", "0", Patterns::Double(0, Patterns::Double::max_double_value),
                         "Frequency f [Hz] of the container motion.");

@@ -1,20 +1,23 @@
 #!/usr/bin/env python3
 """
-Generate tests/data/gd99_reference.csv from the project's Python reference
-/work/shared/docs/gd99_reference.py (physics.md section 7), which is loaded
-with importlib from its path -- nothing is copied. Standard library only.
+Generate tests/data/gd99_reference.csv from an independent Python
+implementation of the Garzo-Dufty formulas, gd99_reference.py (written apart
+from the C++ code, from the same equations: doc/physics.md section 7; it is
+not part of this repository), loaded with importlib from its path -- nothing
+is copied. Standard library only. The committed CSV is what the unit test
+reads; this script is only needed to regenerate it.
 
 Usage:  python3 make_gd99_reference.py [path/to/gd99_reference.py] [output.csv]
-Defaults: the shared docs path above (or $GD99_REFERENCE), and
-gd99_reference.csv next to this script.
+Defaults: $GD99_REFERENCE for the reference, and gd99_reference.csv next
+to this script.
 
 Rows (column "kind"):
-  table        the 18 (phi, eps) states of physics.md section 7, all values
+  table        the 18 (phi, eps) states of doc/physics.md section 7, all values
                from gd99_reference.gd99();
   extra        further gd99() states: eps = 0.5 (mu* < 0 in dense states,
-               physics.md P5), states on the pole branch close to phi_max and
-               on the linear continuation beyond phi_max (physics.md 2, guard);
-  closed_form  physics.md 3.7: eps = 1 Enskog closed forms for eta*, kappa*,
+               doc/physics.md P5), states on the pole branch close to phi_max and
+               on the linear continuation beyond phi_max (doc/physics.md 2, guard);
+  closed_form  doc/physics.md 3.7: eps = 1 Enskog closed forms for eta*, kappa*,
                gamma* (evaluated here from the closed-form expressions, with
                the reference chi), and the dilute inelastic limit phi = 0
                (chi = 1) with the Brey et al. forms of kappa* and mu*; SI
@@ -29,15 +32,17 @@ import os
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-REF = (sys.argv[1] if len(sys.argv) > 1
-       else os.environ.get("GD99_REFERENCE", "/work/shared/docs/gd99_reference.py"))
+REF = sys.argv[1] if len(sys.argv) > 1 else os.environ.get("GD99_REFERENCE")
+if not REF or not os.path.isfile(REF):
+    sys.exit("make_gd99_reference: give the path of gd99_reference.py as the first argument "
+             "or in $GD99_REFERENCE")
 OUT = sys.argv[2] if len(sys.argv) > 2 else os.path.join(HERE, "gd99_reference.csv")
 
 spec = importlib.util.spec_from_file_location("gd99_reference", REF)
 ref = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(ref)
 
-SIGMA, RHO_S, T = 1.0e-3, 2600.0, 1.0e-8       # physics.md section 7
+SIGMA, RHO_S, T = 1.0e-3, 2600.0, 1.0e-8       # doc/physics.md section 7
 PI = math.pi
 
 COLUMNS = ["kind", "phi", "eps", "sigma", "rho_s", "T",
@@ -66,7 +71,7 @@ def row_from_gd99(kind, phi, eps):
 
 
 def row_enskog_closed(phi):
-    """physics.md 3.7, eps = 1 (c* = 0, zeta = mu = 0)."""
+    """doc/physics.md 3.7, eps = 1 (c* = 0, zeta = mu = 0)."""
     row = row_from_gd99("closed_form", phi, 1.0)
     chi = row["chi"]
     row["eta_star"] = (1.0 + 1.6 * phi * chi) ** 2 / chi + 768.0 / (25.0 * PI) * phi ** 2 * chi
@@ -78,7 +83,7 @@ def row_enskog_closed(phi):
 
 
 def row_dilute_inelastic(eps):
-    """physics.md 3.7, phi = 0 (chi = 1): Brey et al. forms of kappa*, mu*."""
+    """doc/physics.md 3.7, phi = 0 (chi = 1): Brey et al. forms of kappa*, mu*."""
     a = eps
     cs = ref.c_star(a)
     chi, dchi = ref.chi_torquato(0.0)          # 1, 5/2
@@ -97,7 +102,7 @@ def row_dilute_inelastic(eps):
 
 def main():
     rows = []
-    for phi in (0.01, 0.1, 0.3, 0.5, 0.6, 0.63):          # physics.md section 7
+    for phi in (0.01, 0.1, 0.3, 0.5, 0.6, 0.63):          # doc/physics.md section 7
         for eps in (1.0, 0.9, 0.7):
             rows.append(row_from_gd99("table", phi, eps))
     for phi in (1e-8, 0.05, 0.2, 0.45, 0.49, 0.55, 0.62, 0.635, 0.6385, 0.639):

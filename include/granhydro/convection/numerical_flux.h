@@ -5,7 +5,7 @@
  * states U_L (inside the cell on the low side) and U_R.
  *
  *  - MUSTA: multi-stage FORCE, paper eqs. (4.7)-(4.9), Titarev & Toro (2004),
- *    with the dissipation term carrying dx/dt (physics.md P12). Each stage
+ *    with the dissipation term carrying dx/dt (doc/physics.md P12). Each stage
  *    uses the local ratio dt/dx = C_loc / S_max(U_L, U_R) (Titarev-Toro's
  *    local Courant number, default 0.9). The iteration stops when the relative
  *    change of the FORCE flux between stages is below the tolerance (paper:

@@ -7,21 +7,21 @@
  * on the uniform Cartesian patch, with
  *  - face fluxes F_i^v evaluated at the face state U_f = (U_L + U_R)/2 with the
  *    Garzo-Dufty coefficients there; the normal derivative is (U_R - U_L)/dx_i,
- *    the tangential derivatives (full flux, physics.md 4.3) the average of the
+ *    the tangential derivatives (full flux, doc/physics.md 4.3) the average of the
  *    two cells' central differences; "diagonal only" keeps D_ii d_i U (paper 5.6);
  *  - sources: gravity n g, m n u.g and inelastic cooling -(3/2) n T zeta0
- *    (physics.md 1, 3.5).
+ *    (doc/physics.md 1, 3.5).
  * Adaptive meshes: a hanging face is a fine sub-face; its normal derivative is
  * the two-point difference over the true centre distance (h_coarse + h_fine)/2
  * and the coarse cell takes 1/2^(dim-1) of the flux; the tangential
  * derivatives use each cell's gradient neighbours (one-sided where the
  * neighbour is finer). The Jacobian is assembled the same way.
  * Walls: the mirror ghost states of the patch give exactly the slip-wall flux
- * of physics.md 5.1 (no tangential stress, q = 0); no-slip ghosts (velocity
+ * of doc/physics.md 5.1 (no tangential stress, q = 0); no-slip ghosts (velocity
  * mirrored about the wall velocity) give the wall shear stress from the
  * one-sided gradient with u = u_w on the wall and the work (tau_w . e) . u_w
- * (physics.md 5.1, P10); a dissipative wall adds the heat flux into the wall
- * q_w = (1 - eps_w) p_w sqrt(2 T/(pi m)) of physics.md 5.2 (contact theorem,
+ * (doc/physics.md 5.1, P10); a dissipative wall adds the heat flux into the wall
+ * q_w = (1 - eps_w) p_w sqrt(2 T/(pi m)) of doc/physics.md 5.2 (contact theorem,
  * replaces the paper's eq. 6.2, P11) with p_w, T of the adjacent cell;
  * outflow: zero gradient.
  *
@@ -30,11 +30,11 @@
  * of the coefficients on the face state), obtained by finite differences of
  * the face flux, plus the exact source Jacobian. By default the
  * tangential-derivative (cross) terms are lagged, i.e. their dependence on U is
- * left out of the Jacobian (deferred correction, allowed by physics.md 4.3);
+ * left out of the Jacobian (deferred correction, allowed by doc/physics.md 4.3);
  * Newton still converges to the full nonlinear residual. With cross_terms =
  * true their derivatives with respect to the edge neighbours are included too
  * (the fully coupled variant; 19-point stencil in 3D), which the integrator
- * uses when the lagged iteration stalls (near-vacuum, physics.md P14).
+ * uses when the lagged iteration stalls (near-vacuum, doc/physics.md P14).
  */
 #include <granhydro/mesh/cartesian_patch.h>
 #include <granhydro/physics/body_force.h>
@@ -105,7 +105,7 @@ namespace granhydro::diffusion
     /// Frictional dissipation rate of the last residual() call, summed over this rank's
     /// owned cells (scaled energy per time, times the scaled cell volume): the work of the
     /// frictional stress, div(tau_f . u) - u . div tau_f ~ mu_f Phi_f, that leaves the
-    /// grains as heat instead of becoming granular temperature (physics.md 4.5)
+    /// grains as heat instead of becoming granular temperature (doc/physics.md 4.5)
     double friction_power() const { return friction_power_; }
 
     /// true when the frictional viscosity of the dense closure is on

@@ -9,7 +9,7 @@
  *   dof * stages + stage), assembled into granhydro's block-sparse matrix and
  *   solved by GMRES with block ILU(0) (block_sparse.h), or into a Trilinos matrix
  *   with Ifpack ILU or ML AMG (IntegratorSettings::block_ilu, amg).
- * Butcher tables (physics.md P13; the paper's 5.14/5.15 are garbled):
+ * Butcher tables (doc/physics.md P13; the paper's 5.14/5.15 are garbled):
  *   Gauss-Legendre 2: c = 1/2 -+ sqrt(3)/6, A = [[1/4, 1/4 - sqrt(3)/6], [1/4 + sqrt(3)/6, 1/4]], b = (1/2, 1/2)
  *   implicit midpoint: c = 1/2, A = [[1/2]], b = 1
  *   SDIRK2 (Alexander 1977; Hairer & Wanner II, IV.6): g = 1 - 1/sqrt(2),

@@ -81,7 +81,7 @@ namespace granhydro
       /// the walls this ghost lies behind (1 at a face, 2 at an edge, 3 at a corner),
       /// applied in turn: slip wall flips the normal velocity, no-slip wall mirrors the
       /// velocity about the wall velocity u -> 2 u_w - u (scaled units); n and the
-      /// internal energy are copied (physics.md 5.1). wall_dir is the geometric normal
+      /// internal energy are copied (doc/physics.md 5.1). wall_dir is the geometric normal
       /// direction, wall_id the boundary id (index of the scene's Boundary entry)
       unsigned int n_walls = 0;
       std::array<unsigned int, 3>          wall_dir{{0, 0, 0}};

@@ -3,7 +3,7 @@
  * @file body_force.h
  * The body force per unit mass and its sources (paper eq. 2.5 with m = 1, scaled
  * units): gravity g, and in a vibrated container, solved in the container's frame,
- * the inertial force of its motion s(t) = A sin(w t) e_s (physics.md 5.3):
+ * the inertial force of its motion s(t) = A sin(w t) e_s (doc/physics.md 5.3):
  *
  *   g_eff(t) = g - s''(t) = g + A w^2 sin(w t) e_s,
  *   S(U) = (0, n g_eff, n u . g_eff).

@@ -2,7 +2,7 @@
 /**
  * @file diffusive_flux.h
  * The viscous / heat-conduction flux F_i^v of granular hydrodynamics
- * (physics.md 1 and 4; paper (2.2)-(2.5), (5.1)-(5.9), Appendix A (A1)-(A10)):
+ * (doc/physics.md 1 and 4; paper (2.2)-(2.5), (5.1)-(5.9), Appendix A (A1)-(A10)):
  *
  *   F_i^v = ( 0, tau_{k i}/m (k < dim), tau_{ij} u_j + kappa d_i T + mu d_i n )
  *   tau_ij = eta (d_i u_j + d_j u_i) + (gamma - 2 eta/3) delta_ij div u    (paper 2.2)
@@ -10,26 +10,26 @@
  *
  * in three equivalent forms:
  *  - viscous_flux_primitive(): written directly from primitive gradients
- *    (physics.md 4.1, the reference);
+ *    (doc/physics.md 4.1, the reference);
  *  - viscous_flux(): from conservative gradients dU via the chain rule of 4.1;
  *  - diffusion_matrix() / flux_from_matrices(): F_i = sum_j D_ij d_j U
- *    (paper 5.1 with the index order of physics.md P7), D_ij as re-derived in
- *    physics.md 4.2, which reproduces the paper's (A1)-(A10) (physics.md P9).
+ *    (paper 5.1 with the index order of doc/physics.md P7), D_ij as re-derived in
+ *    doc/physics.md 4.2, which reproduces the paper's (A1)-(A10) (doc/physics.md P9).
  *    flux_from_matrices(..., true) is the paper's diagonal-only flux
- *    (5.6)-(5.9); cross_terms() is exactly what it drops (physics.md 4.3, P8).
+ *    (5.6)-(5.9); cross_terms() is exactly what it drops (doc/physics.md 4.3, P8).
  *
  * State U = (n, n u_1..n u_dim, nE), E = m|u|^2/2 + 3T/2 per particle, T in
- * energy units (physics.md 0). A dim-dimensional run is the 3D theory with the
+ * energy units (doc/physics.md 0). A dim-dimensional run is the 3D theory with the
  * unresolved directions homogeneous: unresolved velocity components and all
  * derivatives along unresolved directions are zero, so every sum below runs
- * over the resolved components 0..dim-1 only (physics.md 0).
+ * over the resolved components 0..dim-1 only (doc/physics.md 0).
  *
  * Gradient conventions: dU[j] = d U / d x_j; grad_u[j][l] = d u_l / d x_j;
  * grad_T[j] = d T / d x_j; grad_n[j] = d n / d x_j. Matrices:
  * D[row][col] = d F_i[row] / d(d_j U[col]).
  *
  * Coefficients: any type with members eta, gamma, kappa, mu (T-based kappa,
- * mu multiplying grad n, physics.md 0 and P4/P5 - mu may be negative, it is
+ * mu multiplying grad n, doc/physics.md 0 and P4/P5 - mu may be negative, it is
  * not clipped). DiffusiveCoefficients below is the plain struct; the
  * Garzo-Dufty result granhydro::physics::TransportCoefficients
  * (garzo_dufty.h) can be passed directly. (The plain struct is not called
@@ -51,7 +51,7 @@
 
 namespace granhydro::physics
 {
-  /// Transport coefficients entering F^v (paper 2.2, 2.3; physics.md 0, 3.4).
+  /// Transport coefficients entering F^v (paper 2.2, 2.3; doc/physics.md 0, 3.4).
   struct DiffusiveCoefficients
   {
     double eta;   ///< shear viscosity
@@ -97,7 +97,7 @@ namespace granhydro::physics
       return u2;
     }
 
-    /// d_j u_l = (d_j(n u_l) - u_l d_j n)/n, physics.md 4.1.
+    /// d_j u_l = (d_j(n u_l) - u_l d_j n)/n, doc/physics.md 4.1.
     template <int dim>
     inline double
     velocity_derivative(const State<dim> &dUj, const std::array<double, dim> &u, double inv_n, int l)
@@ -107,7 +107,7 @@ namespace granhydro::physics
   } // namespace internal
 
   /**
-   * Chain rule of physics.md 4.1 (conservative -> primitive gradients):
+   * Chain rule of doc/physics.md 4.1 (conservative -> primitive gradients):
    *   d u_l = (d(n u_l) - u_l d n)/n,
    *   d T   = (2/(3n)) [ d(nE) - m u_k d(n u_k) + (m|u|^2 - E) d n ] - (2/3) (dw/dn) d n.
    * The last term belongs to a dense closure whose contact potential energy per grain
@@ -144,7 +144,7 @@ namespace granhydro::physics
   }
 
   /**
-   * F_i^v written directly from primitive-variable gradients (physics.md 1 and
+   * F_i^v written directly from primitive-variable gradients (doc/physics.md 1 and
    * 4.1; paper 2.2, 2.3, 2.5): (0, tau_{ki}/m, tau_ij u_j + kappa d_i T + mu d_i n).
    * Only the velocity is taken from U.
    */
@@ -190,7 +190,7 @@ namespace granhydro::physics
 
   /**
    * F_i^v from conservative gradients dU (dU[j] = dU/dx_j), via the chain
-   * rule of physics.md 4.1 - the recommended implementation.
+   * rule of doc/physics.md 4.1 - the recommended implementation.
    */
   template <int dim, typename Coefficients>
   inline State<dim> viscous_flux(const State<dim>         &U,
@@ -204,7 +204,7 @@ namespace granhydro::physics
   }
 
   /**
-   * Diffusion matrix D_ij with F_i^v = sum_j D_ij d_j U (paper 5.1; physics.md
+   * Diffusion matrix D_ij with F_i^v = sum_j D_ij d_j U (paper 5.1; doc/physics.md
    * 4.2 and P7). With e(u_l) the row (-u_l in column n, 1 in column n u_l),
    * so that e(u_l).dU = n d u_l, and lambda = gamma - 2 eta/3:
    *
@@ -213,7 +213,7 @@ namespace granhydro::physics
    *           + delta_ij [ (2 kappa/(3n)) (e_E - m sum_l u_l e_(n u_l) + (m|u|^2 - E) e_n) + mu e_n ]
    *
    * (mass row zero), resolved components only. Identical to the paper's
-   * (A1)-(A10) with alpha, beta, lambda, h1..h3 of (A4) (physics.md P9), but
+   * (A1)-(A10) with alpha, beta, lambda, h1..h3 of (A4) (doc/physics.md P9), but
    * written without dividing by eta. With a dense closure (dw_dn > 0, see
    * primitive_gradients()) the n column of the energy row also carries
    * -(2 kappa/3) dw/dn, so that conduction acts on grad T only.
@@ -267,7 +267,7 @@ namespace granhydro::physics
   /**
    * sum_j D_ij d_j U (paper 5.1), or with diagonal_only = true only
    * D_ii d_i U - the paper's (5.6)-(5.9), which drops cross_terms()
-   * (physics.md 4.3, P8). The code uses the full flux.
+   * (doc/physics.md 4.3, P8). The code uses the full flux.
    */
   template <int dim, typename Coefficients>
   inline State<dim> flux_from_matrices(const State<dim>         &U,
@@ -292,7 +292,7 @@ namespace granhydro::physics
   }
 
   /**
-   * What the diagonal-only flux drops on an i-face, written as in physics.md
+   * What the diagonal-only flux drops on an i-face, written as in doc/physics.md
    * 4.3 from tangential derivatives (j != i), e.g. on an x-face:
    *   x-momentum: (gamma - 2eta/3)(d_y u_y + d_z u_z)/m,
    *   y-momentum: eta d_y u_x / m,   z-momentum: eta d_z u_x / m,

@@ -4,18 +4,18 @@
  * Garzó & Dufty (1999, Phys. Rev. E 59, 5895; "GD99") Navier–Stokes transport
  * coefficients of a granular gas of smooth inelastic hard spheres (d = 3),
  * revised-Enskog theory, standard first Sonine approximation, with the
- * fourth cumulant c* kept — exactly as specified in physics.md section 3,
- * plus the equation of state and sound speed (physics.md 1.1, 2) and the
- * dissipative-wall heat flux (physics.md 5.2).
+ * fourth cumulant c* kept — exactly as specified in doc/physics.md section 3,
+ * plus the equation of state and sound speed (doc/physics.md 1.1, 2) and the
+ * dissipative-wall heat flux (doc/physics.md 5.2).
  *
- * The GD99 article itself was not available to the authors of physics.md
- * (see its section 3.9), so the comments below cite the physics.md section
+ * The GD99 article itself was not available to the authors of doc/physics.md
+ * (see its section 3.9), so the comments below cite the doc/physics.md section
  * and name the GD99 quantity rather than quote GD99 equation numbers.
  *
  * Units: every dimensional formula is dimensionally homogeneous and contains
  * no hidden constant (no k_B; T is an energy), so it holds in SI and in the
  * code's scaled units (sigma = m = 1) alike, provided all inputs use one
- * consistent unit system (physics.md section 0).
+ * consistent unit system (doc/physics.md section 0).
  *
  * Header only, standard library only, no virtual functions. The dimensionless
  * functions are templated on the number type of phi; the dimensional ones on
@@ -30,7 +30,7 @@
 
 namespace granhydro::physics
 {
-  /// First-order cooling coefficient zeta_U (physics.md 3.6); off by default.
+  /// First-order cooling coefficient zeta_U (doc/physics.md 3.6); off by default.
   enum class ZetaUMode
   {
     off,     ///< zeta = zeta0 (the paper's source term; default)
@@ -38,7 +38,7 @@ namespace granhydro::physics
     full     ///< leading term + the c_D correction as coded in MFIX GD_99
   };
 
-  /// Density at contact used in the dissipative-wall heat flux (physics.md 5.2).
+  /// Density at contact used in the dissipative-wall heat flux (doc/physics.md 5.2).
   enum class WallHeatFluxModel
   {
     contact_theorem, ///< n_c = 2 p_w/((1 + eps_w) T): q_w = (1 - eps_w) p_w sqrt(2T/(pi m)) (default)
@@ -47,19 +47,19 @@ namespace granhydro::physics
   };
 
   /**
-   * All dimensionless GD99 factors at one packing fraction (physics.md
+   * All dimensionless GD99 factors at one packing fraction (doc/physics.md
    * 3.2–3.6), filled by GarzoDufty1999::dimensionless() with a single chi
    * evaluation. Dimensional values: eta = eta0 eta_star, gamma = eta0
    * gamma_star, kappa = kappa0 kappa_star, mu = (T kappa0/n) mu_star,
-   * zeta0 = nu0 zeta_star (physics.md 3.4).
+   * zeta0 = nu0 zeta_star (doc/physics.md 3.4).
    */
   template <typename Number>
   struct DimensionlessCoefficientsT
   {
     Number phi;           ///< packing fraction the values belong to
-    Number chi;           ///< pair correlation at contact (physics.md 2)
+    Number chi;           ///< pair correlation at contact (doc/physics.md 2)
     Number dchi_dphi;     ///< dchi/dphi
-    Number g;             ///< phi d ln chi/d phi (physics.md 3.4)
+    Number g;             ///< phi d ln chi/d phi (doc/physics.md 3.4)
     Number c_star;        ///< fourth cumulant c*(eps) (3.2)
     Number Z;             ///< p* = p/(n T) (2)
     Number dZ_dphi;       ///< dZ/dphi (1.1)
@@ -83,7 +83,7 @@ namespace granhydro::physics
   struct TransportCoefficientsT
   {
     Number p;      ///< pressure n T Z                       [Pa]
-    Number c;      ///< sound speed (physics.md 1.1)          [m/s]
+    Number c;      ///< sound speed (doc/physics.md 1.1)          [m/s]
     Number eta;    ///< shear viscosity                       [Pa s]
     Number gamma;  ///< bulk viscosity                        [Pa s]
     Number kappa;  ///< thermal conductivity (T-based)        [1/(m s)]
@@ -98,18 +98,18 @@ namespace granhydro::physics
   /**
    * Garzó–Dufty (1999) constitutive model for d = 3 hard spheres with
    * restitution eps (GD99's alpha) and the Torquato pair correlation
-   * (physics.md sections 2 and 3).
+   * (doc/physics.md sections 2 and 3).
    */
   class GarzoDufty1999
   {
   public:
     /**
-     * @param eps      normal restitution, 0.5 <= eps <= 1 (physics.md 3.4: totals
+     * @param eps      normal restitution, 0.5 <= eps <= 1 (doc/physics.md 3.4: totals
      *                 eta, kappa > 0 are verified only on this range)
-     * @param pair_correlation  chi(phi) with its guard (physics.md 2)
+     * @param pair_correlation  chi(phi) with its guard (doc/physics.md 2)
      * @param T_floor  >= 0; T is replaced by max(T, T_floor) inside the
-     *                 transport-coefficient formulas only (physics.md 2, item 3)
-     * @param zeta_u_mode  first-order cooling (physics.md 3.6), off by default
+     *                 transport-coefficient formulas only (doc/physics.md 2, item 3)
+     * @param zeta_u_mode  first-order cooling (doc/physics.md 3.6), off by default
      * @throws std::invalid_argument naming the parameter and its allowed range.
      */
     explicit GarzoDufty1999(const double                   eps,
@@ -145,7 +145,7 @@ namespace granhydro::physics
     ZetaUMode                      zeta_u_mode() const { return zeta_u_mode_; }
     const PairCorrelationTorquato &pair_correlation() const { return chi_; }
 
-    /// Change the temperature floor (>= 0), physics.md 2 item 3.
+    /// Change the temperature floor (>= 0), doc/physics.md 2 item 3.
     void set_T_floor(const double T_floor)
     {
       if (!(T_floor >= 0.) || !std::isfinite(T_floor))
@@ -160,33 +160,33 @@ namespace granhydro::physics
     ///@{
 
     /**
-     * c*(eps) = 32 (1 - a)(1 - 2a^2)/[81 - 17a + 30 a^2 (1 - a)], physics.md 3.2
+     * c*(eps) = 32 (1 - a)(1 - 2a^2)/[81 - 17a + 30 a^2 (1 - a)], doc/physics.md 3.2
      * (van Noije–Ernst fourth cumulant of the homogeneous cooling state, as
      * used in GD99; independent of phi in Enskog theory).
      */
     double c_star() const { return c_star_; }
 
-    /// c* for an arbitrary eps (physics.md 3.2); c_star() is this at eps().
+    /// c* for an arbitrary eps (doc/physics.md 3.2); c_star() is this at eps().
     static double c_star(const double a)
     {
       return 32. * (1. - a) * (1. - 2. * (a * a)) / (81. - 17. * a + 30. * (a * a) * (1. - a)) + 0.;
     }
 
-    /// chi(phi), physics.md 2 (forwarded to the pair correlation).
+    /// chi(phi), doc/physics.md 2 (forwarded to the pair correlation).
     template <typename Number>
     Number chi(const Number phi) const
     {
       return chi_.chi(phi);
     }
 
-    /// Z = p/(n T) = 1 + 2(1 + a) phi chi, physics.md 2 (GD99 pressure, d = 3).
+    /// Z = p/(n T) = 1 + 2(1 + a) phi chi, doc/physics.md 2 (GD99 pressure, d = 3).
     template <typename Number>
     Number Z(const Number phi) const
     {
       return Z_(phi, chi_.chi(phi));
     }
 
-    /// dZ/dphi = 2(1 + a)(chi + phi dchi/dphi), physics.md 1.1.
+    /// dZ/dphi = 2(1 + a)(chi + phi dchi/dphi), doc/physics.md 1.1.
     template <typename Number>
     Number dZ_dphi(const Number phi) const
     {
@@ -195,28 +195,28 @@ namespace granhydro::physics
       return Number(two_1pa_) * (c + phi * dc);
     }
 
-    /// zeta* = (5/12) chi (1 - a^2)(1 + 3c*/32), physics.md 3.3 (GD99 zeroth-order cooling rate / nu0).
+    /// zeta* = (5/12) chi (1 - a^2)(1 + 3c*/32), doc/physics.md 3.3 (GD99 zeroth-order cooling rate / nu0).
     template <typename Number>
     Number zeta_star(const Number phi) const
     {
       return Number(zeta_fac_) * chi_.chi(phi);
     }
 
-    /// nu_eta* = chi (1 - (1 - a)^2/4)(1 - c*/64), physics.md 3.3.
+    /// nu_eta* = chi (1 - (1 - a)^2/4)(1 - c*/64), doc/physics.md 3.3.
     template <typename Number>
     Number nu_eta_star(const Number phi) const
     {
       return Number(nu_eta_fac_) * chi_.chi(phi);
     }
 
-    /// nu_kappa* = nu_mu* = (chi/3)(1 + a)[1 + (33/16)(1 - a) + (19 - 3a)c*/1024], physics.md 3.3.
+    /// nu_kappa* = nu_mu* = (chi/3)(1 + a)[1 + (33/16)(1 - a) + (19 - 3a)c*/1024], doc/physics.md 3.3.
     template <typename Number>
     Number nu_kappa_star(const Number phi) const
     {
       return Number(nu_kap_fac_) * chi_.chi(phi);
     }
 
-    /// gamma* = (128/(5 pi)) phi^2 chi (1 + a)(1 - c*/32), physics.md 3.4 (GD99 bulk viscosity / eta0).
+    /// gamma* = (128/(5 pi)) phi^2 chi (1 + a)(1 - c*/32), doc/physics.md 3.4 (GD99 bulk viscosity / eta0).
     template <typename Number>
     Number gamma_star(const Number phi) const
     {
@@ -226,7 +226,7 @@ namespace granhydro::physics
     /**
      * eta* = eta_k* [1 + (4/5) phi chi (1 + a)] + (3/5) gamma*, with
      * eta_k* = [1 - (2/5)(1 + a)(1 - 3a) phi chi]/(nu_eta* - zeta* /2),
-     * physics.md 3.4 (GD99 shear viscosity / eta0).
+     * doc/physics.md 3.4 (GD99 shear viscosity / eta0).
      */
     template <typename Number>
     Number eta_star(const Number phi) const
@@ -238,7 +238,7 @@ namespace granhydro::physics
     /**
      * kappa* = kappa_k* [1 + (6/5) phi chi (1 + a)] + (256/(25 pi)) phi^2 chi (1 + a)(1 + 7c* /32),
      * kappa_k* = (2/3)[1 + c* + (3/5) phi chi (1 + a)^2 (2a - 1 + (1 + a)c* /2)]/(nu_kappa* - 2 zeta*),
-     * physics.md 3.4 (GD99 thermal conductivity / kappa0, compact numerator).
+     * doc/physics.md 3.4 (GD99 thermal conductivity / kappa0, compact numerator).
      */
     template <typename Number>
     Number kappa_star(const Number phi) const
@@ -251,7 +251,7 @@ namespace granhydro::physics
      * mu* = mu_k* [1 + (6/5) phi chi (1 + a)], with
      * mu_k* = [(1 + g) zeta* kappa_k* + c* /3 - (4/5) phi chi (1 + a)(1 + g/2)
      *          (a(1 - a) - (c* /12)(16 - 3a + 3a^2))]/(nu_mu* - (3/2) zeta*),
-     * g = phi d ln chi/d phi; physics.md 3.4 and 3.9 (D1) (GD99 coefficient of
+     * g = phi d ln chi/d phi; doc/physics.md 3.4 and 3.9 (D1) (GD99 coefficient of
      * grad n in the heat flux, / (T kappa0/n)). Not sign-definite (P5).
      */
     template <typename Number>
@@ -262,7 +262,7 @@ namespace granhydro::physics
       return mu_(phi, c, mu_k_(phi, c, dc, kappa_k_(phi, c)));
     }
 
-    /// zeta_U in the object's mode (0 when off), physics.md 3.6; dimensionless, multiplies div u.
+    /// zeta_U in the object's mode (0 when off), doc/physics.md 3.6; dimensionless, multiplies div u.
     template <typename Number>
     Number zeta_U(const Number phi) const
     {
@@ -270,11 +270,11 @@ namespace granhydro::physics
     }
 
     /**
-     * zeta_U in a given mode, physics.md 3.6 (GD99 first-order cooling rate,
+     * zeta_U in a given mode, doc/physics.md 3.6 (GD99 first-order cooling rate,
      * dimensionless):
      *   leading: -(1 - a)(Z - 1) = -2 (1 - a^2) phi chi;
      *   full:    leading + (5/32)(1 - a^2)(1 + 3c* /64) chi c_D (MFIX GD_99 form,
-     *            c_D, nu_gamma*, lambda as printed in physics.md 3.6).
+     *            c_D, nu_gamma*, lambda as printed in doc/physics.md 3.6).
      */
     template <typename Number>
     Number zeta_U(const Number phi, const ZetaUMode mode) const
@@ -285,7 +285,7 @@ namespace granhydro::physics
     }
 
     /**
-     * Every dimensionless factor at once (physics.md 3.2–3.6), chi and
+     * Every dimensionless factor at once (doc/physics.md 3.2–3.6), chi and
      * dchi/dphi evaluated once: the function for hot loops.
      */
     template <typename Number>
@@ -327,36 +327,36 @@ namespace granhydro::physics
     /** @name Dimensional functions of (n, T, m, sigma)
      *
      * n number density, T granular temperature in energy units, m grain mass,
-     * sigma grain diameter, in any consistent unit system (physics.md 0).
+     * sigma grain diameter, in any consistent unit system (doc/physics.md 0).
      * Inside the transport-coefficient formulas (eta0, kappa0, nu0, eta, gamma,
-     * kappa, mu, zeta0) T is replaced by max(T, T_floor) (physics.md 2 item 3);
+     * kappa, mu, zeta0) T is replaced by max(T, T_floor) (doc/physics.md 2 item 3);
      * pressure, sound speed and wall heat flux use T as given (they are parts
      * of the flux and must stay consistent with the state; T >= 0 expected).
      * n and T must have the same number type (write 1., not 1).
      */
     ///@{
 
-    /// phi = n pi sigma^3/6, physics.md 0.
+    /// phi = n pi sigma^3/6, doc/physics.md 0.
     template <typename Number>
     static Number packing_fraction(const Number n, const double sigma)
     {
       return n * Number(pi_ / 6. * sigma * sigma * sigma);
     }
 
-    /// n = 6 phi/(pi sigma^3), physics.md 0.
+    /// n = 6 phi/(pi sigma^3), doc/physics.md 0.
     template <typename Number>
     static Number number_density(const Number phi, const double sigma)
     {
       return phi * Number(6. / (pi_ * sigma * sigma * sigma));
     }
 
-    /// grain mass m = rho_s pi sigma^3/6, physics.md 0.
+    /// grain mass m = rho_s pi sigma^3/6, doc/physics.md 0.
     static double grain_mass(const double sigma, const double rho_s)
     {
       return rho_s * pi_ * sigma * sigma * sigma / 6.;
     }
 
-    /// p = n T Z(phi), physics.md 2 (GD99 hydrostatic pressure, d = 3). m unused (uniform signature).
+    /// p = n T Z(phi), doc/physics.md 2 (GD99 hydrostatic pressure, d = 3). m unused (uniform signature).
     template <typename Number>
     Number pressure(const Number n, const Number T, const double /*m*/, const double sigma) const
     {
@@ -364,7 +364,7 @@ namespace granhydro::physics
     }
 
     /**
-     * Sound speed c = sqrt((T/m)[Z + phi dZ/dphi + (2/3) Z^2]), physics.md 1.1
+     * Sound speed c = sqrt((T/m)[Z + phi dZ/dphi + (2/3) Z^2]), doc/physics.md 1.1
      * (Euler eigenvalues u.e -+ c of the convective system with p = n T Z and
      * internal energy 3T/2 per particle). Uses T as given.
      */
@@ -380,7 +380,7 @@ namespace granhydro::physics
       return sqrt(T / Number(m) * (Zv + phi * dZ + Number(2. / 3.) * Zv * Zv));
     }
 
-    /// eta0 = 5/(16 sigma^2) sqrt(m T/pi) [Pa s], physics.md 3.1 (elastic Boltzmann viscosity). n unused.
+    /// eta0 = 5/(16 sigma^2) sqrt(m T/pi) [Pa s], doc/physics.md 3.1 (elastic Boltzmann viscosity). n unused.
     template <typename Number>
     Number eta0(const Number /*n*/, const Number T, const double m, const double sigma) const
     {
@@ -388,7 +388,7 @@ namespace granhydro::physics
       return Number(5. / (16. * sigma * sigma)) * sqrt(Number(m / pi_) * floored(T));
     }
 
-    /// kappa0 = 15/(4m) eta0 = 75/(64 sigma^2) sqrt(T/(pi m)) [1/(m s)], physics.md 3.1. n unused.
+    /// kappa0 = 15/(4m) eta0 = 75/(64 sigma^2) sqrt(T/(pi m)) [1/(m s)], doc/physics.md 3.1. n unused.
     template <typename Number>
     Number kappa0(const Number /*n*/, const Number T, const double m, const double sigma) const
     {
@@ -396,7 +396,7 @@ namespace granhydro::physics
       return Number(75. / (64. * sigma * sigma)) * sqrt(floored(T) / Number(pi_ * m));
     }
 
-    /// nu0 = n T/eta0 = (16/5) n sigma^2 sqrt(pi T/m) [1/s], physics.md 3.1.
+    /// nu0 = n T/eta0 = (16/5) n sigma^2 sqrt(pi T/m) [1/s], doc/physics.md 3.1.
     template <typename Number>
     Number nu0(const Number n, const Number T, const double m, const double sigma) const
     {
@@ -404,28 +404,28 @@ namespace granhydro::physics
       return Number(16. / 5. * sigma * sigma) * n * sqrt(Number(pi_ / m) * floored(T));
     }
 
-    /// Shear viscosity eta = eta0 eta*(phi) [Pa s], physics.md 3.4.
+    /// Shear viscosity eta = eta0 eta*(phi) [Pa s], doc/physics.md 3.4.
     template <typename Number>
     Number eta(const Number n, const Number T, const double m, const double sigma) const
     {
       return eta0(n, T, m, sigma) * eta_star(packing_fraction(n, sigma));
     }
 
-    /// Bulk viscosity gamma = eta0 gamma*(phi) [Pa s], physics.md 3.4.
+    /// Bulk viscosity gamma = eta0 gamma*(phi) [Pa s], doc/physics.md 3.4.
     template <typename Number>
     Number gamma(const Number n, const Number T, const double m, const double sigma) const
     {
       return eta0(n, T, m, sigma) * gamma_star(packing_fraction(n, sigma));
     }
 
-    /// Thermal conductivity kappa = kappa0 kappa*(phi) [1/(m s)] (multiplies grad T, T in J), physics.md 3.4.
+    /// Thermal conductivity kappa = kappa0 kappa*(phi) [1/(m s)] (multiplies grad T, T in J), doc/physics.md 3.4.
     template <typename Number>
     Number kappa(const Number n, const Number T, const double m, const double sigma) const
     {
       return kappa0(n, T, m, sigma) * kappa_star(packing_fraction(n, sigma));
     }
 
-    /// mu = (T kappa0/n) mu*(phi) [J m^2/s] (multiplies grad n; q = -kappa grad T - mu grad n), physics.md 3.4.
+    /// mu = (T kappa0/n) mu*(phi) [J m^2/s] (multiplies grad n; q = -kappa grad T - mu grad n), doc/physics.md 3.4.
     template <typename Number>
     Number mu(const Number n, const Number T, const double m, const double sigma) const
     {
@@ -434,7 +434,7 @@ namespace granhydro::physics
 
     /**
      * Zeroth-order cooling rate zeta0 = nu0 zeta* = (4/3)(1 - a^2)(1 + 3c* /32)
-     * chi n sigma^2 sqrt(pi T/m) [1/s], physics.md 3.5 (dT/dt = -zeta0 T in the
+     * chi n sigma^2 sqrt(pi T/m) [1/s], doc/physics.md 3.5 (dT/dt = -zeta0 T in the
      * homogeneous cooling state; energy sink -(3/2) n T zeta0).
      */
     template <typename Number>
@@ -443,7 +443,7 @@ namespace granhydro::physics
       return nu0(n, T, m, sigma) * zeta_star(packing_fraction(n, sigma));
     }
 
-    /// Mean free path lambda = 1/(sqrt(2) pi n sigma^2 chi) = sigma/(6 sqrt(2) phi chi), physics.md 3.8.
+    /// Mean free path lambda = 1/(sqrt(2) pi n sigma^2 chi) = sigma/(6 sqrt(2) phi chi), doc/physics.md 3.8.
     template <typename Number>
     Number mean_free_path(const Number n, const double sigma) const
     {
@@ -453,7 +453,7 @@ namespace granhydro::physics
 
     /**
      * p, c, eta, gamma, kappa, mu, zeta0 and zeta_U at one state with a single
-     * chi evaluation (physics.md 1.1, 2, 3.1–3.6); for hot loops. T_floor as
+     * chi evaluation (doc/physics.md 1.1, 2, 3.1–3.6); for hot loops. T_floor as
      * in the individual functions (not in p and c).
      */
     template <typename Number>
@@ -480,12 +480,12 @@ namespace granhydro::physics
     ///@}
 
     // ------------------------------------------------------------------------
-    /** @name Dissipative wall (physics.md 5.2, replaces paper eq. 6.2, P11) */
+    /** @name Dissipative wall (doc/physics.md 5.2, replaces paper eq. 6.2, P11) */
     ///@{
 
     /**
      * Energy flux into a wall with grain–wall restitution eps_w [W/m^2],
-     * physics.md 5.2:
+     * doc/physics.md 5.2:
      *   q_w = (1 - eps_w^2) n_c T sqrt(T/(2 pi m)),
      * contact_theorem (default): n_c = 2 p_w/((1 + eps_w) T), i.e.
      *   q_w = (1 - eps_w) p_w sqrt(2T/(pi m)), p_w = n T Z (this object's EOS);
@@ -514,7 +514,7 @@ namespace granhydro::physics
         }
     }
 
-    /// Contact-theorem wall heat flux from a given wall pressure p_w: (1 - eps_w) p_w sqrt(2T/(pi m)), physics.md 5.2.
+    /// Contact-theorem wall heat flux from a given wall pressure p_w: (1 - eps_w) p_w sqrt(2T/(pi m)), doc/physics.md 5.2.
     template <typename Number>
     static Number
     wall_heat_flux_from_pressure(const Number p_w, const Number T, const double m, const double eps_w)
@@ -524,7 +524,7 @@ namespace granhydro::physics
     }
 
     /**
-     * d q_w/dT at fixed n = (3/2) q_w/T, physics.md 5.2 (all three models are
+     * d q_w/dT at fixed n = (3/2) q_w/T, doc/physics.md 5.2 (all three models are
      * proportional to T^{3/2} at fixed n; with p_w proportional to T for the
      * contact theorem). Returns 0 for T <= 0.
      */
@@ -550,7 +550,7 @@ namespace granhydro::physics
       if (!(eps >= 0.5 && eps <= 1.))
         fail("eps (normal coefficient of restitution)",
              eps,
-             "[0.5, 1] (physics.md 3.4: positivity of eta and kappa is verified only there)");
+             "[0.5, 1] (doc/physics.md 3.4: positivity of eta and kappa is verified only there)");
       set_T_floor(T_floor);
       zeta_u_mode_ = zeta_u_mode;
 
@@ -559,11 +559,11 @@ namespace granhydro::physics
       c_star_        = c_star(a);
       const double cs = c_star_;
       two_1pa_       = 2. * (1. + a);
-      // physics.md 3.3
+      // doc/physics.md 3.3
       zeta_fac_   = 5. / 12. * (1. - a * a) * (1. + 3. * cs / 32.);
       nu_eta_fac_ = (1. - 0.25 * (1. - a) * (1. - a)) * (1. - cs / 64.);
       nu_kap_fac_ = (1. + a) / 3. * (1. + 33. / 16. * (1. - a) + (19. - 3. * a) / 1024. * cs);
-      // physics.md 3.4
+      // doc/physics.md 3.4
       gamma_fac_     = 128. / (5. * pi_) * (1. + a) * (1. - cs / 32.);
       eta_num_fac_   = 0.4 * (1. + a) * (1. - 3. * a);
       eta_den_fac_   = nu_eta_fac_ - 0.5 * zeta_fac_;
@@ -576,7 +576,7 @@ namespace granhydro::physics
       mu_c_fac_      = cs / 3.;
       mu_tr_num_fac_ = 0.8 * (1. + a) * (a * (1. - a) - cs / 12. * (16. - 3. * a + 3. * a * a));
       mu_den_fac_    = nu_kap_fac_ - 1.5 * zeta_fac_;
-      // physics.md 3.6 (MFIX GD_99 form of zeta_U)
+      // doc/physics.md 3.6 (MFIX GD_99 form of zeta_U)
       zu_lead_fac_ = -(1. - a) * two_1pa_;
       const double nu_gam_fac =
         (1. + a) / 48. *
@@ -646,7 +646,7 @@ namespace granhydro::physics
     template <typename Number>
     Number mu_k_(const Number phi, const Number c, const Number dc, const Number kappa_k) const
     {
-      const Number g = phi * dc / c; // phi d ln chi / d phi (physics.md 3.9, D1)
+      const Number g = phi * dc / c; // phi d ln chi / d phi (doc/physics.md 3.9, D1)
       return ((Number(1.) + g) * Number(zeta_fac_) * c * kappa_k + Number(mu_c_fac_) -
               Number(mu_tr_num_fac_) * phi * c * (Number(1.) + Number(0.5) * g)) /
              (Number(mu_den_fac_) * c);

@@ -4,11 +4,11 @@
  * The hyperbolic (convective) system of granular hydrodynamics, paper eq. (2.5),
  * for hard spheres with the Garzó–Dufty/Torquato equation of state:
  * p = n T Z(phi), Z = 1 + 2(1 + eps) phi chi(phi), internal energy 3T/2 per
- * grain (physics.md 1, 2), sound speed of physics.md 1.1. Same interface as
- * IdealGas (a "description", design.md), used by the convection operator.
+ * grain (doc/physics.md 1, 2), sound speed of doc/physics.md 1.1. Same interface as
+ * IdealGas (a "description", README "Layout"), used by the convection operator.
  *
  * Units: the code's scaled units (sigma = 1, m = 1), so phi = pi n / 6.
- * Admissible set: n > 0, T > 0, phi < phi_c (physics.md 2, guard item 1).
+ * Admissible set: n > 0, T > 0, phi < phi_c (doc/physics.md 2, guard item 1).
  */
 #include <granhydro/physics/contact_pressure.h>
 #include <granhydro/physics/garzo_dufty.h>
@@ -37,12 +37,12 @@ namespace granhydro::physics
       , phi_c(m.pair_correlation().phi_c())
     {}
 
-    /// internal energy per grain in units of T: 3/2 (hard spheres, physics.md 1.1)
+    /// internal energy per grain in units of T: 3/2 (hard spheres, doc/physics.md 1.1)
     double heat_capacity() const { return 1.5; }
 
     double kinetic_energy(const State<dim> &U) const { return physics::kinetic_energy<dim>(U); }
 
-    /// T = (2/3)(E - |u|^2/2 - w(phi)) (physics.md 1, primitive recovery; w = contact
+    /// T = (2/3)(E - |u|^2/2 - w(phi)) (doc/physics.md 1, primitive recovery; w = contact
     /// potential per grain of the optional dense closure, 0 without it)
     double temperature(const State<dim> &U) const
     {
@@ -66,7 +66,7 @@ namespace granhydro::physics
       return n * temperature(U, W) * model.Z(n * phi_per_n) + pf;
     }
 
-    /// c^2 = T [Z + phi dZ/dphi + (2/3) Z^2] (physics.md 1.1) (+ dp_f/dn), from n and p
+    /// c^2 = T [Z + phi dZ/dphi + (2/3) Z^2] (doc/physics.md 1.1) (+ dp_f/dn), from n and p
     double sound_speed(const double n, const double p) const
     {
       const double phi = n * phi_per_n, Z = model.Z(phi);
@@ -77,7 +77,7 @@ namespace granhydro::physics
     }
 
     /// Energy flux into a dissipative wall [scaled W/m^2] from the state of the cell at
-    /// the wall (physics.md 5.2, contact theorem, m = 1): (1 - eps_w) p_w sqrt(2 T/pi)
+    /// the wall (doc/physics.md 5.2, contact theorem, m = 1): (1 - eps_w) p_w sqrt(2 T/pi)
     /// with the collisional pressure and the granular temperature only - grains that
     /// rest on the wall in enduring contact (p_f) do not collide with it. The one copy
     /// the solver calls: GarzoDufty1999::wall_heat_flux_from_pressure (unit-tested).

@@ -4,13 +4,13 @@
  * The hyperbolic (convective) system of granular hydrodynamics, paper eq. (2.5),
  * for the verification model "ideal gas": pressure p = n T (Z = 1) and internal
  * energy T/(gamma_a - 1) per particle. With gamma_a = 5/3 this is exactly the
- * dilute elastic limit of the granular system (physics.md 6(b)).
+ * dilute elastic limit of the granular system (doc/physics.md 6(b)).
  *
  * Units: the code's scaled units (length sigma, mass m = grain mass), so the
  * mass density equals the number density and the momentum row of (2.5) is the
  * ordinary Euler momentum equation. State U = (n, n u_1..n u_dim, nE).
  *
- * This is a "description" in the sense of design.md: it bundles the state,
+ * This is a "description" (README, "Layout"): it bundles the state,
  * the physical flux, pressure, wave speed and the admissible set. A second
  * description (Garzó–Dufty granular gas) follows the same interface.
  */

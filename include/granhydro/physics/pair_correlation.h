@@ -3,7 +3,7 @@
  * @file pair_correlation.h
  * Pair correlation at contact chi(phi) of hard spheres, Torquato (1995) form,
  * with the C^1 linear continuation beyond phi_max = phi_c - delta
- * (physics.md section 2, "Guard", item 2).
+ * (doc/physics.md section 2, "Guard", item 2).
  *
  * Header only, standard library only. All member functions are inline and
  * templated on the number type (double, float, long double, or any scalar type
@@ -17,7 +17,7 @@
 namespace granhydro::physics
 {
   /**
-   * Torquato (1995) contact value of the pair correlation, physics.md section 2:
+   * Torquato (1995) contact value of the pair correlation, doc/physics.md section 2:
    *
    *   phi <= phi_f        : chi = (1 - phi/2)/(1 - phi)^3           (Carnahan-Starling)
    *   phi_f < phi <= phi_max : chi = chi_f (phi_c - phi_f)/(phi_c - phi)  (pole at phi_c)
@@ -62,7 +62,7 @@ namespace granhydro::physics
       X_max_   = X_f_ + A_ * std::log((phi_c_ - phi_f_) / (phi_c_ - phi_max_));
     }
 
-    /** @name Parameters and derived constants (physics.md section 2) */
+    /** @name Parameters and derived constants (doc/physics.md section 2) */
     ///@{
     double phi_f() const { return phi_f_; }
     double phi_c() const { return phi_c_; }
@@ -77,7 +77,7 @@ namespace granhydro::physics
     double dchi_max() const { return dchi_max_; }
     ///@}
 
-    /// Carnahan-Starling contact value (1 - phi/2)/(1 - phi)^3 (physics.md section 2).
+    /// Carnahan-Starling contact value (1 - phi/2)/(1 - phi)^3 (doc/physics.md section 2).
     template <typename Number>
     static Number carnahan_starling(const Number phi)
     {
@@ -85,7 +85,7 @@ namespace granhydro::physics
       return (Number(1.) - Number(0.5) * phi) / (w * w * w);
     }
 
-    /// d chi_CS/d phi = (5/2 - phi)/(1 - phi)^4 (physics.md section 2).
+    /// d chi_CS/d phi = (5/2 - phi)/(1 - phi)^4 (doc/physics.md section 2).
     template <typename Number>
     static Number carnahan_starling_derivative(const Number phi)
     {
@@ -95,7 +95,7 @@ namespace granhydro::physics
     }
 
     /**
-     * chi(phi), physics.md section 2 (Torquato 1995 + C^1 guard, item 2).
+     * chi(phi), doc/physics.md section 2 (Torquato 1995 + C^1 guard, item 2).
      * Finite for every phi < 1 on the Carnahan-Starling branch and for every
      * phi > phi_f above (linear beyond phi_max; no clamping).
      */
@@ -110,7 +110,7 @@ namespace granhydro::physics
     }
 
     /**
-     * dchi/dphi, physics.md section 2: (5/2 - phi)/(1 - phi)^4 up to phi_f
+     * dchi/dphi, doc/physics.md section 2: (5/2 - phi)/(1 - phi)^4 up to phi_f
      * (the left derivative at phi_f; the derivative jumps there),
      * chi_f (phi_c - phi_f)/(phi_c - phi)^2 up to phi_max, constant beyond.
      */
@@ -127,7 +127,7 @@ namespace granhydro::physics
       return Number(dchi_max_);
     }
 
-    /// chi and dchi/dphi together (one branch decision), physics.md section 2.
+    /// chi and dchi/dphi together (one branch decision), doc/physics.md section 2.
     template <typename Number>
     void chi_and_derivative(const Number phi, Number &chi_value, Number &dchi_value) const
     {
@@ -152,7 +152,7 @@ namespace granhydro::physics
     }
 
     /**
-     * X(phi) = int_0^phi chi(s) ds, physics.md section 2 (used by the
+     * X(phi) = int_0^phi chi(s) ds, doc/physics.md section 2 (used by the
      * hydrostatic column of section 6(d)):
      *   phi <= phi_f : 1/(4(1-phi)^2) + 1/(2(1-phi)) - 3/4, evaluated in the
      *                  algebraically identical, cancellation-free form
@@ -160,8 +160,8 @@ namespace granhydro::physics
      *   phi_f < phi <= phi_max : X(phi_f) + chi_f (phi_c - phi_f) ln[(phi_c - phi_f)/(phi_c - phi)];
      *   phi > phi_max : the exact integral of the linear continuation,
      *                  X(phi_max) + chi_max s + dchi_max s^2/2, s = phi - phi_max
-     *                  (physics.md only states the first two branches; this
-     *                  keeps X consistent with chi, X' = chi everywhere).
+     *                  (doc/physics.md 2; this branch keeps X consistent with chi,
+     *                  X' = chi everywhere).
      */
     template <typename Number>
     Number integral(const Number phi) const

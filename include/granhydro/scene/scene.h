@@ -2,7 +2,7 @@
 /**
  * @file scene.h
  * A scene: everything a run needs, read from a deal.II ParameterHandler file
- * in SI units, validated before any work is done (design.md "Scenes and
+ * in SI units, validated before any work is done (README, "Running scenes"; scenes and
  * effects"). Internally the code works in scaled units (struct Units).
  */
 #include <deal.II/base/parameter_handler.h>
@@ -82,7 +82,7 @@ namespace granhydro
     std::array<BoundaryType, 6> boundary{};
     /// tangential velocity of each wall [m/s] (no-slip walls), 3 components
     std::array<std::array<double, 3>, 6> wall_velocity{};
-    /// grain-wall restitution eps_w of each wall (1 = elastic/adiabatic, physics.md 5.2)
+    /// grain-wall restitution eps_w of each wall (1 = elastic/adiabatic, doc/physics.md 5.2)
     std::array<double, 6> wall_restitution{{1, 1, 1, 1, 1, 1}};
 
     // Material
@@ -202,7 +202,7 @@ namespace granhydro
   /// the same from a string in .prm syntax (tests)
   Scene parse_scene(const std::string &text, const std::string &source_name);
 
-  /// the effects the scene activates, each with the reason (design.md "Scenes and effects")
+  /// the effects the scene activates, each with the reason (README, "Running scenes")
   std::vector<std::pair<std::string, std::string>> active_effects(const Scene &scene);
 
   /// pi and the scene's 'Initial state/Constants' for the expressions; throws SceneError
