@@ -5,10 +5,13 @@
 #include <deal.II/base/function_parser.h>
 #include <deal.II/base/utilities.h>
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
+#include <vector>
 
 namespace granhydro
 {
@@ -18,6 +21,14 @@ namespace granhydro
   namespace
   {
     const char *side_names[6] = {"x-", "x+", "y-", "y+", "z-", "z+"};
+
+    /// a number for a message: 6 significant digits, exponent when needed
+    std::string fmt(const double v)
+    {
+      std::ostringstream os;
+      os << std::setprecision(6) << v;
+      return os.str();
+    }
 
     /// deal.II exception texts carry a stack trace; keep the human part
     std::string human_message(const std::string &what)
@@ -170,12 +181,25 @@ namespace granhydro
         if (kv.size() != 2)
           throw SceneError("in " + s.source + ": parameter 'Initial state/Constants': expected "
                            "'name=value' pairs, got '" + c + "'");
+        const std::string &name = kv[0];
+        bool ident = !name.empty() && (std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_');
+        for (const char ch : name)
+          ident = ident && (std::isalnum(static_cast<unsigned char>(ch)) || ch == '_');
+        if (!ident)
+          throw SceneError("in " + s.source + ": parameter 'Initial state/Constants': '" + name +
+                           "' is not a name (a letter or '_', then letters, digits or '_')");
+        if (name == "x" || name == "y" || name == "z" || name == "t" || name == "pi")
+          throw SceneError("in " + s.source + ": parameter 'Initial state/Constants': '" + name +
+                           "' is reserved (the variables x, y, z, t and the constant pi)");
+        if (constants.count(name))
+          throw SceneError("in " + s.source + ": parameter 'Initial state/Constants': '" + name +
+                           "' is defined twice");
         double             v;
         std::istringstream is(kv[1]);
-        if (!(is >> v) || !(is >> std::ws).eof())
+        if (!(is >> v) || !(is >> std::ws).eof() || !std::isfinite(v))
           throw SceneError("in " + s.source + ": parameter 'Initial state/Constants': cannot read "
-                           "the value of '" + kv[0] + "' ('" + kv[1] + "' is not a number)");
-        constants[kv[0]] = v;
+                           "the value of '" + name + "' ('" + kv[1] + "' is not a finite number)");
+        constants[name] = v;
       }
     return constants;
   }
@@ -595,6 +619,18 @@ end
           throw;
         throw SceneError("in " + source_name + ": " + m);
       }
+    catch (const dealii::ExceptionBase &e)
+      {
+        // a value that passes the pattern but does not convert (e.g. 1e-310, below the
+        // smallest normal double): name the entry deal.II names
+        const std::string m = human_message(e.what());
+        const auto        a = m.find("for entry <"), b = m.find('>', a == std::string::npos ? 0 : a);
+        const std::string entry = a != std::string::npos && b != std::string::npos ?
+                                    m.substr(a + 11, b - a - 11) :
+                                    std::string("?");
+        throw SceneError("in " + source_name + ": parameter '" + entry + "': " + m +
+                         " (decimal values must lie within 2.2e-308 .. 1.8e308 in magnitude, or be 0)");
+      }
   }
 
   Scene scene_from(ParameterHandler &prm, const std::string &source_name)
@@ -759,6 +795,100 @@ end
     return s;
   }
 
+  namespace
+  {
+    /// the scene text with its 'include FILE' lines replaced by the files' texts (a path
+    /// relative to the including file, as for mesh files); refuses an include cycle (a scene
+    /// that included itself recursed until the stack overflowed) and nesting beyond 16
+    std::string expand_includes(const std::string &file, std::vector<std::string> chain)
+    {
+      std::error_code ec;
+      const auto      canon = std::filesystem::weakly_canonical(file, ec).string();
+      for (const auto &c : chain)
+        if (c == canon)
+          throw SceneError("scene file '" + chain.front() + "' includes '" + file +
+                           "' again (an include cycle); remove that 'include' line");
+      chain.push_back(canon);
+      if (chain.size() > 16)
+        throw SceneError("scene file '" + chain.front() + "': includes nested deeper than 16 files");
+      std::ifstream in(file);
+      if (!in)
+        throw SceneError("cannot open scene file '" + file + "'");
+      std::string out;
+      for (std::string line; std::getline(in, line);)
+        {
+          std::istringstream is(line);
+          std::string        word, target;
+          if (is >> word && word == "include" && is >> target)
+            {
+              std::filesystem::path path(target);
+              if (path.is_relative())
+                path = std::filesystem::path(file).parent_path() / path;
+              if (!std::filesystem::is_regular_file(path, ec))
+                throw SceneError("scene file '" + file + "': 'include " + target +
+                                 "' does not name a readable file (paths are relative to the "
+                                 "including file)");
+              out += expand_includes(path.string(), chain);
+              out += '\n';
+            }
+          else
+            out += line + '\n';
+        }
+      return out;
+    }
+  } // namespace
+
+  namespace
+  {
+    /// the initial state at the cell centres of a box domain (at most 64 per direction):
+    /// packing fraction in (0, phi_c - guard) for the granular model (> 0 for the ideal
+    /// gas), temperature > 0, all finite. Empty if fine, else "parameter|message".
+    template <int dim>
+    std::string sample_initial_state(const Scene &s, const std::map<std::string, double> &constants)
+    {
+      const std::string vars = dim == 1 ? "x" : (dim == 2 ? "x,y" : "x,y,z");
+      dealii::FunctionParser<dim> phi(1), T(1), u(dim);
+      phi.initialize(vars, s.initial_packing_fraction, constants);
+      T.initialize(vars, s.initial_temperature, constants);
+      auto vel = dealii::Utilities::split_string_list(s.initial_velocity, ';');
+      vel.resize(dim);
+      u.initialize(vars, vel, constants);
+      std::array<unsigned int, 3> m{{1, 1, 1}};
+      std::size_t                 total = 1;
+      for (unsigned int d = 0; d < dim; ++d)
+        total *= (m[d] = std::min(s.cells[d], 64u));
+      const bool   granular = s.model == "granular";
+      const double phi_max  = s.phi_close_packing - s.guard_delta;
+      for (std::size_t k = 0; k < total; ++k)
+        {
+          dealii::Point<dim> x;
+          std::size_t        r = k;
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              x[d] = s.lower[d] + (r % m[d] + 0.5) * (s.upper[d] - s.lower[d]) / m[d];
+              r /= m[d];
+            }
+          std::ostringstream where;
+          where << " at x = " << x;
+          const double p = phi.value(x), t = T.value(x);
+          if (!std::isfinite(p) || !(p > 0))
+            return "Initial state/Packing fraction|must be positive and finite everywhere: " +
+                   fmt(p) + where.str();
+          if (granular && !(p < phi_max))
+            return "Initial state/Packing fraction|must stay below phi_c - guard = " +
+                   fmt(phi_max) + " (Material/Close packing fraction, Close packing "
+                                             "guard): " + fmt(p) + where.str();
+          if (!std::isfinite(t) || !(t > 0))
+            return "Initial state/Temperature|must be positive and finite everywhere: " +
+                   fmt(t) + where.str();
+          for (unsigned int d = 0; d < dim; ++d)
+            if (!std::isfinite(u.value(x, d)))
+              return "Initial state/Velocity|must be finite everywhere" + where.str();
+        }
+      return {};
+    }
+  } // namespace
+
   Scene read_scene(const std::string &filename)
   {
     if (filename.empty())
@@ -776,13 +906,9 @@ end
     if (std::filesystem::file_size(filename, ec) > max_bytes || ec)
       throw SceneError("scene file '" + filename + "' is larger than 16 MiB (or unreadable); a "
                        "scene is a short parameter file");
-    std::ifstream in(filename);
-    if (!in)
-      throw SceneError("cannot open scene file '" + filename + "'");
-    std::stringstream ss;
-    ss << in.rdbuf();
+    const std::string text = expand_includes(filename, {});
     // only comments and blank lines: refuse rather than silently run every default
-    std::istringstream lines(ss.str());
+    std::istringstream lines(text);
     bool               statement = false;
     for (std::string line; !statement && std::getline(lines, line);)
       {
@@ -792,7 +918,7 @@ end
     if (!statement)
       throw SceneError("scene file '" + filename + "' sets no parameter (it is empty or holds only "
                        "comments); run granhydro without a file for the default scene");
-    return parse_scene(ss.str(), filename);
+    return parse_scene(text, filename);
   }
 
   void validate(const Scene &s)
@@ -853,9 +979,19 @@ end
       }
     for (unsigned int d = 0; d < dim && !mesh; ++d)
       {
+        // coordinates up to 1e6 m (a corner at 1e308 overflowed the cell size), cells of at
+        // least 1e-3 grain diameters (below that a run creeps at a vanishing time step)
+        if (!(std::abs(s.lower[d]) <= 1e6))
+          fail("Domain/Lower corner", "coordinates must lie within +-1e6 m");
+        if (!(std::abs(s.upper[d]) <= 1e6))
+          fail("Domain/Upper corner", "coordinates must lie within +-1e6 m");
         if (!(s.upper[d] > s.lower[d]))
           fail("Domain/Upper corner", "must exceed 'Domain/Lower corner' in direction " +
                                         std::string(1, "xyz"[d]));
+        if (!((s.upper[d] - s.lower[d]) / s.cells[d] >= 1e-3 * s.grain_diameter))
+          fail("Domain/Cells", "cells along " + std::string(1, "xyz"[d]) +
+                                 " would be smaller than 1e-3 grain diameters (" +
+                                 fmt((s.upper[d] - s.lower[d]) / s.cells[d]) + " m)");
         const bool plo = s.boundary[2 * d] == BoundaryType::periodic;
         const bool phi = s.boundary[2 * d + 1] == BoundaryType::periodic;
         if (plo != phi)
@@ -897,6 +1033,12 @@ end
       fail("Domain/Cells", "more than 5e7 cells in total");
     if (s.end_time <= 0)
       fail("Time/End time", "must be positive");
+    if (s.output_interval > 0 && s.end_time / s.output_interval > 1e5)
+      fail("Output/Interval", "would write more than 1e5 outputs before 'Time/End time' (" +
+                                fmt(s.end_time) + " s)");
+    if (s.fixed_time_step > 0 && s.end_time / s.fixed_time_step > 1e9)
+      fail("Numerics/Fixed time step", "would need more than 1e9 steps to 'Time/End time' (" +
+                                         fmt(s.end_time) + " s)");
     if (s.cfl <= 0 || s.cfl > 1)
       fail("Numerics/CFL number", "must lie in (0, 1] (SSP-RK3 stability)");
     if (s.musta_local_cfl <= 0 || s.musta_local_cfl > 1)
@@ -914,8 +1056,16 @@ end
         if (s.restitution < 0.5 || s.restitution > 1)
           fail("Material/Restitution coefficient",
                "must lie in [0.5, 1] (Garzo-Dufty coefficients are verified positive there)");
+        // the densest packing of equal spheres is pi / (3 sqrt 2) = 0.7405
+        if (!(s.phi_close_packing <= M_PI / (3 * std::sqrt(2.))))
+          fail("Material/Close packing fraction", "must not exceed 0.7405, the densest packing of "
+                                                  "equal spheres (random close packing: 0.63-0.64)");
+        if (!(s.phi_freezing > 0))
+          fail("Material/Freezing packing fraction", "must be positive (0.49 for hard spheres)");
         if (!(s.phi_freezing < s.phi_close_packing))
           fail("Material/Freezing packing fraction", "must be below 'Close packing fraction'");
+        if (!(s.guard_delta > 0))
+          fail("Material/Close packing guard", "must be positive (default 1e-3)");
         if (!(s.guard_delta < s.phi_close_packing - s.phi_freezing))
           fail("Material/Close packing guard", "must be smaller than phi_c - phi_f");
         if (s.dense_closure != "none")
@@ -1011,6 +1161,12 @@ end
                         std::string(dim == 1 ? "x" : (dim == 2 ? "x, y" : "x, y, z")) +
                         "): " + human_message(e.what()));
         }
+      catch (...) // muParser's own ParserError is not a std::exception
+        {
+          fail(param, "cannot parse expression '" + expr + "' (variables: " +
+                        std::string(dim == 1 ? "x" : (dim == 2 ? "x, y" : "x, y, z")) +
+                        "; check it and 'Initial state/Constants')");
+        }
     };
     check_expr("Initial state/Packing fraction", s.initial_packing_fraction);
     check_expr("Initial state/Temperature", s.initial_temperature);
@@ -1024,5 +1180,26 @@ end
       }
     for (const auto &v : vel)
       check_expr("Initial state/Velocity", v);
+    // the whole initial state, sampled at the cell centres (box domains without a checkpoint)
+    if (!mesh && s.initial_checkpoint.empty())
+      {
+        std::ostringstream quiet;
+        auto *old_buf = std::cerr.rdbuf(quiet.rdbuf());
+        std::string bad;
+        try
+          {
+            const auto constants = expression_constants(s);
+            bad = dim == 1 ? sample_initial_state<1>(s, constants) :
+                  dim == 2 ? sample_initial_state<2>(s, constants) :
+                             sample_initial_state<3>(s, constants);
+          }
+        catch (...)
+          {
+            bad = "Initial state/Packing fraction|an expression cannot be evaluated inside the domain";
+          }
+        std::cerr.rdbuf(old_buf);
+        if (!bad.empty())
+          fail(bad.substr(0, bad.find('|')), bad.substr(bad.find('|') + 1));
+      }
   }
 } // namespace granhydro
