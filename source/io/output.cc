@@ -137,6 +137,16 @@ namespace granhydro::io
         if (ec || !std::filesystem::is_directory(scene.output_directory))
           err = "parameter 'Output/Directory': cannot create directory '" +
                 scene.output_directory + "'" + (ec ? ": " + ec.message() : std::string());
+        else
+          {
+            // a folder we cannot write into (read-only file system): refuse now, not at the
+            // first VTU write
+            const std::string probe = scene.output_directory + "/.granhydro_write_test";
+            bool              ok    = bool(std::ofstream(probe) << "x");
+            std::filesystem::remove(probe, ec);
+            if (!ok)
+              err = "parameter 'Output/Directory': cannot write into '" + scene.output_directory + "'";
+          }
       }
     err = Utilities::MPI::broadcast(patch.communicator(), err, 0);
     if (!err.empty())
@@ -159,12 +169,24 @@ namespace granhydro::io
   template <int dim, class Description>
   void Output<dim, Description>::write(const Vector &U, const double time_si, const unsigned int step)
   {
-    if (scene.write_vtu)
-      write_vtu(U, time_si, step);
-    if (scene.write_profiles)
-      write_profiles(U, time_si);
-    if (scene.section_direction >= 0)
-      write_cross_section(U, time_si);
+    try
+      {
+        if (scene.write_vtu)
+          write_vtu(U, time_si, step);
+        if (scene.write_profiles)
+          write_profiles(U, time_si);
+        if (scene.section_direction >= 0)
+          write_cross_section(U, time_si);
+      }
+    catch (const std::exception &e)
+      {
+        std::string m = e.what();
+        const auto  k = m.find("Additional information:");
+        if (k != std::string::npos)
+          m = m.substr(k + 23, m.find("Stacktrace:") - k - 23);
+        throw OutputError("cannot write the output at t = " + std::to_string(time_si) + " s to '" +
+                          scene.output_directory + "' (disk full or no permission?): " + m);
+      }
     ++counter;
   }
 

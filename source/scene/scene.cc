@@ -5,6 +5,8 @@
 #include <deal.II/base/function_parser.h>
 #include <deal.II/base/utilities.h>
 
+#include <unistd.h>
+
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -1105,6 +1107,28 @@ end
                                  "step (granular model with transport, cooling or gravity)");
     if (s.output_directory.empty())
       fail("Output/Directory", "must not be empty");
+    {
+      // a file name, not a path: no '/', no leading '.', at most 100 characters of
+      // letters, digits, '_', '-', '.'
+      const std::string &b  = s.base_name;
+      bool               ok = !b.empty() && b.size() <= 100 && b[0] != '.';
+      for (const char ch : b)
+        ok = ok && (std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-' || ch == '.');
+      if (!ok)
+        fail("Output/Base name", "'" + b + "' must be 1..100 characters of letters, digits, '_', "
+                                 "'-' or '.', not starting with '.' (a file name, not a path: "
+                                 "use 'Output/Directory' for folders)");
+      // the output folder, or the nearest folder above it that exists, must be writable
+      std::error_code       ec;
+      std::filesystem::path dir = std::filesystem::absolute(s.output_directory, ec);
+      while (!dir.empty() && !std::filesystem::exists(dir, ec) && dir.has_parent_path() &&
+             dir.parent_path() != dir)
+        dir = dir.parent_path();
+      if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
+        fail("Output/Directory", "'" + dir.string() + "' exists and is not a folder");
+      if (std::filesystem::exists(dir, ec) && ::access(dir.c_str(), W_OK) != 0)
+        fail("Output/Directory", "'" + dir.string() + "' is not writable");
+    }
     if (s.section_direction >= 0 && dim != 3)
       fail("Output/Cross-section direction", "cross sections need a 3D scene");
     if (s.profile_direction >= static_cast<int>(dim))

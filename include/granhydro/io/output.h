@@ -14,12 +14,21 @@
 #include <deal.II/lac/la_parallel_vector.h>
 
 #include <array>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace granhydro::io
 {
+  /// a result file could not be written (disk full, permissions, a vanished folder): the
+  /// run stops with exit code 3 and this message, never with an internal error
+  class OutputError : public std::runtime_error
+  {
+  public:
+    using std::runtime_error::runtime_error;
+  };
+
   template <int dim, class Description>
   class Output
   {
