@@ -69,25 +69,42 @@ def geometry(sc, width, lateral):
     return packing.Box(lo, hi, per)
 
 
-def write_stl(path, k, pos, box):
-    """A rectangle normal to axis k at coordinate pos spanning the box in the other axes."""
+def wall_tile(box):
+    """Largest tile edge of a wall mesh: the smallest periodic extent of the box.
+    LIGGGHTS 3.8 builds a mesh's topology with the periodic ghost copies of its
+    triangles; a triangle much wider than a periodic extent (a 0.1 m wall of a 3D bed
+    with a 0.01 m periodic depth) has images beyond the bins of that search and the run
+    stops at setup ("assertion failed (./src/region_neighbor_list_I.h:165)")."""
+    ext = [box.hi[k] - box.lo[k] for k in range(3) if box.periodic[k]]
+    return min(ext) if ext else math.inf
+
+
+def write_stl(path, k, pos, box, tile=math.inf):
+    """A rectangle normal to axis k at coordinate pos spanning the box in the other axes,
+    as tiles of two triangles with edges no longer than tile (one tile if it fits)."""
     a, b = [j for j in range(3) if j != k]
-    corners = []
-    for ua, ub in [(0, 0), (1, 0), (1, 1), (0, 1)]:
-        p = [0.0] * 3
-        p[k] = pos
-        p[a] = box.lo[a] if ua == 0 else box.hi[a]
-        p[b] = box.lo[b] if ub == 0 else box.hi[b]
-        corners.append(p)
+    na = max(1, math.ceil((box.hi[a] - box.lo[a]) / tile - 1e-9))
+    nb = max(1, math.ceil((box.hi[b] - box.lo[b]) / tile - 1e-9))
+    ea = np.linspace(box.lo[a], box.hi[a], na + 1)
+    eb = np.linspace(box.lo[b], box.hi[b], nb + 1)
     with open(path, "w") as f:
         f.write("solid wall\n")
-        for tri in [(0, 1, 2), (0, 2, 3)]:
-            n = [0.0] * 3
-            n[k] = 1.0
-            f.write(" facet normal %r %r %r\n  outer loop\n" % tuple(n))
-            for i in tri:
-                f.write("   vertex %r %r %r\n" % tuple(corners[i]))
-            f.write("  endloop\n endfacet\n")
+        for i in range(na):
+            for j in range(nb):
+                corners = []
+                for ua, ub in [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)]:
+                    p = [0.0] * 3
+                    p[k] = pos
+                    p[a] = float(ea[ua])
+                    p[b] = float(eb[ub])
+                    corners.append(p)
+                for tri in [(0, 1, 2), (0, 2, 3)]:
+                    n = [0.0] * 3
+                    n[k] = 1.0
+                    f.write(" facet normal %r %r %r\n  outer loop\n" % tuple(n))
+                    for q in tri:
+                        f.write("   vertex %r %r %r\n" % tuple(corners[q]))
+                    f.write("  endloop\n endfacet\n")
         f.write("endsolid wall\n")
 
 
@@ -191,7 +208,7 @@ def build(args, log=print):
             ids = []
             for (k, s, p, e) in walls:
                 name = "wall_%s%s" % (AXES[k], ("lo", "hi")[s])
-                write_stl(os.path.join(args.run_dir, name + ".stl"), k, p, box)
+                write_stl(os.path.join(args.run_dir, name + ".stl"), k, p, box, wall_tile(box))
                 w("fix %s all mesh/surface file %s.stl type %d" % (name, name, 2 + wall_e.index(e)))
                 ids.append(name)
             w("fix walls all wall/gran model hertz tangential history mesh n_meshes %d meshes %s" % (len(ids), " ".join(ids)))
