@@ -180,12 +180,9 @@ namespace granhydro::io
       }
     catch (const std::exception &e)
       {
-        std::string m = e.what();
-        const auto  k = m.find("Additional information:");
-        if (k != std::string::npos)
-          m = m.substr(k + 23, m.find("Stacktrace:") - k - 23);
         throw OutputError("cannot write the output at t = " + std::to_string(time_si) + " s to '" +
-                          scene.output_directory + "' (disk full or no permission?): " + m);
+                          scene.output_directory + "' (disk full or no permission?): " +
+                          human_message(e.what()));
       }
     ++counter;
   }

@@ -32,34 +32,6 @@ namespace granhydro
       return os.str();
     }
 
-    /// deal.II exception texts carry a stack trace; keep the human part
-    std::string human_message(const std::string &what)
-    {
-      std::string       msg = what;
-      const std::string key = "Additional information:";
-      const auto        pos = msg.find(key);
-      if (pos != std::string::npos)
-        msg = msg.substr(pos + key.size());
-      const auto st = msg.find("Stacktrace:");
-      if (st != std::string::npos)
-        msg = msg.substr(0, st);
-      // collapse whitespace runs
-      std::string out;
-      bool        space = false;
-      for (const char c : msg)
-        {
-          if (c == ' ' || c == '\n' || c == '\t')
-            space = true;
-          else
-            {
-              if (space && !out.empty())
-                out += ' ';
-              out += c;
-              space = false;
-            }
-        }
-      return out;
-    }
 
     template <typename T, std::size_t N>
     std::array<T, N> parse_list(const std::string &text,
@@ -555,6 +527,34 @@ namespace granhydro
       prm.declare_entry("Verbose", "true", Patterns::Bool(), "Print the run log.");
     }
     prm.leave_subsection();
+  }
+
+  std::string human_message(const std::string &what)
+  {
+    std::string       msg = what;
+    const std::string key = "Additional information:";
+    const auto        pos = msg.find(key);
+    if (pos != std::string::npos)
+      msg = msg.substr(pos + key.size());
+    const auto st = msg.find("Stacktrace:");
+    if (st != std::string::npos)
+      msg = msg.substr(0, st);
+    // collapse whitespace runs
+    std::string out;
+    bool        space = false;
+    for (const char c : msg)
+      {
+        if (c == ' ' || c == '\n' || c == '\t')
+          space = true;
+        else
+          {
+            if (space && !out.empty())
+              out += ' ';
+            out += c;
+            space = false;
+          }
+      }
+    return out;
   }
 
   std::string default_scene_text()

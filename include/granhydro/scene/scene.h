@@ -193,6 +193,10 @@ namespace granhydro
   /// the embedded default scene (a 2D cylindrical blast in the ideal-gas limit)
   std::string default_scene_text();
 
+  /// the human part of a deal.II exception text (after "Additional information:", before
+  /// the stack trace, whitespace runs collapsed), for messages to users
+  std::string human_message(const std::string &what);
+
   /**
    * Read a scene from a file ("" = embedded default), validate it and
    * return it. Throws SceneError naming the offending parameter.
