@@ -7,7 +7,8 @@
 # LD_LIBRARY_PATH=OLD_DIR); the new one is build/granhydro. Each round runs every scene
 # with the old binary (its defaults) and with the new one under each integrator, one
 # process at a time, interleaved, so that a noisy shared machine hits all of them alike.
-# Writes bench-diffusion/results.csv (one row per run, from summary.csv) and prints the
+# Writes bench-diffusion/results.csv (one row per run, from its <Base name>_summary.csv,
+# summary.csv for a build before the base name prefix) and prints the
 # medians; then runs a reference per scene (Gauss-Legendre, fixed GMRES tolerance, time
 # step capped ~10x below the CFL step) and prints the largest difference of the
 # cross-section profiles of phi and T at the end time to it (relative to max|ref|; this
@@ -19,6 +20,9 @@ OUT=$PWD/bench-diffusion; mkdir -p $OUT; cd $OUT
 mk() { # scene-file tag diffusion-step-lines
   cat "$1" > $2.prm
   printf "subsection Output\n  set Directory = $OUT/out-$2\n  set Write VTU = false\nend\nsubsection Diffusion step\n$3\nend\n" >> $2.prm
+}
+summary_csv() { # the summary of the run in directory $1: <Base name>_summary.csv, or summary.csv (older builds)
+  local f; for f in "$1"/*_summary.csv; do [ -f "$f" ] && { echo "$f"; return; }; done; echo "$1/summary.csv"
 }
 SCENES="bb:$REPO/parameters/bouncing_bed-ci.prm:1e-4 bed1d:$REPO/parameters/vibrated_bed_1d.prm:4e-5 hv:$REPO/parameters/hard/harsh_vibration-ci.prm:4e-5"
 CONFIGS="old gl sdirk2 rkl2 cost"
@@ -39,7 +43,7 @@ for r in $(seq $ROUNDS); do
     for c in $CONFIGS; do
       if [ $c = old ]; then LD_LIBRARY_PATH=$OLD $OLD/granhydro $name-$c.prm > $name-$c.log 2>&1
       else $NEW $name-$c.prm > $name-$c.log 2>&1; fi
-      s=out-$name-$c/summary.csv
+      s=$(summary_csv out-$name-$c)
       g() { grep "^$1," $s | cut -d, -f2; }
       echo "$name,$c,$r,$(g wall_seconds),$(g convection_seconds),$(g diffusion_seconds),$(g steps),$(g newton_iterations),$(g gmres_iterations),$(g rkl2_steps),$(g rkl2_stages)" >> results.csv
       echo "round $r: $name $c done" >&2
@@ -47,9 +51,11 @@ for r in $(seq $ROUNDS); do
   done
 done
 for sc in $SCENES; do name=${sc%%:*}; $NEW $name-ref.prm > $name-ref.log 2>&1; done
-/usr/bin/python3 - "$CONFIGS" <<'PY'
-import csv, statistics as st, sys
+/usr/bin/python3 - "$CONFIGS" "$REPO" <<'PY'
+import csv, os, statistics as st, sys
 import numpy as np
+sys.path.insert(0, os.path.join(sys.argv[2], "tools"))
+from granhydro_output import find_output_file  # <Base name>_profiles.csv, or profiles.csv (older builds)
 rows = list(csv.DictReader(open("results.csv")))
 def last_block(f, col):
     lines = [l.strip().split(",") for l in open(f) if not l.startswith("#")]
@@ -64,8 +70,8 @@ for sc in ["bb", "bed1d", "hv"]:
         d = st.median(float(r["diffusion"]) for r in rr); cv = st.median(float(r["convection"]) for r in rr)
         e = []
         for col in ["packing_fraction", "temperature_J"]:
-            ref = last_block("out-%s-ref/profiles.csv" % sc, col)
-            x = last_block("out-%s-%s/profiles.csv" % (sc, c), col)
+            ref = last_block(find_output_file("out-%s-ref" % sc, "profiles"), col)
+            x = last_block(find_output_file("out-%s-%s" % (sc, c), "profiles"), col)
             e.append(np.abs(x - ref).max() / np.abs(ref).max())
         print("%-6s %-7s %10.3f %11.3f %12.2f %13s %6s %6s %6s %9.2e %8.2e" % (sc, c, d, cv, d / cv, rr[0]["steps"], rr[0]["newton"], rr[0]["gmres"], rr[0]["rkl2_stages"] or "-", e[0], e[1]))
 PY

@@ -8,11 +8,12 @@
 # 1. time: three stiff granular scenes (bouncing_bed-ci, vibrated_bed_1d,
 #    harsh_vibration-ci) under Gauss-Legendre and SDIRK2 with either preconditioner,
 #    ROUNDS rounds (default 3), one process at a time, interleaved; medians of the
-#    diffusion step's wall time and of its parts (summary.csv), and the largest
+#    diffusion step's wall time and of its parts (<Base name>_summary.csv), and the largest
 #    difference of the final profiles between the two preconditioners (both stop GMRES
 #    at the same tolerance, so they agree to the Newton tolerance, not bit for bit);
 # 2. memory: the paper's sedimentation (50 x 100 x 50 cells) for MEMORY_STEPS steps
-#    (default 2) per configuration: peak resident memory per cell (summary.csv).
+#    (default 2) per configuration: peak resident memory per cell (<Base name>_summary.csv;
+#    summary.csv of a build before the base name prefix).
 # Writes bench-linear-algebra/results.csv and prints the tables.
 set -e
 ROUNDS=${1:-3}; MSTEPS=${2:-2}
@@ -22,6 +23,9 @@ mk() { # scene-file tag integrator preconditioner [extra lines]
   cat "$1" > $2.prm
   printf "subsection Output\n  set Directory = $OUT/out-$2\n  set Write VTU = false\nend\n" >> $2.prm
   printf "subsection Diffusion step\n  set Integrator = $3\n  set Preconditioner = $4\nend\n$5" >> $2.prm
+}
+summary_csv() { # the summary of the run in directory $1: <Base name>_summary.csv, or summary.csv (older builds)
+  local f; for f in "$1"/*_summary.csv; do [ -f "$f" ] && { echo "$f"; return; }; done; echo "$1/summary.csv"
 }
 SCENES="bb:$REPO/parameters/bouncing_bed-ci.prm bed1d:$REPO/parameters/vibrated_bed_1d.prm hv:$REPO/parameters/hard/harsh_vibration-ci.prm"
 CONFIGS="gl:gauss-legendre:ilu gl-block:gauss-legendre:block%ilu sdirk2:sdirk2:ilu sdirk2-block:sdirk2:block%ilu"
@@ -40,7 +44,7 @@ for r in $(seq $ROUNDS); do
     for c in $CONFIGS; do
       tag=${c%%:*}
       $BIN $name-$tag.prm > $name-$tag.log 2>&1
-      s=out-$name-$tag/summary.csv
+      s=$(summary_csv out-$name-$tag)
       echo "$name,$tag,$r,$(g $s diffusion_seconds),$(g $s jacobian_seconds),$(g $s preconditioner_seconds),$(g $s gmres_seconds),$(g $s newton_iterations),$(g $s gmres_iterations),$(g $s peak_memory_bytes_all_ranks),$(g $s cells)" >> results.csv
       echo "round $r: $name $tag done" >&2
     done
@@ -51,13 +55,15 @@ for c in $CONFIGS; do
   IFS=: read tag integ pc <<< "$c"
   mk $REPO/parameters/sedimentation.prm sed-$tag $integ "${pc/\%/ }" "subsection Time\n  set Maximum steps = $MSTEPS\nend\n"
   $BIN sed-$tag.prm > sed-$tag.log 2>&1
-  s=out-sed-$tag/summary.csv
+  s=$(summary_csv out-sed-$tag)
   echo "$tag,$(g $s peak_memory_bytes_all_ranks),$(g $s cells),$(g $s diffusion_seconds)" >> memory.csv
   echo "memory: $tag done" >&2
 done
-/usr/bin/python3 - "$CONFIGS" <<'PY'
-import csv, statistics as st, sys
+/usr/bin/python3 - "$CONFIGS" "$REPO" <<'PY'
+import csv, os, statistics as st, sys
 import numpy as np
+sys.path.insert(0, os.path.join(sys.argv[2], "tools"))
+from granhydro_output import find_output_file  # <Base name>_profiles.csv, or profiles.csv (older builds)
 rows = list(csv.DictReader(open("results.csv")))
 tags = [c.split(":")[0] for c in sys.argv[1].split()]
 def last_block(f, col):
@@ -78,8 +84,8 @@ for sc in ["bb", "bed1d", "hv"]:
             ratio = "%.2f" % (st.median(float(r["diffusion"]) for r in base) / m("diffusion"))
             e = []
             for col in ["packing_fraction", "temperature_J"]:
-                a = last_block("out-%s-%s/profiles.csv" % (sc, t), col)
-                b = last_block("out-%s-%s/profiles.csv" % (sc, t[:-6]), col)
+                a = last_block(find_output_file("out-%s-%s" % (sc, t), "profiles"), col)
+                b = last_block(find_output_file("out-%s-%s" % (sc, t[:-6]), "profiles"), col)
                 e.append(np.abs(a - b).max() / np.abs(b).max())
             dphi, dT = "%.1e" % e[0], "%.1e" % e[1]
         print("%-6s %-13s %9.3f %9.3f %8.3f %7.3f %7s %9s %9.2f %6s %14s %12s" % (sc, t, m("diffusion"), m("jacobian"), m("preconditioner"), m("gmres"), rr[0]["newton"], rr[0]["gmres_its"], m("peak_bytes") / 1024 / float(rr[0]["cells"]), ratio, dphi, dT))

@@ -1,21 +1,38 @@
 /**
  * granhydro: granular hydrodynamics in 1, 2 and 3 dimensions.
- *   granhydro [scene.prm]        run a scene (the embedded default without a file)
+ *   granhydro [-p "Section/Name=value" ...] [scene.prm]   run a scene (the embedded
+ *                                default without a file), with parameters overridden
  *   granhydro --print-parameters write a documented default scene to stdout
  *   granhydro --check scene.prm  validate a scene without running it
- * Exit codes: 0 success, 2 bad input (scene or command line), 3 run failure.
+ *   granhydro --checkpoint-info FILE   verify a checkpoint and print what it holds
+ *   granhydro --version
+ * Exit codes: 0 success, 2 bad input (scene, checkpoint or command line), 3 run failure
+ * (including a failed output or checkpoint write), 130 / 143 stopped by SIGINT / SIGTERM
+ * after writing the final output, checkpoint and summary.
  */
 #include <granhydro/driver/simulation.h>
+#include <granhydro/io/checkpoint.h>
 #include <granhydro/mesh/mesh_file.h>
 #include <granhydro/scene/scene.h>
 
+#include <deal.II/base/config.h>
 #include <deal.II/base/mpi.h>
 
 #include <unistd.h>
 
+#include <csignal>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <sstream>
+#include <vector>
+
+#ifndef GRANHYDRO_VERSION
+#  define GRANHYDRO_VERSION "unknown"
+#endif
+#ifndef GRANHYDRO_GIT_REVISION
+#  define GRANHYDRO_GIT_REVISION "unknown"
+#endif
 
 namespace
 {
@@ -69,17 +86,77 @@ int main(int argc, char **argv)
   const bool     root  = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
   std::string    file;
   bool           check_only = false;
+  std::vector<std::string> overrides;
   for (int i = 1; i < argc; ++i)
     {
       const std::string a = argv[i];
       if (a == "--help" || a == "-h")
         {
           if (root)
-            std::cout << "usage: granhydro [scene.prm]\n"
+            std::cout << "usage: granhydro [-p \"Section/Name=value\" ...] [scene.prm]\n"
                          "       granhydro --print-parameters   (documented default scene)\n"
-                         "       granhydro --check scene.prm   (validate the scene, run nothing)\n"
-                         "Without a scene file the embedded default scene runs.\n";
+                         "       granhydro --check [-p ...] scene.prm   (validate the scene, run nothing)\n"
+                         "       granhydro --checkpoint-info FILE   (verify a checkpoint, print its contents)\n"
+                         "       granhydro --version\n"
+                         "Without a scene file the embedded default scene runs. -p overrides a\n"
+                         "parameter of the scene (nested sections joined by '/'), e.g.\n"
+                         "  granhydro -p \"Time/End time=0.1\" -p \"Output/Directory=run2\" scene.prm\n"
+                         "Exit codes: 0 done, 2 bad input, 3 run failure, 130/143 stopped by SIGINT/SIGTERM\n"
+                         "(final output, checkpoint and summary written; restart from the checkpoint).\n";
           return 0;
+        }
+      if (a == "--version")
+        {
+          if (root)
+            std::cout << "granhydro " << GRANHYDRO_VERSION << " (git " << GRANHYDRO_GIT_REVISION
+                      << "), deal.II " << DEAL_II_PACKAGE_VERSION << "\n";
+          return 0;
+        }
+      if (a == "-p" || a == "--parameter")
+        {
+          if (i + 1 >= argc)
+            {
+              if (root)
+                std::cerr << "granhydro: error: " << a
+                          << " needs an argument \"Section/Name=value\" (e.g. -p \"Time/End time=0.1\")\n";
+              return 2;
+            }
+          overrides.emplace_back(argv[++i]);
+          continue;
+        }
+      if (a == "--checkpoint-info")
+        {
+          if (i + 1 >= argc)
+            {
+              if (root)
+                std::cerr << "granhydro: error: --checkpoint-info needs a checkpoint file\n";
+              return 2;
+            }
+          const std::string cp = argv[++i];
+          try
+            {
+              const auto  d = granhydro::io::read_checkpoint_file(cp);
+              const auto &h = d.header;
+              if (root)
+                {
+                  std::printf("checkpoint %s: valid (format v3, checksum verified)\n", cp.c_str());
+                  std::printf("  dimension %d, model %s, %llu cells, step %llu, outputs %llu\n", h.dim,
+                              h.model, (unsigned long long)h.n_cells, (unsigned long long)h.step,
+                              (unsigned long long)h.outputs);
+                  std::printf("  time %.17g s\n", h.time * h.length / h.velocity);
+                  std::printf("  implicit-step history: %s\n",
+                              h.history.matrix_valid ? "kept Newton matrix (interrupted run)" : "none");
+                  std::printf("  state digest %016llx\n",
+                              (unsigned long long)granhydro::io::state_digest(d));
+                }
+              return 0;
+            }
+          catch (const granhydro::io::CheckpointError &e)
+            {
+              if (root)
+                std::cerr << "granhydro: error: checkpoint '" << cp << "' " << e.what() << "\n";
+              return 2;
+            }
         }
       if (a == "--print-parameters")
         {
@@ -101,7 +178,8 @@ int main(int argc, char **argv)
         {
           if (root)
             std::cerr << "granhydro: error: unknown option '" << a
-                      << "' (allowed: --help, --print-parameters, --check, a scene file)\n";
+                      << "' (allowed: --help, --version, --print-parameters, --check, "
+                         "--checkpoint-info, -p, a scene file)\n";
           return 2;
         }
       if (!file.empty())
@@ -115,7 +193,7 @@ int main(int argc, char **argv)
     }
   try
     {
-      const granhydro::Scene scene = granhydro::read_scene(file);
+      const granhydro::Scene scene = granhydro::read_scene(file, overrides);
       check_memory(scene, dealii::Utilities::MPI::n_mpi_processes(comm));
       if (check_only)
         {
@@ -123,6 +201,10 @@ int main(int argc, char **argv)
             std::cout << "granhydro: scene " << scene.source << " is valid\n";
           return 0;
         }
+      // a full disk or a file size limit makes a write fail with an error we report
+      // (exit 3), not a SIGXFSZ that kills the process
+      std::signal(SIGXFSZ, SIG_IGN);
+      granhydro::install_stop_signal_handlers();
       return granhydro::run_scene(scene, comm, std::cout);
     }
   catch (const granhydro::SceneError &e)

@@ -55,7 +55,7 @@ else
   echo "FAIL: the restarted run differs from the uninterrupted one"; exit 1
 fi
 # the profiles written after the restart continue the file: same number of lines
-a=$(wc -l < full/profiles.csv); b=$(wc -l < killed/profiles.csv)
-echo "profiles.csv lines: uninterrupted $a, killed + restarted $b"
-[ "$a" -le "$b" ] || { echo "FAIL: profiles.csv lost lines"; exit 1; }
+a=$(wc -l < full/solution_profiles.csv); b=$(wc -l < killed/solution_profiles.csv)
+echo "solution_profiles.csv lines: uninterrupted $a, killed + restarted $b"
+[ "$a" -le "$b" ] || { echo "FAIL: solution_profiles.csv lost lines"; exit 1; }
 exit 0

@@ -100,13 +100,21 @@ namespace
     return s;
   }
 
-  /// the names of all four energy fields appear in the directory's first VTU file
+  /// all four energy fields appear in the directory's first VTU file under plain names
+  /// (ParaView's Calculator takes them unquoted) with their SI unit as metadata
   bool vtu_has_energy_fields(const std::string &directory)
   {
     const std::string text = read_text_file(directory + "/solution_0000.0.vtu");
-    for (const auto &n : energy_names)
-      if (text.find("Name=\"" + n + "\"") == std::string::npos)
-        return false;
+    for (const char *part : {"kinetic", "thermal", "contact", "total"})
+      {
+        const std::string tag = "Name=\"" + std::string(part) + "_energy_density\"";
+        const auto        at  = text.find(tag);
+        if (at == std::string::npos)
+          return false;
+        const auto end = text.find('>', at), unit = text.find("units=\"J/m^3\"", at);
+        if (unit == std::string::npos || unit > end)
+          return false;
+      }
     return true;
   }
 
@@ -131,7 +139,7 @@ int main(int argc, char **argv)
     Simulation<1, physics::GranularGas<1>> sim(s, MPI_COMM_SELF, std::cout);
     sim.setup();
     sim.run();
-    const Csv   csv = read_csv(out + "/profiles.csv");
+    const Csv   csv = read_csv(out + "/solution_profiles.csv");
     const Split e   = split(csv);
     chk.check(e.rows == 16 * 100 && e.worst_sum <= 1e-12,
               "closure on, " + std::to_string(e.rows) + " rows: max |kinetic + thermal + contact - total| / total = " +
@@ -158,7 +166,7 @@ int main(int argc, char **argv)
     Simulation<1, physics::GranularGas<1>> sim(scene(column, no_closure, out), MPI_COMM_SELF, std::cout);
     sim.setup();
     sim.run();
-    const Split e = split(read_csv(out + "/profiles.csv"));
+    const Split e = split(read_csv(out + "/solution_profiles.csv"));
     chk.check(e.rows > 0 && e.max_contact == 0 && e.worst_sum <= 1e-12,
               "closure off, " + std::to_string(e.rows) + " rows: contact column 0 (max " + sci(e.max_contact) +
                 "), sum = total to " + sci(e.worst_sum));
@@ -173,7 +181,7 @@ int main(int argc, char **argv)
     Simulation<1, physics::GranularGas<1>> sim(s, MPI_COMM_SELF, std::cout);
     sim.setup();
     sim.run();
-    const Csv    csv = read_csv(out + "/profiles.csv");
+    const Csv    csv = read_csv(out + "/solution_profiles.csv");
     const Split  e   = split(csv);
     const double m   = sim.units().mass;
     double       worst = 0, frame = 0;
@@ -201,7 +209,7 @@ int main(int argc, char **argv)
       scene(dir + "/sod_1d.prm", "\nsubsection Time\n  set End time = 0.05\nend\n", out), MPI_COMM_SELF, std::cout);
     sim.setup();
     sim.run();
-    const Split e = split(read_csv(out + "/profiles.csv"));
+    const Split e = split(read_csv(out + "/solution_profiles.csv"));
     chk.check(e.rows > 0 && e.max_contact == 0 && e.worst_sum <= 1e-12 && e.worst_ideal <= 1e-12,
               "ideal gas, " + std::to_string(e.rows) + " rows: contact 0, thermal = total - kinetic to " +
                 sci(e.worst_ideal));

@@ -13,15 +13,16 @@ stops at close packing. With --paper-runs it also runs the paper's model with
 the paper's fixed time step (Numerics/Fixed time step = 1e-6 s).
 
 Each variant is the base scene with override blocks appended (a later 'set'
-wins) and runs in its own directory under --workdir. From out/profiles.csv it
-reports, at t = 0.1, 0.15, 0.2 s:
+wins) and runs in its own directory under --workdir. From the profiles CSV
+(out/<Base name>_profiles.csv, the base scene's Output/Base name) it reports,
+at t = 0.1, 0.15, 0.2 s:
 
   floor phi    packing fraction of the lowest cell
   pile height  top of the highest cell with phi >= 0.5 (0 if there is none)
   front height top of the highest cell with phi > 0.05 (upper edge of the gas)
   T pile       mean temperature of the cells with phi >= 0.5 [J]
 
-and from out/summary.csv the steps, rejected steps, temperature repairs and
+and from out/<Base name>_summary.csv the steps, rejected steps, temperature repairs and
 wall seconds. The Markdown tables are printed on stdout (and written with
 --markdown); --plot writes a figure.
 
@@ -44,6 +45,9 @@ import time
 from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from granhydro_output import find_output_file  # noqa: E402
 
 REFERENCE = {
     "Coefficient": 0.05,
@@ -107,7 +111,7 @@ def scene_text(base, run):
 
 
 def read_profiles(path):
-    """profiles.csv -> {time: array with columns x, n, nu, nE, phi, T}."""
+    """profiles CSV of a 1D run -> {time: array with columns x, n, nu, nE, phi, T}."""
     blocks = {}
     with open(path) as f:
         for line in f:
@@ -165,10 +169,14 @@ def execute(run, args, base):
     text = (directory / "log.txt").read_text(errors="replace")
     run.stop, run.stop_message, run.last_progress = parse_log(text)
     (directory / "exit_code.txt").write_text(f"{run.returncode}\n")
-    if (directory / "out" / "profiles.csv").exists():
-        run.profiles = read_profiles(directory / "out" / "profiles.csv")
-    if (directory / "out" / "summary.csv").exists():
-        run.summary = read_summary(directory / "out" / "summary.csv")
+    # the run's own out/ holds one run: its *_profiles.csv, *_summary.csv (or the
+    # un-prefixed names of an older granhydro)
+    profiles = find_output_file(str(directory / "out"), "profiles", required=False)
+    if profiles:
+        run.profiles = read_profiles(profiles)
+    summary = find_output_file(str(directory / "out"), "summary", required=False)
+    if summary:
+        run.summary = read_summary(summary)
     return run
 
 

@@ -1,20 +1,27 @@
 #!/usr/bin/python3
-"""Compare the profiles.csv of two runs (e.g. adaptive vs uniform at the same finest
+"""Compare the profiles of two runs (e.g. adaptive vs uniform at the same finest
 resolution) at their common output times: max and mean |difference| of the packing
 fraction and the relative difference of the temperature and the mass per layer.
 
-  /usr/bin/python3 tools/compare_profiles.py RUN_A RUN_B [--time T]
+  /usr/bin/python3 tools/compare_profiles.py RUN_A RUN_B [--time T] [--base-a NAME] [--base-b NAME]
+
+RUN_A and RUN_B are output directories (their <Base name>_profiles.csv, or profiles.csv
+in older folders) or the profiles CSV files themselves; --base-a / --base-b (or --base
+for both) pick a run when several share a directory, e.g. two runs with different base
+names in one folder: compare_profiles.py out out --base-a adaptive --base-b uniform.
 """
 import argparse
-import csv
 import math
+import os
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from granhydro_output import OutputFileError, find_output_file, read_rows  # noqa: E402
 
 
 def read(path):
     blocks = {}
-    with open(path) as f:
-        rows = [r for r in csv.reader(l for l in f if not l.startswith('#'))]
+    rows = read_rows(path)
     head = rows[0]
     it, ix = 0, 1
     iphi = head.index('packing_fraction')
@@ -27,12 +34,19 @@ def read(path):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument('a')
-    ap.add_argument('b')
+    ap.add_argument('a', help='output directory (or profiles CSV file) of run A')
+    ap.add_argument('b', help='output directory (or profiles CSV file) of run B')
     ap.add_argument('--time', type=float, default=None, help='compare at this output time only')
+    ap.add_argument('--base', metavar='NAME', default=None,
+                    help="Output/Base name of both runs, when several runs share a directory")
+    ap.add_argument('--base-a', metavar='NAME', default=None, help='Output/Base name of run A (default --base)')
+    ap.add_argument('--base-b', metavar='NAME', default=None, help='Output/Base name of run B (default --base)')
     args = ap.parse_args()
-    A = read(args.a.rstrip('/') + '/profiles.csv')
-    B = read(args.b.rstrip('/') + '/profiles.csv')
+    try:
+        A = read(find_output_file(args.a, 'profiles', args.base_a or args.base))
+        B = read(find_output_file(args.b, 'profiles', args.base_b or args.base))
+    except OutputFileError as e:
+        sys.exit('compare_profiles: %s' % e)
     times = sorted(set(A) & set(B))
     if args.time is not None:
         times = [t for t in times if abs(t - args.time) < 1e-9]

@@ -3,7 +3,8 @@
 with its own implicit diffusion step and with 'Diffusion step/Integrator = explicit
 euler' (forward Euler sub-cycled at the explicit diffusive limit 0.9 / max sum_d 2D/dx_d^2,
 at most 1e6 sub-steps per step, then the run stops and says where the limit collapsed),
-each under a wall-clock cap. Reads summary.csv of every run and writes a Markdown table:
+each under a wall-clock cap. Reads the summary CSV of every run (<Base name>_summary.csv
+in its output directory) and writes a Markdown table:
 the smallest step of our run, the smallest explicit limit it met (and when), and how far
 the explicit baseline got in the same wall time.
 
@@ -21,10 +22,14 @@ import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from granhydro_output import find_output_file  # noqa: E402
+
 
 def summary(directory):
-    path = os.path.join(directory, "summary.csv")
-    if not os.path.exists(path):
+    # each run has its own directory: the one *_summary.csv there, whatever the scene's base name
+    path = find_output_file(directory, "summary", required=False)
+    if path is None:
         return None
     with open(path) as f:
         return {row["key"]: row["value"] for row in csv.DictReader(f)}
@@ -41,7 +46,7 @@ def run(granhydro, scene, extra, directory, cap):
     p = subprocess.run([granhydro, prm], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     s = summary(directory)
     if s is None:
-        sys.exit("explicit_baseline: %s wrote no summary.csv (exit %d): %s" % (scene, p.returncode, p.stderr[-500:]))
+        sys.exit("explicit_baseline: %s wrote no *_summary.csv (exit %d): %s" % (scene, p.returncode, p.stderr[-500:]))
     s["message"] = p.stderr.strip().splitlines()[-1] if p.returncode != 0 and p.stderr.strip() else ""
     return s
 

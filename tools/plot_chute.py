@@ -1,14 +1,18 @@
 #!/usr/bin/python3
-"""Plot the inclined-chute cross section (cross_section.csv, averages along the flow
+"""Plot the inclined-chute cross section (OUTPUT_DIR/<Base name>_cross_section.csv,
+cross_section.csv in older output folders; averages along the flow
 direction x) at the last output time: the down-slope velocity u_x(y, z) across the
 channel (paper fig. 8) and the packing fraction phi(y) across the channel at a few
 heights (paper fig. 7), plus phi(z) and u_x(z) on the centreline.
 Debian: apt-get install python3-matplotlib python3-numpy
 
-    /usr/bin/python3 tools/plot_chute.py OUTPUT_DIR [--out chute.png]
+    /usr/bin/python3 tools/plot_chute.py OUTPUT_DIR [--base NAME] [--out chute.png]
+
+OUTPUT_DIR may also be the CSV file itself; --base picks a run when several share the
+directory. The figure goes to OUTPUT_DIR/<Base name>_chute.png (chute.png for an older
+folder) unless --out is given.
 """
 import argparse
-import csv
 import os
 import sys
 
@@ -18,18 +22,22 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from granhydro_output import OutputFileError, SeveralRunsError, add_base_option, find_output_file, read_rows  # noqa: E402
+
 
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("directory")
-    p.add_argument("--out", default=None)
+    p.add_argument("directory", help="the scene's Output/Directory (or its cross-section CSV file)")
+    add_base_option(p)
+    p.add_argument("--out", default=None, help="PNG file (default: DIRECTORY/<Base name>_chute.png)")
     a = p.parse_args()
-    path = os.path.join(a.directory, "cross_section.csv")
-    if not os.path.exists(path):
-        sys.exit(f"plot_chute: no {path} (set 'Output/Cross-section direction = x')")
-    with open(path) as f:
-        rows = [r for r in csv.reader(l for l in f if not l.startswith("#"))]
-    header, data = rows[0], np.array([[float(v) for v in r] for r in rows[1:] if r])
+    try:
+        path = find_output_file(a.directory, "cross_section", a.base)
+    except OutputFileError as e:
+        sys.exit(f"plot_chute: {e}" + ("" if isinstance(e, SeveralRunsError) else " (set 'Output/Cross-section direction = x')"))
+    rows = read_rows(path)
+    header, data = rows[0], np.array([[float(v) for v in r] for r in rows[1:]])
     t_last = data[:, 0].max()
     d = data[data[:, 0] == t_last]
     y, z = np.unique(d[:, 1]), np.unique(d[:, 2])
@@ -55,7 +63,9 @@ def main():
     ax2.set_xlabel("u_x [m/s] (dashed)")
     ax[2].set_ylabel("z [mm]")
     fig.tight_layout()
-    out = a.out or os.path.join(a.directory, "chute.png")
+    # <Base name>_cross_section.csv -> <Base name>_chute.png (cross_section.csv -> chute.png)
+    stem = path[:-len("cross_section.csv")] if path.endswith("cross_section.csv") else os.path.splitext(path)[0] + "_"
+    out = a.out or stem + "chute.png"
     fig.savefig(out, dpi=110)
     print(f"plot_chute: wrote {out}")
 

@@ -1,12 +1,17 @@
 #!/usr/bin/python3
-"""Plot output/profiles.csv of a granhydro run: packing fraction, temperature,
+"""Plot the profiles CSV of a granhydro run (OUTPUT_DIR/<Base name>_profiles.csv,
+profiles.csv in older output folders): packing fraction, temperature,
 vertical mass flux and the energy density split into its thermal (3/2 n T, solid),
 contact (n w of the dense closure, dashed) and kinetic (n m |u|^2/2, dotted) parts
 against the profile coordinate, one colour per output time.  Files written before
 the split (one n*E_J/m3 column) get the total energy density in that panel.
 Debian: apt-get install python3-matplotlib python3-numpy
 
-    /usr/bin/python3 tools/plot_profiles.py OUTPUT_DIR [--out profiles.png] [--spacetime] [--title T]
+    /usr/bin/python3 tools/plot_profiles.py OUTPUT_DIR [--base NAME] [--out profiles.png] [--spacetime] [--title T]
+
+OUTPUT_DIR may also be the CSV file itself; --base picks a run when several share the
+directory. The figure goes to OUTPUT_DIR/<Base name>_profiles.png (profiles.png for an
+older folder) unless --out is given.
 """
 import argparse
 import csv
@@ -17,6 +22,9 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from granhydro_output import OutputFileError, SeveralRunsError, add_base_option, find_output_file  # noqa: E402
 
 
 def read(path):
@@ -34,16 +42,20 @@ def read(path):
 
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("directory", help="the scene's Output/Directory")
-    p.add_argument("--out", default=None, help="PNG file (default DIRECTORY/profiles.png)")
+    p.add_argument("directory", help="the scene's Output/Directory (or its profiles CSV file)")
+    add_base_option(p)
+    p.add_argument("--out", default=None,
+                   help="PNG file (default: the CSV's name with .png, DIRECTORY/<Base name>_profiles.png)")
     p.add_argument("--spacetime", action="store_true",
                    help="draw packing fraction and temperature as maps over (time, coordinate) "
                         "instead of one curve per output time (many outputs, e.g. a vibrated bed)")
     p.add_argument("--title", default=None, help="figure title (default: the directory)")
     a = p.parse_args()
-    path = os.path.join(a.directory, "profiles.csv")
-    if not os.path.exists(path):
-        sys.exit(f"plot_profiles: no {path} (run with 'Output/Write profiles = true')")
+    try:
+        path = find_output_file(a.directory, "profiles", a.base)
+    except OutputFileError as e:
+        sys.exit(f"plot_profiles: {e}" + ("" if isinstance(e, SeveralRunsError) else " (run with 'Output/Write profiles = true')"))
+    default_out = os.path.splitext(path)[0] + ".png"
     header, blocks = read(path)
     col = {h: i for i, h in enumerate(header)}
     coord = header[1]
@@ -57,7 +69,7 @@ def main():
         ("thermal_energy_density_J/m3", "thermal 3/2 n T", "-"),
         ("contact_energy_density_J/m3", "contact n w", "--"),
         ("kinetic_energy_density_J/m3", "kinetic n m |u|^2/2", ":")) if c in col]
-    if not energy:  # profiles.csv of an older run: only the total
+    if not energy:  # the profiles of an older run: only the total
         energy = [("n*E_J/m3", "total nE", "-")]
     if a.spacetime:
         import numpy as np
@@ -75,7 +87,7 @@ def main():
         axes[1].set_xlabel("time [s]")
         fig.suptitle(a.title or os.path.abspath(a.directory))
         fig.tight_layout()
-        out = a.out or os.path.join(a.directory, "profiles.png")
+        out = a.out or default_out
         fig.savefig(out, dpi=110)
         print(f"plot_profiles: wrote {out}")
         return
@@ -102,7 +114,7 @@ def main():
     axes[0].legend(fontsize=7)
     fig.suptitle(a.title or os.path.abspath(a.directory))
     fig.tight_layout()
-    out = a.out or os.path.join(a.directory, "profiles.png")
+    out = a.out or default_out
     fig.savefig(out, dpi=110)
     print(f"plot_profiles: wrote {out}")
 

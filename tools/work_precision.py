@@ -58,6 +58,9 @@ import subprocess
 import sys
 import time
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from granhydro_output import find_output_file  # noqa: E402
+
 # ---------------------------------------------------------------------------
 # exact Riemann solver (port of tests/exact_riemann.h, Toro ch. 4)
 # ---------------------------------------------------------------------------
@@ -576,8 +579,9 @@ def column_scene(cells, integrator, rundir, repo):
 # ---------------------------------------------------------------------------
 
 def read_summary(rundir):
+    """The run's <Base name>_summary.csv (each run has its own directory)."""
     d = {}
-    with open(os.path.join(rundir, "summary.csv")) as f:
+    with open(find_output_file(rundir, "summary")) as f:
         for row in csv.reader(f):
             if len(row) == 2 and row[0] != "key":
                 try:
@@ -588,9 +592,9 @@ def read_summary(rundir):
 
 
 def read_last_profile(rundir):
-    """Last block of profiles.csv: (time, columns dict of lists)."""
+    """Last block of the run's <Base name>_profiles.csv: (time, columns dict of lists)."""
     header, blocks = None, []
-    with open(os.path.join(rundir, "profiles.csv")) as f:
+    with open(find_output_file(rundir, "profiles")) as f:
         for line in f:
             if line.startswith("#") or not line.strip():
                 continue
@@ -605,8 +609,11 @@ def read_last_profile(rundir):
     return t, {h: [r[i] for r in rows] for i, h in enumerate(header)}
 
 
-CHECKPOINT_MAGIC = b"granhydro checkpoint v2\n"  # keys: fine-lattice key * 8 + level
-CHECKPOINT_HEADER = struct.Struct("=ii3Q3d3d4d3Q16s")  # CheckpointHeader, simulation.cc
+CHECKPOINT_MAGIC = b"granhydro checkpoint v3\n"  # keys: fine-lattice key * 8 + level
+# io::CheckpointHeader (include/granhydro/io/checkpoint.h) with x86-64 alignment: dims,
+# cells, corners, units, time, step/n_cells/outputs, model, n_values, the implicit
+# step's history (5 int32 + padding, t, dt, N[4]); 232 bytes
+CHECKPOINT_HEADER = struct.Struct("=ii3Q3d3d4d3Q16si4x5i4x2d4d")
 
 
 def read_checkpoint(path):
@@ -624,10 +631,11 @@ def read_checkpoint(path):
     cells = h[2:5]
     length, mass, velocity, t = h[11], h[12], h[13], h[14]
     n_cells = h[16]
-    rec = np.dtype([("key", "<i8"), ("u", "<f8", (nc,))])
+    n_values = h[19]  # nc, or 2 nc when the implicit step's history is stored
+    rec = np.dtype([("key", "<i8"), ("u", "<f8", (n_values,))])
     rows = np.frombuffer(data, dtype=rec, count=n_cells, offset=o)
     return {"dim": dim, "cells": cells, "time_scaled": t, "length": length, "mass": mass,
-            "velocity": velocity, "key": rows["key"], "U": rows["u"]}
+            "velocity": velocity, "key": rows["key"], "U": rows["u"][:, :nc]}
 
 
 # ---------------------------------------------------------------------------
@@ -751,8 +759,8 @@ class Runner:
             status, cpu, _, rundir = self.run("startup", text)
             if status != "ok":
                 raise RuntimeError("%s does not run a scene: %s" % (self.exe, status))
-            if not os.path.isfile(os.path.join(rundir, "summary.csv")):
-                raise RuntimeError("%s wrote no summary.csv: is it granhydro (with "
+            if find_output_file(rundir, "summary", required=False) is None:
+                raise RuntimeError("%s wrote no *_summary.csv: is it granhydro (with "
                                    "Output/Write summary)?" % self.exe)
             best = min(best, cpu)
         self.startup = best
@@ -892,7 +900,7 @@ def run_study(opts, repo):
             row.update(cells=value * value if problem in ("vortex", "sod2d") else value, cfl=0.4)
         err = float("nan")
         try:
-            if os.path.exists(os.path.join(rundir, "summary.csv")):
+            if find_output_file(rundir, "summary", required=False):
                 row.update(summary_fields(read_summary(rundir)))
             if status == "ok":
                 if problem == "sod":

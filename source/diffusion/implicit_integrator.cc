@@ -172,6 +172,50 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
+  typename ImplicitIntegrator<dim>::History ImplicitIntegrator<dim>::history() const
+  {
+    History h;
+    h.rkl2_blocked = rkl2_blocked;
+    h.matrix_valid = matrix_valid && settings.reuse_matrix;
+    if (h.matrix_valid)
+      {
+        h.matrix_coupled = matrix_coupled;
+        h.matrix_age     = matrix_age;
+        h.matrix_t       = matrix_t;
+        h.matrix_dt      = matrix_dt;
+        h.matrix_N       = matrix_N;
+        h.state          = matrix_state;
+      }
+    return h;
+  }
+
+  template <int dim>
+  void ImplicitIntegrator<dim>::restore(const History &h)
+  {
+    rkl2_blocked = h.rkl2_blocked;
+    matrix_valid = false;
+    if (!h.matrix_valid || !settings.reuse_matrix)
+      return;
+    AssertThrow(h.state.size() == std::size_t(patch.n_owned()) * (dim + 2),
+                ExcMessage("integrator history of another mesh"));
+    // the same gathered state, time and coefficients as when it was built: the same matrix
+    Vector V(patch.partitioner());
+    std::copy(h.state.begin(), h.state.end(), V.begin());
+    patch.gather(V, W);
+    op.set_time(h.matrix_t);
+    if (!setup_newton(h.matrix_dt, h.matrix_N, h.matrix_coupled))
+      return; // as in the interrupted run's next step: a fresh matrix
+    M              = &M_[h.matrix_N.size()][h.matrix_coupled];
+    matrix_valid   = true;
+    matrix_coupled = h.matrix_coupled;
+    matrix_N       = h.matrix_N;
+    matrix_dt      = h.matrix_dt;
+    matrix_age     = h.matrix_age;
+    matrix_t       = h.matrix_t;
+    matrix_state   = h.state;
+  }
+
+  template <int dim>
   bool ImplicitIntegrator<dim>::setup_newton(const double dt, const Table &N, const bool coupled)
   {
     Timer      timer;
@@ -281,6 +325,11 @@ namespace granhydro::diffusion
         matrix_N       = N;
         matrix_dt      = dt;
         matrix_age     = 0;
+        if (settings.reuse_matrix) // kept for history(): an interrupted run rebuilds it
+          {
+            matrix_t = t;
+            matrix_state.assign(U.begin(), U.begin() + n);
+          }
       }
     unsigned int iterations = 0, max_iterations = 0; // per stage (DIRK) or per step
     auto         failed     = [&]() {

@@ -1,5 +1,6 @@
 #include <granhydro/physics/packing_fraction.h>
 #include <granhydro/driver/simulation.h>
+#include <granhydro/io/checkpoint.h>
 
 #include <sys/resource.h>
 
@@ -9,6 +10,7 @@
 #include <deal.II/base/timer.h>
 
 #include <chrono>
+#include <csignal>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -226,21 +228,6 @@ namespace granhydro
     output = std::make_unique<io::Output<dim, Description>>(scene, *patch_, desc);
   }
 
-  namespace
-  {
-    /// fixed-size header of a checkpoint file (after checkpoint_magic())
-    struct CheckpointHeader
-    {
-      std::int32_t  dim, n_components;
-      std::uint64_t cells[3];
-      double        lower[3], upper[3];
-      double        length, mass, velocity; ///< the scaled units the values are in
-      double        time;                   ///< scaled
-      std::uint64_t step, n_cells, outputs;
-      char          model[16];
-    };
-  } // namespace
-
   template <int dim, class Description>
   std::int64_t Simulation<dim, Description>::lattice_key(const unsigned int s) const
   {
@@ -249,58 +236,85 @@ namespace granhydro
 
   template <int dim, class Description>
   void Simulation<dim, Description>::write_checkpoint(const std::string &file, const double t,
-                                                      const unsigned int step) const
+                                                      const unsigned int step, const bool with_history) const
   {
     constexpr unsigned int NC = dim + 2;
     const unsigned int     n  = patch_->n_owned();
-    std::vector<double>    mine(std::size_t(n) * (NC + 1));
+    typename diffusion::ImplicitIntegrator<dim>::History history;
+    if (with_history && integrator)
+      history = integrator->history();
+    const unsigned int  NV = history.matrix_valid ? 2 * NC : NC; // values per row
+    std::vector<double> mine(std::size_t(n) * (NV + 1));
     for (unsigned int s = 0; s < n; ++s)
       {
-        mine[s * (NC + 1)] = double(lattice_key(s));
+        mine[s * (NV + 1)] = double(lattice_key(s));
         for (unsigned int c = 0; c < NC; ++c)
-          mine[s * (NC + 1) + 1 + c] = U.local_element(std::size_t(s) * NC + c);
+          mine[s * (NV + 1) + 1 + c] = U.local_element(std::size_t(s) * NC + c);
+        if (history.matrix_valid)
+          for (unsigned int c = 0; c < NC; ++c)
+            mine[s * (NV + 1) + 1 + NC + c] = history.state[std::size_t(s) * NC + c];
       }
-    const auto all = Utilities::MPI::gather(comm, mine, 0);
-    if (Utilities::MPI::this_mpi_process(comm) != 0)
-      return;
-    std::vector<std::pair<double, const double *>> rows;
-    for (const auto &part : all)
-      for (std::size_t i = 0; i < part.size(); i += NC + 1)
-        rows.emplace_back(part[i], &part[i + 1]);
-    std::sort(rows.begin(), rows.end(), [](const auto &a, const auto &b) { return a.first < b.first; });
-    CheckpointHeader h{};
-    h.dim          = dim;
-    h.n_components = NC;
-    for (unsigned int d = 0; d < 3; ++d)
+    const auto  all = Utilities::MPI::gather(comm, mine, 0);
+    std::string error;
+    if (Utilities::MPI::this_mpi_process(comm) == 0)
       {
-        h.cells[d] = d < dim ? scene.cells[d] : 1;
-        h.lower[d] = d < dim ? scene.lower[d] : 0;
-        h.upper[d] = d < dim ? scene.upper[d] : 0;
+        std::vector<std::pair<double, const double *>> rows;
+        for (const auto &part : all)
+          for (std::size_t i = 0; i < part.size(); i += NV + 1)
+            rows.emplace_back(part[i], &part[i + 1]);
+        std::sort(rows.begin(), rows.end(), [](const auto &a, const auto &b) { return a.first < b.first; });
+        io::CheckpointHeader h;
+        h.dim          = dim;
+        h.n_components = NC;
+        h.n_values     = NV;
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            h.cells[d] = d < dim ? scene.cells[d] : 1;
+            h.lower[d] = d < dim ? scene.lower[d] : 0;
+            h.upper[d] = d < dim ? scene.upper[d] : 0;
+          }
+        h.length   = units_.length;
+        h.mass     = units_.mass;
+        h.velocity = units_.velocity;
+        h.time     = t;
+        h.step     = step;
+        h.n_cells  = rows.size();
+        h.outputs  = output ? output->count() : 0;
+        std::snprintf(h.model, sizeof(h.model), "%s", scene.model.c_str());
+        auto &hh        = h.history;
+        hh.rkl2_blocked = history.rkl2_blocked;
+        hh.matrix_valid = history.matrix_valid;
+        if (history.matrix_valid)
+          {
+            hh.matrix_age     = history.matrix_age;
+            hh.matrix_coupled = history.matrix_coupled;
+            hh.matrix_stages  = history.matrix_N.size();
+            hh.matrix_t       = history.matrix_t;
+            hh.matrix_dt      = history.matrix_dt;
+            for (unsigned int i = 0; i < history.matrix_N.size(); ++i)
+              for (unsigned int j = 0; j < history.matrix_N.size(); ++j)
+                hh.matrix_N[i * history.matrix_N.size() + j] = history.matrix_N[i][j];
+          }
+        std::vector<std::int64_t> keys(rows.size());
+        std::vector<double>       values(rows.size() * NV);
+        for (std::size_t i = 0; i < rows.size(); ++i)
+          {
+            keys[i] = std::int64_t(rows[i].first);
+            std::copy(rows[i].second, rows[i].second + NV, &values[i * NV]);
+          }
+        try
+          {
+            io::write_checkpoint_file(file, h, keys, values);
+          }
+        catch (const io::CheckpointError &e)
+          {
+            error = e.what();
+          }
       }
-    h.length   = units_.length;
-    h.mass     = units_.mass;
-    h.velocity = units_.velocity;
-    h.time     = t;
-    h.step     = step;
-    h.n_cells  = rows.size();
-    h.outputs  = output ? output->count() : 0;
-    std::snprintf(h.model, sizeof(h.model), "%s", scene.model.c_str());
-    const std::string tmp = file + ".tmp";
-    {
-      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-      out.write(checkpoint_magic().data(), checkpoint_magic().size());
-      out.write(reinterpret_cast<const char *>(&h), sizeof(h));
-      for (const auto &[key, v] : rows)
-        {
-          const std::int64_t k = std::int64_t(key);
-          out.write(reinterpret_cast<const char *>(&k), sizeof(k));
-          out.write(reinterpret_cast<const char *>(v), NC * sizeof(double));
-        }
-      if (!out)
-        throw RunError("cannot write the checkpoint " + tmp);
-    }
-    if (std::rename(tmp.c_str(), file.c_str()) != 0)
-      throw RunError("cannot rename " + tmp + " to " + file);
+    // every rank stops together (a throw on rank 0 alone would leave the others waiting)
+    error = Utilities::MPI::broadcast(comm, error, 0);
+    if (!error.empty())
+      throw io::OutputError(error);
   }
 
   template <int dim, class Description>
@@ -309,24 +323,19 @@ namespace granhydro
     constexpr unsigned int NC   = dim + 2;
     const std::string      what = "in " + scene.source + ": parameter 'Initial state/Checkpoint': '" +
                              file + "' ";
-    std::ifstream    in(file, std::ios::binary);
-    std::string      magic(checkpoint_magic().size(), '\0');
-    CheckpointHeader h{};
-    if (!in || !in.read(&magic[0], magic.size()) || magic != checkpoint_magic() ||
-        !in.read(reinterpret_cast<char *>(&h), sizeof(h)))
-      throw SceneError(what + "is not a readable granhydro checkpoint file");
-    // all rows first: an adaptive mesh is rebuilt from the leaves in the file
-    std::vector<std::int64_t> keys;
-    std::vector<double>       values;
-    if (h.n_components == int(NC) && h.n_cells < (1ull << 40))
+    io::CheckpointData data;
+    try
       {
-        keys.resize(h.n_cells);
-        values.resize(h.n_cells * NC);
-        for (std::uint64_t i = 0; i < h.n_cells; ++i)
-          if (!in.read(reinterpret_cast<char *>(&keys[i]), sizeof(std::int64_t)) ||
-              !in.read(reinterpret_cast<char *>(&values[i * NC]), NC * sizeof(double)))
-            throw SceneError(what + "is truncated");
+        data = io::read_checkpoint_file(file);
       }
+    catch (const io::CheckpointError &e)
+      {
+        throw SceneError(what + e.what());
+      }
+    const io::CheckpointHeader      &h    = data.header;
+    const std::vector<std::int64_t> &keys = data.keys;
+    const std::vector<double>       &values = data.values;
+    const unsigned int               NV     = h.n_values;
     if (scene.max_level > 0 && h.dim == dim)
       {
         patch_->refine_to(std::vector<long long>(keys.begin(), keys.end()));
@@ -341,9 +350,8 @@ namespace granhydro
     if (!same_mesh)
       throw SceneError(what + "was written for another mesh (dimension, Domain/Cells, corners or "
                               "Adaptivity/Maximum level differ)");
-    if (std::string(h.model, strnlen(h.model, sizeof(h.model))) != scene.model)
-      throw SceneError(what + "was written with 'Material/Model = " +
-                       std::string(h.model, strnlen(h.model, sizeof(h.model))) + "'");
+    if (std::string(h.model) != scene.model)
+      throw SceneError(what + "was written with 'Material/Model = " + std::string(h.model) + "'");
     // values are in the writer's scaled units: convert only if ours differ (restart with the
     // same material is then bitwise exact)
     const bool   same_units = h.length == units_.length && h.mass == units_.mass && h.velocity == units_.velocity;
@@ -354,6 +362,12 @@ namespace granhydro
     for (unsigned int s = 0; s < patch_->n_owned(); ++s)
       slot_of[lattice_key(s)] = s;
     std::size_t found = 0;
+    // the implicit step's history (a checkpoint between output times): only with the same
+    // units and an integrator that keeps one
+    const bool with_history = h.history.matrix_valid && same_units && integrator;
+    typename diffusion::ImplicitIntegrator<dim>::History history;
+    if (with_history)
+      history.state.resize(std::size_t(patch_->n_owned()) * NC);
     for (std::uint64_t i = 0; i < h.n_cells; ++i)
       {
         const auto it = slot_of.find(keys[i]);
@@ -363,16 +377,36 @@ namespace granhydro
         for (unsigned int c = 0; c < NC; ++c)
           {
             const double f = same_units ? 1. : (c == 0 ? sn : (c == NC - 1 ? se : sm));
-            U.local_element(std::size_t(it->second) * NC + c) = values[i * NC + c] * f;
+            U.local_element(std::size_t(it->second) * NC + c) = values[i * NV + c] * f;
+            if (with_history)
+              history.state[std::size_t(it->second) * NC + c] = values[i * NV + NC + c];
           }
       }
     if (Utilities::MPI::sum(found, comm) != patch_->n_global_cells() || found != patch_->n_owned())
       throw SceneError(what + "does not hold every cell of the mesh");
     start_time_ = same_units ? h.time : h.time * h.length / h.velocity / units_.time();
     start_step_ = h.step;
+    if (integrator && same_units)
+      {
+        history.rkl2_blocked = h.history.rkl2_blocked;
+        if (with_history)
+          {
+            history.matrix_valid   = true;
+            history.matrix_coupled = h.history.matrix_coupled;
+            history.matrix_age     = h.history.matrix_age;
+            history.matrix_t       = h.history.matrix_t;
+            history.matrix_dt      = h.history.matrix_dt;
+            const unsigned int ns  = h.history.matrix_stages;
+            history.matrix_N.assign(ns, std::vector<double>(ns));
+            for (unsigned int a = 0; a < ns; ++a)
+              for (unsigned int b = 0; b < ns; ++b)
+                history.matrix_N[a][b] = h.history.matrix_N[a * ns + b];
+          }
+        integrator->restore(history);
+      }
     output->resume(h.outputs, start_time());
     pcout << "  initial state: checkpoint " << file << " (t = " << start_time() << " s, step "
-          << start_step_ << ")\n";
+          << start_step_ << (with_history ? ", with the implicit step's history" : "") << ")\n";
   }
 
   template <int dim, class Description>
@@ -606,6 +640,11 @@ namespace granhydro
     }
   } // namespace
 
+  namespace
+  {
+    unsigned long sigterm_at_step(); // test hook, below
+  } // namespace
+
   template <int dim, class Description>
   RunSummary Simulation<dim, Description>::run()
   {
@@ -627,18 +666,32 @@ namespace granhydro
     unsigned int step = start_step_;
     bool         have_steady_reference = false, wall_limited = false;
     double       steady_ke = 0, steady_com = 0;
-    const std::string checkpoint = scene.output_directory + "/" + scene.base_name + ".checkpoint";
+    const std::string checkpoint = scene.output_file(".checkpoint");
+    // interrupted: the checkpoint keeps the integrator's history instead (between output
+    // times the uninterrupted run keeps it too)
+    int  interrupted_by = 0;
     auto write_checkpoint_now = [&]() {
-      if (integrator) // a restart starts here: the integrator forgets its history too
+      if (integrator && !interrupted_by) // a restart starts here: the integrator forgets its history too
         integrator->restart_point();
       if (scene.write_checkpoint)
-        write_checkpoint(checkpoint, t, step);
+        write_checkpoint(checkpoint, t, step, interrupted_by != 0);
     };
     auto         last_progress = start;
     std::string  why;
     if (!conv->admissible(U, &why))
       throw RunError("initial state is inadmissible (n <= 0 or T <= 0): " + why);
-    if (step == 0)
+    // a summary that says "running" after the process has gone means it died (killed,
+    // out of memory): never a stale "completed" from an earlier run in the folder
+    if (scene.write_summary && Utilities::MPI::this_mpi_process(comm) == 0)
+      {
+        const std::string file = scene.output_file("_summary.csv");
+        std::ofstream(file + ".tmp") << "key,value\nstatus,running\n";
+        std::error_code ec;
+        std::filesystem::rename(file + ".tmp", file, ec);
+      }
+    // a run from the scene's initial state writes it; a restart (even from the t = 0
+    // checkpoint) has it already
+    if (step == 0 && scene.initial_checkpoint.empty())
       {
         output->write(U, t * t0, 0);
         write_checkpoint_now();
@@ -766,9 +819,9 @@ namespace granhydro
           if (scene.write_vtu)
             pcout << " " << scene.base_name << ".pvd (ParaView)";
           if (scene.write_profiles)
-            pcout << " profiles.csv";
+            pcout << " " << scene.base_name << "_profiles.csv";
           if (scene.write_summary)
-            pcout << " summary.csv";
+            pcout << " " << scene.base_name << "_summary.csv";
           pcout << "\n";
         }
     };
@@ -905,6 +958,18 @@ namespace granhydro
                 steady_com            = com;
               }
           }
+        // SIGTERM / SIGINT (every rank stops after the same step). Test hook (README,
+        // "Checkpoints"): GRANHYDRO_SIGTERM_AT_STEP=K sends SIGTERM to every rank after step
+        // K, so that a test interrupts at a known step
+        if (sigterm_at_step() > 0 && step == sigterm_at_step())
+          std::raise(SIGTERM);
+        interrupted_by = Utilities::MPI::max(int(stop_signal()), comm);
+        if (interrupted_by)
+          {
+            pcout << "  " << (interrupted_by == SIGINT ? "SIGINT" : "SIGTERM") << " received: stopping at t = "
+                  << t * t0 << " s, step " << step << " (final output, checkpoint and summary follow)\n";
+            break;
+          }
         const auto now = clock::now();
         if (scene.max_wall_seconds > 0 &&
             Utilities::MPI::max(std::chrono::duration<double>(now - start).count(), comm) >
@@ -935,11 +1000,13 @@ namespace granhydro
           }
       }
     // Time/Maximum steps reached before the end time: say so, not "completed"
-    const bool step_limited = !sum.steady && !wall_limited && t < t_end * (1 - 1e-12);
+    const bool step_limited = !sum.steady && !wall_limited && !interrupted_by && t < t_end * (1 - 1e-12);
     if (step_limited)
       pcout << "  step limit (Time/Maximum steps = " << scene.max_steps << ") reached at t = " << t * t0
             << " s of " << scene.end_time << " s\n";
+    sum.interrupted_by = interrupted_by;
     finish(sum.steady ? "steady" :
+           interrupted_by ? (interrupted_by == SIGINT ? "interrupted (SIGINT)" : "interrupted (SIGTERM)") :
            wall_limited ? "wall time limit" :
            step_limited ? "maximum steps" :
                           "completed");
@@ -1007,7 +1074,7 @@ namespace granhydro
       return;
     std::error_code ec;
     std::filesystem::create_directories(scene.output_directory, ec);
-    const std::string file = scene.output_directory + "/summary.csv";
+    const std::string file = scene.output_file("_summary.csv");
     std::ofstream     out(file + ".tmp");
     if (!out)
       throw RunError("cannot write " + file + " (Output/Directory)");
@@ -1081,14 +1148,42 @@ namespace granhydro
       {
         Simulation<dim, physics::GranularGas<dim>> sim(scene, comm, log);
         sim.setup();
-        sim.run();
-        return 0;
+        const int sig = sim.run().interrupted_by;
+        return sig ? 128 + sig : 0;
       }
     Simulation<dim> sim(scene, comm, log);
     sim.setup();
-    sim.run();
-    return 0;
+    const int sig = sim.run().interrupted_by;
+    return sig ? 128 + sig : 0;
   }
+
+  namespace
+  {
+    volatile std::sig_atomic_t stop_requested = 0;
+
+    unsigned long sigterm_at_step()
+    {
+      static const unsigned long k = [] {
+        const char *v = std::getenv("GRANHYDRO_SIGTERM_AT_STEP");
+        return v ? std::strtoul(v, nullptr, 10) : 0UL;
+      }();
+      return k;
+    }
+
+    extern "C" void on_stop_signal(const int sig)
+    {
+      stop_requested = sig;
+      std::signal(sig, SIG_DFL); // a second signal ends the process at once
+    }
+  } // namespace
+
+  void install_stop_signal_handlers()
+  {
+    std::signal(SIGTERM, on_stop_signal);
+    std::signal(SIGINT, on_stop_signal);
+  }
+
+  int stop_signal() { return stop_requested; }
 
   int run_scene(const Scene &scene, const MPI_Comm comm, std::ostream &log)
   {

@@ -5,11 +5,15 @@
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/data_postprocessor.h>
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <iostream>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <map>
 #include <type_traits>
 
 namespace granhydro::io
@@ -31,6 +35,14 @@ namespace granhydro::io
           (void)n;
           return 0.;
         }
+    }
+
+    /// a stream's data reached the file system (flushed); else the OS reason
+    void check_written(std::ofstream &out, const std::string &file)
+    {
+      out.flush();
+      if (!out)
+        throw std::runtime_error("cannot write '" + file + "': " + std::strerror(errno));
     }
 
     /// n u.v + n |v|^2/2: what a kinetic (and so the total) energy density gains from the
@@ -88,14 +100,13 @@ namespace granhydro::io
 
       std::vector<std::string> get_names() const override
       {
-        std::vector<std::string> names{"packing_fraction", "number_density_1/m3",
-                                       "mass_density_kg/m3"};
+        std::vector<std::string> names{"packing_fraction", "number_density", "mass_density"};
         for (unsigned int d = 0; d < dim; ++d)
-          names.push_back("velocity_m/s");
-        names.push_back("temperature_J");
-        names.push_back("pressure_Pa");
+          names.push_back("velocity");
+        names.push_back("temperature");
+        names.push_back("pressure");
         for (const char *part : {"kinetic", "thermal", "contact", "total"})
-          names.push_back(std::string(part) + "_energy_density_J/m3");
+          names.push_back(std::string(part) + "_energy_density");
         return names;
       }
 
@@ -169,6 +180,8 @@ namespace granhydro::io
   template <int dim, class Description>
   void Output<dim, Description>::write(const Vector &U, const double time_si, const unsigned int step)
   {
+    // every part is collective; a failure on any rank stops every rank (never a hang)
+    std::string error;
     try
       {
         if (scene.write_vtu)
@@ -180,10 +193,12 @@ namespace granhydro::io
       }
     catch (const std::exception &e)
       {
-        throw OutputError("cannot write the output at t = " + std::to_string(time_si) + " s to '" +
-                          scene.output_directory + "' (disk full or no permission?): " +
-                          human_message(e.what()));
+        error = human_message(e.what());
       }
+    for (const auto &e : Utilities::MPI::all_gather(patch.communicator(), error))
+      if (!e.empty())
+        throw OutputError("cannot write the output at t = " + std::to_string(time_si) + " s to '" +
+                          scene.output_directory + "' (disk full or no permission?): " + e);
     ++counter;
   }
 
@@ -193,19 +208,46 @@ namespace granhydro::io
     counter          = outputs;
     profiles_started = section_started = true;
     pvd_records.clear();
+    unsigned int dropped = 0;
     // the PVD of the interrupted run: <DataSet timestep="t" group="" part="0" file="name"/>
-    std::ifstream in(scene.output_directory + "/" + scene.base_name + ".pvd");
+    std::ifstream in(scene.output_file(".pvd"));
     std::string   line;
     while (std::getline(in, line))
       {
         const auto t0 = line.find("timestep=\""), f0 = line.find("file=\"");
         if (t0 == std::string::npos || f0 == std::string::npos)
           continue;
-        const double t    = std::stod(line.substr(t0 + 10));
-        const auto   f1   = line.find('"', f0 + 6);
+        // a damaged record (edited or torn file) is dropped, never a reason to crash
+        const char  *begin = line.c_str() + t0 + 10;
+        char        *end   = nullptr;
+        const double t     = std::strtod(begin, &end);
+        const auto   f1    = line.find('"', f0 + 6);
+        if (end == begin || *end != '"' || !std::isfinite(t) || f1 == std::string::npos)
+          {
+            ++dropped;
+            continue;
+          }
         if (t <= time_si * (1 + 1e-12))
           pvd_records.emplace_back(t, line.substr(f0 + 6, f1 - f0 - 6));
       }
+    if (dropped > 0 && Utilities::MPI::this_mpi_process(patch.communicator()) == 0)
+      std::cout << "  warning: " << dropped << " damaged record(s) in " << scene.output_file(".pvd")
+                << " dropped; it is rewritten at the next output\n";
+  }
+
+  /// the SI unit of every VTU array (empty: dimensionless)
+  static std::map<std::string, std::string> physical_units()
+  {
+    return {{"packing_fraction", ""},
+            {"number_density", "1/m^3"},
+            {"mass_density", "kg/m^3"},
+            {"velocity", "m/s"},
+            {"temperature", "J"},
+            {"pressure", "Pa"},
+            {"kinetic_energy_density", "J/m^3"},
+            {"thermal_energy_density", "J/m^3"},
+            {"contact_energy_density", "J/m^3"},
+            {"total_energy_density", "J/m^3"}};
   }
 
   template <int dim, class Description>
@@ -233,15 +275,19 @@ namespace granhydro::io
     data_out.add_data_vector(level, "refinement_level");
     data_out.add_data_vector(uniform, "uniform_stencil");
     data_out.build_patches();
+    // plain array names (ParaView's Calculator takes them unquoted); the SI units travel
+    // beside them as VTK metadata
     DataOutBase::VtkFlags flags(time_si, step);
+    flags.physical_units = physical_units();
     data_out.set_flags(flags);
     const std::string name = data_out.write_vtu_with_pvtu_record(
       scene.output_directory + "/", scene.base_name, counter, patch.communicator(), 4, 0);
     if (Utilities::MPI::this_mpi_process(patch.communicator()) == 0)
       {
         pvd_records.emplace_back(time_si, name);
-        std::ofstream pvd(scene.output_directory + "/" + scene.base_name + ".pvd");
+        std::ofstream pvd(scene.output_file(".pvd"));
         DataOutBase::write_pvd_record(pvd, pvd_records);
+        check_written(pvd, scene.output_file(".pvd"));
       }
   }
 
@@ -282,17 +328,11 @@ namespace granhydro::io
     Utilities::MPI::sum(count, patch.communicator(), count);
     if (Utilities::MPI::this_mpi_process(patch.communicator()) != 0)
       return;
-    const std::string fname = scene.output_directory + "/profiles.csv";
+    const std::string fname = scene.output_file("_profiles.csv");
     std::ofstream out(fname, profiles_started ? std::ios::app : std::ios::trunc);
     const char *ax = "xyz";
     if (!profiles_started)
       {
-        out << "# averages over the directions other than " << ax[pd]
-            << " (SI units); one block per output time"
-            << (scene.vibration_amplitude > 0 ?
-                  "; velocities, kinetic and total energy densities in the lab frame (container frame + ds/dt)" :
-                  "")
-            << "; total = kinetic + thermal + contact energy density\n";
         out << "time_s," << ax[pd] << "_m,n_1/m3";
         for (unsigned int d = 0; d < dim; ++d)
           out << ",n*u_" << ax[d] << "_1/(m2 s)";
@@ -329,6 +369,7 @@ namespace granhydro::io
         energy(a[NC + 4] / k);
         out << '\n';
       }
+    check_written(out, fname);
   }
 
   template <int dim, class Description>
@@ -373,15 +414,12 @@ namespace granhydro::io
         Utilities::MPI::sum(sum, patch.communicator(), sum);
         if (Utilities::MPI::this_mpi_process(patch.communicator()) != 0)
           return;
-        std::ofstream out(scene.output_directory + "/cross_section.csv",
+        std::ofstream out(scene.output_file("_cross_section.csv"),
                           section_started ? std::ios::app : std::ios::trunc);
         const char *ax = "xyz";
         if (!section_started)
           {
-            out << "# averages along " << ax[sd]
-                << " (SI units; velocities, kinetic and total energy densities in the lab frame); one block "
-                   "per output time; total = kinetic + thermal + contact energy density\n"
-                << "time_s," << ax[ia] << "_m," << ax[ib] << "_m,n_1/m3,u_x_m/s,u_y_m/s,u_z_m/s,"
+            out << "time_s," << ax[ia] << "_m," << ax[ib] << "_m,n_1/m3,u_x_m/s,u_y_m/s,u_z_m/s,"
                 << "packing_fraction,temperature_J,total_energy_density_J/m3,kinetic_energy_density_J/m3,"
                 << "thermal_energy_density_J/m3,contact_energy_density_J/m3\n";
             section_started = true;
@@ -413,6 +451,7 @@ namespace granhydro::io
               energy(v[10] / k);
               out << '\n';
             }
+        check_written(out, scene.output_file("_cross_section.csv"));
       }
     else
       {

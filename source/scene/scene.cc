@@ -1,5 +1,6 @@
 #include <granhydro/scene/scene.h>
 #include <granhydro/mesh/mesh_file.h>
+#include <granhydro/io/checkpoint.h>
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/function_parser.h>
@@ -138,12 +139,6 @@ namespace granhydro
         e.emplace_back(std::string("dissipative wall ") + sides[i],
                        "wall restitution " + num(s.wall_restitution[i]) + " < 1");
     return e;
-  }
-
-  const std::string &checkpoint_magic()
-  {
-    static const std::string m = "granhydro checkpoint v2\n";
-    return m;
   }
 
   std::map<std::string, double> expression_constants(const Scene &s)
@@ -593,7 +588,47 @@ end
 
   Scene scene_from(ParameterHandler &prm, const std::string &source_name);
 
-  Scene parse_scene(const std::string &text, const std::string &source_name)
+  namespace
+  {
+    /// one command-line override "Section/Sub/Name=value" into prm
+    void apply_override(ParameterHandler &prm, const std::string &o)
+    {
+      const std::string where = "command line: -p '" + o + "': ";
+      const auto        eq    = o.find('=');
+      if (eq == std::string::npos || eq == 0)
+        throw SceneError(where + "expected \"Section/Name=value\" (e.g. -p \"Time/End time=0.1\")");
+      const auto trim = [](std::string x) {
+        const auto b = x.find_first_not_of(" \t"), e = x.find_last_not_of(" \t");
+        return b == std::string::npos ? std::string() : x.substr(b, e - b + 1);
+      };
+      std::vector<std::string> path;
+      std::string              rest = o.substr(0, eq);
+      for (std::size_t slash; (slash = rest.find('/')) != std::string::npos; rest = rest.substr(slash + 1))
+        path.push_back(trim(rest.substr(0, slash)));
+      const std::string name = trim(rest), value = trim(o.substr(eq + 1));
+      for (const auto &p : path)
+        prm.enter_subsection(p);
+      try
+        {
+          prm.set(name, value);
+        }
+      catch (const dealii::ExceptionBase &e)
+        {
+          for (std::size_t i = 0; i < path.size(); ++i)
+            prm.leave_subsection();
+          const std::string m = human_message(e.what());
+          if (m.find("not yet declared") != std::string::npos)
+            throw SceneError(where + "there is no parameter '" + trim(o.substr(0, eq)) +
+                             "' (granhydro --print-parameters lists them)");
+          throw SceneError(where + m);
+        }
+      for (std::size_t i = 0; i < path.size(); ++i)
+        prm.leave_subsection();
+    }
+  } // namespace
+
+  Scene parse_scene(const std::string &text, const std::string &source_name,
+                    const std::vector<std::string> &overrides)
   {
     ParameterHandler prm;
     declare_scene_parameters(prm);
@@ -609,6 +644,8 @@ end
       {
         throw SceneError("in " + source_name + ": " + human_message(e.what()));
       }
+    for (const auto &o : overrides)
+      apply_override(prm, o);
 
     try
       {
@@ -891,10 +928,10 @@ end
     }
   } // namespace
 
-  Scene read_scene(const std::string &filename)
+  Scene read_scene(const std::string &filename, const std::vector<std::string> &overrides)
   {
     if (filename.empty())
-      return parse_scene(default_scene_text(), "<default scene>");
+      return parse_scene(default_scene_text(), "<default scene>", overrides);
     // a scene is a regular text file of reasonable size: a directory, /dev/null or
     // /dev/zero would otherwise run the default scene or exhaust the memory
     std::error_code ec;
@@ -920,7 +957,7 @@ end
     if (!statement)
       throw SceneError("scene file '" + filename + "' sets no parameter (it is empty or holds only "
                        "comments); run granhydro without a file for the default scene");
-    return parse_scene(text, filename);
+    return parse_scene(text, filename, overrides);
   }
 
   void validate(const Scene &s)
@@ -928,6 +965,11 @@ end
     const unsigned int dim = s.dimension;
     auto fail = [&](const std::string &param, const std::string &msg) {
       throw SceneError("in " + s.source + ": parameter '" + param + "': " + msg);
+    };
+    auto num = [](const double v) {
+      std::ostringstream os;
+      os << v;
+      return os.str();
     };
     const bool mesh = !s.mesh_file.empty();
     MeshFileInfo mesh_info;
@@ -1196,11 +1238,29 @@ end
     check_expr("Initial state/Temperature", s.initial_temperature);
     if (!s.initial_checkpoint.empty())
       {
-        std::ifstream in(s.initial_checkpoint, std::ios::binary);
-        std::string   magic(checkpoint_magic().size(), '\0');
-        if (!in || !in.read(&magic[0], magic.size()) || magic != checkpoint_magic())
-          fail("Initial state/Checkpoint", "'" + s.initial_checkpoint +
-                                             "' is not a readable granhydro checkpoint file");
+        // the whole file verified (size, checksum, values), then what it means for this scene
+        const std::string cp = "'" + s.initial_checkpoint + "' ";
+        io::CheckpointData d;
+        try
+          {
+            d = io::read_checkpoint_file(s.initial_checkpoint);
+          }
+        catch (const io::CheckpointError &e)
+          {
+            fail("Initial state/Checkpoint", cp + e.what());
+          }
+        const auto &h = d.header;
+        if (h.dim != int(s.dimension))
+          fail("Initial state/Checkpoint", cp + "holds a " + std::to_string(h.dim) +
+                                             "D state; the scene is " + std::to_string(s.dimension) + "D");
+        if (std::string(h.model) != s.model)
+          fail("Initial state/Checkpoint",
+               cp + "was written with 'Material/Model = " + std::string(h.model) + "'");
+        const double t_si = h.time * h.length / h.velocity;
+        if (!(t_si < s.end_time * (1 - 1e-12)))
+          fail("Initial state/Checkpoint", cp + "is at t = " + num(t_si) +
+                                             " s, not before 'Time/End time' = " + num(s.end_time) +
+                                             " s; raise the end time to continue the run");
       }
     for (const auto &v : vel)
       check_expr("Initial state/Velocity", v);

@@ -2,11 +2,14 @@
 """Compare a granhydro output directory against a DEM ensemble of the same scene.
 
   /usr/bin/python3 tools/dem/compare.py --scene SCENE.prm --model GRANHYDRO_OUTPUT_DIR
-      --dem DEM_DIR --out DIR [--phase-bins K --skip-time T0]
+      --dem DEM_DIR --out DIR [--base NAME] [--phase-bins K --skip-time T0]
       [--front-threshold 0.05] [--pile-threshold 0.5] [--gap-threshold 0.05]
       [--t-min-phi 1e-3] [--t-min-grains 2]
 
-GRANHYDRO_OUTPUT_DIR holds profiles.csv (and summary.csv for the wall time); DEM_DIR
+GRANHYDRO_OUTPUT_DIR holds the run's <Base name>_profiles.csv (and <Base name>_summary.csv
+for the wall time; profiles.csv and summary.csv in older output folders); it may also be
+the profiles CSV file itself. When several runs share the directory, --base NAME picks
+one (default: the only one there, else the scene's Output/Base name). DEM_DIR
 is run_ensemble.py's --out (dem_profiles.csv, ensemble.json). The profile bins must
 be the same (the DEM takes them from the scene). Time mode (default): each
 granhydro output time is matched with the DEM snapshot time (same Output/Interval
@@ -36,12 +39,16 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+# granhydro_output.py is in tools/, the parent directory
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import coarse_grain  # noqa: E402
+from granhydro_output import (OutputFileError, SeveralRunsError, add_base_option, base_of,  # noqa: E402
+                              find_output_file)
 from scene import AXES, Scene  # noqa: E402
 
 
 def read_profiles(path):
-    """granhydro profiles.csv -> {time: {column: array}}."""
+    """granhydro profiles CSV -> {time: {column: array}}."""
     with open(path) as f:
         lines = [l for l in f if not l.startswith("#")]
     cols = lines[0].strip().split(",")
@@ -55,12 +62,32 @@ def read_profiles(path):
 
 def read_summary(path):
     s = {}
-    if os.path.exists(path):
+    if path and os.path.exists(path):
         for l in open(path):
             if "," in l:
                 k, v = l.strip().split(",", 1)
                 s[k] = v
     return s
+
+
+def model_files(model, base, scene_base):
+    """(profiles CSV, summary CSV or None) of the granhydro run in MODEL (an output
+    directory or the profiles CSV itself). Without BASE, several runs in the directory
+    are resolved by the scene's Output/Base name SCENE_BASE when it is one of them."""
+    try:
+        try:
+            prof = find_output_file(model, "profiles", base)
+        except SeveralRunsError:
+            if base is not None or not os.path.isfile(os.path.join(model, scene_base + "_profiles.csv")):
+                raise
+            prof = find_output_file(model, "profiles", scene_base)
+    except OutputFileError as e:
+        raise SystemExit("compare: %s" % e)
+    try:  # the summary of the same run (the same base name, or summary.csv of an older run)
+        summ = find_output_file(os.path.dirname(prof) or ".", "summary", base_of(prof), required=False)
+    except OutputFileError:
+        summ = None
+    return prof, summ
 
 
 def features(h, phi, floor, dh, front_thr, pile_thr, gap_thr):
@@ -106,7 +133,8 @@ def rel_l1(model, dem, absval=False):
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--scene", required=True)
-    p.add_argument("--model", required=True, help="granhydro output directory")
+    p.add_argument("--model", required=True, help="granhydro output directory (or its profiles CSV file)")
+    add_base_option(p)
     p.add_argument("--dem", required=True, help="run_ensemble.py output directory")
     p.add_argument("--out", required=True)
     p.add_argument("--phase-bins", type=int, default=0)
@@ -129,7 +157,8 @@ def compare(a):
     ax = AXES[pd]
     floor = sc.floor_side()
     dh = (sc.upper[pd] - sc.lower[pd]) / sc.cells[pd]
-    model = read_profiles(os.path.join(a.model, "profiles.csv"))
+    prof_path, summ_path = model_files(a.model, getattr(a, "base", None), sc.output_base)
+    model = read_profiles(prof_path)
     keycol, dem = coarse_grain.read_csv(os.path.join(a.dem, "dem_profiles.csv"))
     if (keycol == "phase") != bool(a.phase_bins):
         raise SystemExit("compare: the DEM profiles are by %s; use %s--phase-bins" % (keycol, "" if keycol == "phase" else "no "))
@@ -188,7 +217,7 @@ def compare(a):
     except ImportError:
         plotted = "compare.png not written: matplotlib is missing (apt-get install python3-matplotlib)"
     # report
-    summ = read_summary(os.path.join(a.model, "summary.csv"))
+    summ = read_summary(summ_path)
     ens = {}
     if os.path.exists(os.path.join(a.dem, "ensemble.json")):
         ens = json.load(open(os.path.join(a.dem, "ensemble.json")))

@@ -195,6 +195,7 @@ class Scene:
         self.temp_expr = Expression(g("Initial state/Temperature", "1e-8"), consts)
         self.end_time = float(g("Time/End time", "0.2"))
         self.output_dir = g("Output/Directory", "output")
+        self.output_base = g("Output/Base name", "solution")  # granhydro writes <Directory>/<Base name>_profiles.csv
         self.output_interval = float(g("Output/Interval", "0"))
         pd = g("Output/Profile direction", "auto")
         self.profile_direction = self.dim - 1 if pd == "auto" else AXES.index(pd)

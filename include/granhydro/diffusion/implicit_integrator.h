@@ -188,6 +188,22 @@ namespace granhydro::diffusion
       rkl2_blocked = 0;
     }
 
+    /// what restart_point() forgets, for a checkpoint taken between output times (an
+    /// interrupted run): the cost model's RKL2 rest and the kept Newton matrix, which is
+    /// rebuilt on restore from the state it was built from (state: owned values)
+    struct History
+    {
+      unsigned int        rkl2_blocked = 0;
+      bool                matrix_valid = false, matrix_coupled = false;
+      unsigned int        matrix_age = 0;
+      double              matrix_t = 0, matrix_dt = 0;
+      Table               matrix_N;
+      std::vector<double> state;
+    };
+    History history() const;
+    /// continue with this history (after restart_point() semantics would have cleared it)
+    void restore(const History &h);
+
     const IntegratorStatistics &statistics() const { return stats; }
 
     /// why the last failed step failed (this rank's view)
@@ -235,6 +251,9 @@ namespace granhydro::diffusion
     Table        matrix_N;
     double       matrix_dt  = 0;
     unsigned int matrix_age = 0;
+    /// the time and owned state the kept matrix was built from (history())
+    double              matrix_t = 0;
+    std::vector<double> matrix_state;
     bool         gmres_failed = false; ///< the last Newton iteration failed in GMRES
     /// cost-based: steps left before RKL2 may be tried again after a failure
     unsigned int rkl2_blocked = 0;

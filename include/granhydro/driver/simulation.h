@@ -43,6 +43,7 @@ namespace granhydro
     double                           diffusion_seconds = 0;
     bool                             diffusion_active  = false;
     bool                             steady            = false; ///< stopped at a steady state
+    int                              interrupted_by    = 0;     ///< SIGTERM/SIGINT that stopped the run
     /// smallest and largest step taken [s] (the last step before an output time or the
     /// end time is cut short and is left out, unless it is the only one)
     double min_dt_si = 0, max_dt_si = 0;
@@ -108,9 +109,11 @@ namespace granhydro
     State totals() const;
 
     /// write the state, time (scaled) and step to file (rank 0 writes all cells, sorted by
-    /// lattice key, to file + ".tmp", then renames it: a killed run never leaves a
-    /// half-written checkpoint)
-    void write_checkpoint(const std::string &file, const double t, const unsigned int step) const;
+    /// lattice key, atomically and verified: io/checkpoint.h). with_history: also the
+    /// implicit step's history (a checkpoint between output times, where restart_point()
+    /// was not called). A failure throws io::OutputError on every rank.
+    void write_checkpoint(const std::string &file, const double t, const unsigned int step,
+                          const bool with_history = false) const;
 
     /// read a checkpoint of this mesh (any number of ranks wrote it): state, time, step
     void read_checkpoint(const std::string &file);
@@ -166,6 +169,15 @@ namespace granhydro
     unsigned long long        max_cells = 0, refined_cells = 0, coarsened_cells = 0;
   };
 
-  /// read the scene's dimension and run it; returns the process exit code
+  /// read the scene's dimension and run it; returns the process exit code: 0, or
+  /// 128 + the signal number when SIGTERM/SIGINT stopped it (143 / 130)
   int run_scene(const Scene &scene, const MPI_Comm comm, std::ostream &log);
+
+  /// SIGTERM and SIGINT make a run finish its current step, write the final output, a
+  /// checkpoint (with the implicit step's history, so a restart continues exactly as the
+  /// uninterrupted run) and the summary (status "interrupted (SIGTERM)"), and end with
+  /// exit code 128 + signal; a second signal ends the process at once
+  void install_stop_signal_handlers();
+  /// the signal received since install_stop_signal_handlers() (0: none)
+  int stop_signal();
 } // namespace granhydro

@@ -170,6 +170,13 @@ namespace granhydro
     // Output
     std::string  output_directory = "output";
     std::string  base_name        = "solution";
+    /// a file of this run in the output directory: <Directory>/<Base name><suffix>
+    /// (".pvd", ".checkpoint", "_profiles.csv", "_cross_section.csv", "_summary.csv"), so
+    /// that two runs with different base names can share one directory
+    std::string output_file(const std::string &suffix) const
+    {
+      return output_directory + "/" + base_name + suffix;
+    }
     double       output_interval  = 0;
     bool         write_vtu        = true;
     bool         write_profiles   = true;
@@ -183,9 +190,6 @@ namespace granhydro
     Units units() const;
     double grain_mass() const;
   };
-
-  /// the first bytes of a checkpoint file (driver/simulation.cc writes and reads them)
-  const std::string &checkpoint_magic();
 
   /// declare every parameter with its default, pattern and documentation
   void declare_scene_parameters(dealii::ParameterHandler &prm);
@@ -201,10 +205,13 @@ namespace granhydro
    * Read a scene from a file ("" = embedded default), validate it and
    * return it. Throws SceneError naming the offending parameter.
    */
-  Scene read_scene(const std::string &filename);
+  /// overrides: "Section/Name=value" (nested sections joined by '/'), applied after the
+  /// file as if its last lines set them (command line -p)
+  Scene read_scene(const std::string &filename, const std::vector<std::string> &overrides = {});
 
   /// the same from a string in .prm syntax (tests)
-  Scene parse_scene(const std::string &text, const std::string &source_name);
+  Scene parse_scene(const std::string &text, const std::string &source_name,
+                    const std::vector<std::string> &overrides = {});
 
   /// the effects the scene activates, each with the reason (README, "Running scenes")
   std::vector<std::pair<std::string, std::string>> active_effects(const Scene &scene);

@@ -1,0 +1,146 @@
+#!/bin/bash
+# Fault tests (ctests faults.*): what a run does when the world goes wrong.
+#   faults.sh <granhydro> <scene.prm> <work dir> <mode> [launcher...]
+# The scene must use the implicit step with a kept Newton matrix (the 1D dense collapse
+# with Integrator = sdirk2) and write checkpoints at its output times.
+# Modes:
+#   sigterm    SIGTERM after step K (test hook GRANHYDRO_SIGTERM_AT_STEP=K, which raises the
+#              real signal): exit 143, summary status "interrupted (SIGTERM)", a checkpoint
+#              with the implicit step's history; the restart from it ends in the state of
+#              the uninterrupted run bit for bit (state digests of the final checkpoints).
+#              A restart from the t = 0 checkpoint does not write the t = 0 output again.
+#   disk_full  (a) the 3rd checkpoint write fails half-way with ENOSPC (test hook
+#              GRANHYDRO_FAIL_CHECKPOINT_WRITE=3): exit 3 naming the OS reason, the 2nd
+#              checkpoint stays in place and verifies, no .tmp is left, the summary never
+#              says "completed"; (b) a real OS limit (ulimit -f: every write beyond 8 KiB
+#              fails with EFBIG, "File too large"): exit 3, no crash, never "completed", and any checkpoint
+#              left verifies.
+#   corrupt    every kind of damaged checkpoint is refused with exit 2 by --check and by
+#              the run, naming 'Initial state/Checkpoint': truncated, one flipped bit in
+#              the header / in a value, appended bytes, empty, not a checkpoint, the older
+#              format, and (with a valid checksum) a NaN value, a negative density, a time
+#              of -1e300, a time beyond the end time, a cell count of 2^40.
+set -u
+exe=$1; scene=$2; work=$3; mode=$4; shift 4
+launcher=("$@")
+rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
+fail() { echo "FAIL: $*"; exit 1; }
+run() { "${launcher[@]}" "$exe" "$@"; }
+digest() { "$exe" --checkpoint-info "$1" | sed -n 's/.*state digest //p'; }
+status() { sed -n 's/^status,//p' "$1"; }
+
+case $mode in
+sigterm)
+  run -p "Output/Directory=full" "$scene" > full.log 2>&1 || { cat full.log; fail "uninterrupted run"; }
+  steps=$("$exe" --checkpoint-info full/solution.checkpoint | sed -n 's/.* step \([0-9]*\),.*/\1/p')
+  k=$((steps / 3))
+  GRANHYDRO_SIGTERM_AT_STEP=$k run -p "Output/Directory=int" "$scene" > int.log 2>&1
+  rc=$?
+  [ $rc -eq 143 ] || { cat int.log; fail "interrupted run: exit $rc, expected 143"; }
+  [ "$(status int/solution_summary.csv)" = "interrupted (SIGTERM)" ] || fail "summary status '$(status int/solution_summary.csv)'"
+  "$exe" --checkpoint-info int/solution.checkpoint > info.txt || { cat info.txt; fail "interrupt checkpoint does not verify"; }
+  grep -q "step $k," info.txt || { cat info.txt; fail "interrupt checkpoint is not at step $k"; }
+  grep -q "kept Newton matrix" info.txt || { cat info.txt; fail "interrupt checkpoint lacks the implicit step's history (the test needs a kept matrix at step $k)"; }
+  cp int/solution.checkpoint int.checkpoint
+  run -p "Output/Directory=int" -p "Initial state/Checkpoint=int.checkpoint" "$scene" > restart.log 2>&1 || { cat restart.log; fail "restart"; }
+  a=$(digest full/solution.checkpoint); b=$(digest int/solution.checkpoint)
+  echo "final state digest: uninterrupted $a, interrupted + restarted $b"
+  [ -n "$a" ] && [ "$a" = "$b" ] || fail "the restarted run does not end in the uninterrupted state"
+  [ "$(status int/solution_summary.csv)" = "$(status full/solution_summary.csv)" ] || fail "final status differs"
+  # restart from the t = 0 checkpoint (kept as .bak of the second): no duplicate t = 0 block
+  run -p "Output/Directory=zero" -p "Time/End time=0.005" "$scene" > zero.log 2>&1 || { cat zero.log; fail "short run"; }
+  cp zero/solution.checkpoint.bak zero0.checkpoint
+  "$exe" --checkpoint-info zero0.checkpoint | grep -q " step 0," || fail "the .bak of the first output is not the t = 0 checkpoint"
+  # a fresh folder holding what the run had written up to t = 0 (header + t = 0 block)
+  rm -rf zero3 && mkdir zero3
+  { head -n 1 zero/solution_profiles.csv; grep -E '^0,' zero/solution_profiles.csv; } > zero3/solution_profiles.csv
+  run -p "Output/Directory=zero3" -p "Time/End time=0.005" -p "Initial state/Checkpoint=zero0.checkpoint" "$scene" > zero3.log 2>&1 || { cat zero3.log; fail "restart from t = 0"; }
+  c=$(grep -cE '^0,' zero3/solution_profiles.csv); d=$(grep -cE '^0,' zero/solution_profiles.csv)
+  echo "t = 0 profile rows: uninterrupted $d, restarted from the t = 0 checkpoint $c"
+  [ "$c" = "$d" ] || fail "restart from t = 0 wrote the t = 0 profile again"
+  cmp -s zero/solution_profiles.csv zero3/solution_profiles.csv || fail "restart from t = 0: profiles differ from the uninterrupted run"
+  ;;
+disk_full)
+  GRANHYDRO_FAIL_CHECKPOINT_WRITE=3 run -p "Output/Directory=inj" "$scene" > inj.log 2>&1
+  rc=$?
+  [ $rc -eq 3 ] || { cat inj.log; fail "injected ENOSPC: exit $rc, expected 3"; }
+  grep -q "No space left on device" inj.log || { cat inj.log; fail "the message does not give the OS reason"; }
+  grep -qiE "internal error|Stacktrace|Aborted|MPI_ABORT" inj.log && { cat inj.log; fail "crash text"; }
+  "$exe" --checkpoint-info inj/solution.checkpoint > info.txt || { cat info.txt; fail "the checkpoint left in place does not verify"; }
+  ls inj/*.tmp > /dev/null 2>&1 && fail "a .tmp file was left behind"
+  [ "$(status inj/solution_summary.csv)" != "completed" ] || fail "summary says completed"
+  echo "injected failure: exit 3, checkpoint kept: $(grep ' step ' info.txt)"
+  # a real write limit from the OS
+  # (PMIx's shared-memory store would hit the limit inside MPI_Init: use its hash store)
+  ( ulimit -f 16; PMIX_MCA_gds=hash run -p "Output/Directory=lim" "$scene" > lim.log 2>&1 ); rc=$?
+  [ $rc -eq 3 ] || { cat lim.log; fail "file size limit: exit $rc, expected 3"; }
+  grep -qiE "internal error|Stacktrace|Aborted|MPI_ABORT" lim.log && { cat lim.log; fail "crash text"; }
+  if [ -f lim/solution_summary.csv ]; then
+    [ "$(status lim/solution_summary.csv)" != "completed" ] || fail "summary says completed"
+  fi
+  if [ -f lim/solution.checkpoint ]; then
+    "$exe" --checkpoint-info lim/solution.checkpoint > /dev/null || fail "file size limit left an invalid checkpoint"
+  fi
+  echo "file size limit: exit 3: $(grep 'run stopped' lim.log | head -1)"
+  ;;
+corrupt)
+  run -p "Output/Directory=good" -p "Time/End time=0.05" "$scene" > good.log 2>&1 || { cat good.log; fail "run"; }
+  g=good/solution.checkpoint
+  size=$(stat -c %s $g)
+  head -c $((size / 2)) $g > truncated.ck
+  cp $g flip_header.ck; printf '\x55' | dd of=flip_header.ck bs=1 seek=40 conv=notrunc status=none
+  cp $g flip_value.ck; printf '\x7f' | dd of=flip_value.ck bs=1 seek=$((size - 30)) conv=notrunc status=none
+  cp $g appended.ck; printf 'garbage' >> appended.ck
+  : > empty.ck
+  printf 'not a checkpoint\n' > text.ck
+  { printf 'granhydro checkpoint v2\n'; tail -c +25 $g; } > old_format.ck
+  # semantic damage behind a valid checksum (a buggy writer): rewrite and re-sign
+  python3 - "$g" <<'EOF' || fail "python3 could not craft the checkpoints"
+import struct, sys
+src = open(sys.argv[1], 'rb').read()
+magic = len(b"granhydro checkpoint v3\n")
+def fnv(b):
+    h = 14695981039346656037
+    for x in b:
+        h = ((h ^ x) * 1099511628211) & 0xFFFFFFFFFFFFFFFF
+    return h
+def sign(body, name):
+    open(name, 'wb').write(body + struct.pack('<Q', fnv(body)))
+body = bytearray(src[:-8])
+# header: int32 dim, n_components; uint64 cells[3]; double lower[3], upper[3];
+# double length, mass, velocity, time; uint64 step, n_cells, outputs; ...
+off_time = magic + 8 + 24 + 48 + 24
+off_ncells = off_time + 8 + 8
+hdr = 232  # sizeof(CheckpointHeader) on x86-64 (checked: the first row starts there)
+nc = struct.unpack_from('<i', body, magic + 4)[0]
+first_value = magic + hdr + 8
+b = bytearray(body); struct.pack_into('<d', b, first_value, float('nan')); sign(bytes(b), 'nan_value.ck')
+b = bytearray(body); struct.pack_into('<d', b, first_value, -1.0); sign(bytes(b), 'negative_density.ck')
+b = bytearray(body); struct.pack_into('<d', b, off_time, -1e300); sign(bytes(b), 'time_negative.ck')
+b = bytearray(body); struct.pack_into('<d', b, off_time, 1e300); sign(bytes(b), 'time_future.ck')
+b = bytearray(body); struct.pack_into('<Q', b, off_ncells, 1 << 40); sign(bytes(b), 'cells_huge.ck')
+# the unmodified body re-signed must stay valid (the offsets above are right)
+sign(bytes(body), 'resigned.ck')
+EOF
+  cmp -s resigned.ck $g || fail "re-signing the unmodified checkpoint changed it (test offsets wrong)"
+  for f in truncated flip_header flip_value appended empty text old_format nan_value negative_density \
+           time_negative time_future cells_huge; do
+    for how in --check run; do
+      rm -rf out_$f; mkdir out_$f
+      if [ $how = --check ]; then
+        run --check -p "Output/Directory=out_$f" -p "Initial state/Checkpoint=$f.ck" "$scene" > $f.log 2>&1
+      else
+        run -p "Output/Directory=out_$f" -p "Initial state/Checkpoint=$f.ck" "$scene" > $f.log 2>&1
+      fi
+      rc=$?
+      [ $rc -eq 2 ] || { cat $f.log; fail "$f ($how): exit $rc, expected 2"; }
+      grep -q "Initial state/Checkpoint" $f.log || { cat $f.log; fail "$f ($how): message does not name the parameter"; }
+      grep -qiE "internal error|Stacktrace|Aborted|MPI_ABORT|bad_alloc" $f.log && { cat $f.log; fail "$f ($how): crash text"; }
+      [ -z "$(ls -A out_$f)" ] || fail "$f ($how): files written: $(ls out_$f)"
+    done
+    echo "$f: refused: $(grep -o "Checkpoint.*" $f.log | head -1 | cut -c1-150)"
+  done
+  ;;
+*) fail "unknown mode '$mode' (sigterm, disk_full, corrupt)";;
+esac
+echo "PASS ($mode)"
