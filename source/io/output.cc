@@ -141,7 +141,8 @@ namespace granhydro::io
   {
     std::string err;
     if (Utilities::MPI::this_mpi_process(patch.communicator()) == 0 &&
-        (scene.write_vtu || scene.write_profiles || scene.write_checkpoint))
+        (scene.write_vtu || scene.write_profiles || scene.write_checkpoint ||
+         scene.section_direction >= 0))
       {
         std::error_code ec;
         std::filesystem::create_directories(scene.output_directory, ec);

@@ -143,7 +143,8 @@ namespace granhydro
 
   std::map<std::string, double> expression_constants(const Scene &s)
   {
-    std::map<std::string, double> constants{{"pi", M_PI}};
+    // t: the initial state is the state at t = 0 (documented for the expressions)
+    std::map<std::string, double> constants{{"pi", M_PI}, {"t", 0.}};
     for (const auto &c : dealii::Utilities::split_string_list(s.initial_constants, ','))
       {
         const auto kv = dealii::Utilities::split_string_list(c, '=');
@@ -1130,6 +1131,27 @@ end
           if (s.gravity[d] != 0)
             fail("Effects/Gravity", "the ideal-gas verification model has no body force; use "
                                     "'Material/Model = granular'");
+      }
+    // body forces beyond any centrifuge (1e6 m/s^2 = 1e5 g) only overflow the scaled units
+    {
+      double g2 = 0;
+      for (unsigned int d = 0; d < dim; ++d)
+        g2 += s.gravity[d] * s.gravity[d];
+      if (!(std::sqrt(g2) <= 1e6))
+        fail("Effects/Gravity", "|g| = " + num(std::sqrt(g2)) + " m/s^2; allowed up to 1e6 m/s^2");
+      const double a = s.vibration_amplitude * std::pow(2 * M_PI * s.vibration_frequency, 2);
+      if (!(a <= 1e6))
+        fail("Effects/Vibration amplitude", "the container's acceleration A (2 pi f)^2 = " + num(a) +
+                                              " m/s^2; allowed up to 1e6 m/s^2");
+    }
+    // the scaled units keep the state's numbers near 1; a velocity unit far from the
+    // default sqrt(g sigma) moves them towards the fixed thresholds (floors, tolerances)
+    if (s.reference_velocity > 0)
+      {
+        const double v0 = std::sqrt(9.81 * s.grain_diameter);
+        if (!(s.reference_velocity >= 1e-3 * v0 && s.reference_velocity <= 1e3 * v0))
+          fail("Numerics/Reference velocity", num(s.reference_velocity) + " m/s; allowed 0 (= sqrt(g sigma) = " +
+                                                num(v0) + " m/s) or within 1e-3 .. 1e3 times that");
       }
     if ((s.vibration_amplitude > 0) != (s.vibration_frequency > 0))
       fail("Effects/Vibration frequency", "a vibrated container needs both a positive "
