@@ -47,6 +47,79 @@ namespace granhydro
     }
   } // namespace
 
+  namespace
+  {
+    /// what GridIn would trust blindly: the format version, counts that announce more
+    /// entries than the file has lines (a count of 1e12 made it allocate until bad_alloc),
+    /// and negative physical tags (boundary ids; -1 silently became another boundary)
+    void prescan_mesh_file(const std::string &filename, const bool msh)
+    {
+      std::ifstream            in(filename);
+      std::vector<std::string> lines;
+      for (std::string line; std::getline(in, line);)
+        lines.push_back(line);
+      const auto bad = [&](const std::size_t i, const std::string &what) {
+        throw std::runtime_error("cannot read '" + filename + "' as " + (msh ? "a gmsh" : "a ucd") +
+                                 " mesh: line " + std::to_string(i + 1) + ": " + what);
+      };
+      const auto count_at = [&](const std::size_t i) {
+        std::istringstream is(i < lines.size() ? lines[i] : std::string());
+        long long          n = -1;
+        if (!(is >> n) || n < 0)
+          bad(i, "expected a count");
+        if (std::size_t(n) > lines.size() - i - 1)
+          bad(i, "announces " + std::to_string(n) + " entries, but only " +
+                   std::to_string(lines.size() - i - 1) + " lines follow");
+        return std::size_t(n);
+      };
+      if (!msh) // ucd: the first line that is not a comment holds the node and cell counts
+        {
+          for (std::size_t i = 0; i < lines.size(); ++i)
+            if (!lines[i].empty() && lines[i][0] != '#')
+              {
+                std::istringstream is(lines[i]);
+                long long          nn = -1, nc = -1;
+                if (!(is >> nn >> nc) || nn < 0 || nc < 0 ||
+                    std::size_t(nn) + std::size_t(nc) > lines.size() - i - 1)
+                  bad(i, "node and cell counts do not match the file (" +
+                           std::to_string(lines.size() - i - 1) + " lines follow)");
+                return;
+              }
+          return;
+        }
+      for (std::size_t i = 0; i < lines.size(); ++i)
+        {
+          const std::string &l = lines[i];
+          if (l.rfind("$MeshFormat", 0) == 0)
+            {
+              std::istringstream is(i + 1 < lines.size() ? lines[i + 1] : std::string());
+              std::string        version;
+              int                binary = -1;
+              if (!(is >> version >> binary) || version != "2.2" || binary != 0)
+                bad(i + 1, "gmsh format '" + (i + 1 < lines.size() ? lines[i + 1] : std::string()) +
+                             "': only format 2.2 ASCII is read (export with gmsh -format msh22)");
+            }
+          else if (l.rfind("$Nodes", 0) == 0)
+            count_at(i + 1);
+          else if (l.rfind("$Elements", 0) == 0)
+            {
+              const std::size_t n = count_at(i + 1);
+              for (std::size_t k = 0; k < n; ++k)
+                {
+                  std::istringstream is(lines[i + 2 + k]);
+                  long long          id, type, ntags, tag;
+                  if (!(is >> id >> type >> ntags))
+                    bad(i + 2 + k, "cannot read the element");
+                  for (long long t = 0; t < ntags; ++t)
+                    if (!(is >> tag) || tag < 0)
+                      bad(i + 2 + k, "element tags (physical id = boundary id, elementary id) must "
+                                       "be non-negative integers");
+                }
+            }
+        }
+    }
+  } // namespace
+
   template <int dim>
   void read_mesh_file(const std::string &filename, Triangulation<dim> &tria)
   {
@@ -57,6 +130,7 @@ namespace granhydro
     std::ifstream in(filename);
     if (!in)
       throw std::runtime_error("cannot open '" + filename + "'");
+    prescan_mesh_file(filename, msh);
     GridIn<dim> gi;
     gi.attach_triangulation(tria);
     try

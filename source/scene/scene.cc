@@ -9,10 +9,15 @@
 #include <unistd.h>
 
 #include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
+#include <type_traits>
 #include <sstream>
 #include <vector>
 
@@ -54,6 +59,11 @@ namespace granhydro
           if (!(is >> v) || !(is >> std::ws).eof())
             throw SceneError("parameter '" + name + "': cannot read '" + parts[i] +
                              "' as a number");
+          if constexpr (std::is_floating_point_v<T>)
+            if (!std::isfinite(v) || (v != 0 && std::abs(v) < std::numeric_limits<T>::min()))
+              throw SceneError("parameter '" + name + "': '" + parts[i] +
+                               "' is not a usable number (decimal values must lie within "
+                               "2.2e-308 .. 1.8e308 in magnitude, or be 0)");
           a[i] = v;
         }
       return a;
@@ -166,7 +176,11 @@ namespace granhydro
                            "' is defined twice");
         double             v;
         std::istringstream is(kv[1]);
-        if (!(is >> v) || !(is >> std::ws).eof() || !std::isfinite(v))
+        if (constants.size() > 1000)
+          throw SceneError("in " + s.source + ": parameter 'Initial state/Constants': more than "
+                           "1000 constants; an initial state needs a few");
+        if (!(is >> v) || !(is >> std::ws).eof() || !std::isfinite(v) ||
+            (v != 0 && std::abs(v) < std::numeric_limits<double>::min()))
           throw SceneError("in " + s.source + ": parameter 'Initial state/Constants': cannot read "
                            "the value of '" + name + "' ('" + kv[1] + "' is not a finite number)");
         constants[name] = v;
@@ -588,6 +602,9 @@ end
   }
 
   Scene scene_from(ParameterHandler &prm, const std::string &source_name);
+  Scene parse_scene_text(const std::string &text, const std::string &source_name,
+                         const std::vector<std::string> &overrides,
+                         const std::vector<std::string> *origin);
 
   namespace
   {
@@ -628,22 +645,100 @@ end
     }
   } // namespace
 
+  namespace
+  {
+    /// "FILE, line N" of line `number` (1-based) of the parsed text
+    std::string place(const std::string &source, const std::vector<std::string> *origin,
+                      const unsigned long number)
+    {
+      if (origin && number >= 1 && number <= origin->size())
+        return (*origin)[number - 1];
+      return source + ", line " + std::to_string(number);
+    }
+
+    /// a deal.II parse message with its place in our words ("Line <N> of file <input
+    /// string>" -> the real file and line) and without unprintable bytes
+    std::string parse_message(const std::string &m, const std::string &source,
+                              const std::vector<std::string> *origin)
+    {
+      std::string out = source + ": " + m;
+      const auto  a   = m.find("Line <");
+      const auto  b   = m.find("> of file <input string>");
+      if (a != std::string::npos && b != std::string::npos && b > a)
+        out = place(source, origin, std::strtoul(m.c_str() + a + 6, nullptr, 10)) + m.substr(b + 24);
+      for (char &ch : out)
+        if (static_cast<unsigned char>(ch) < 32 || static_cast<unsigned char>(ch) > 126)
+          ch = '?';
+      if (out.size() > 400)
+        out = out.substr(0, 400) + " ...";
+      return out;
+    }
+
+    /// every 'subsection' closed by an 'end', every 'end' closing one: named by line (deal.II
+    /// only says that the counts differ)
+    void check_sections(const std::string &text, const std::string &source,
+                        const std::vector<std::string> *origin)
+    {
+      std::istringstream                                  in(text);
+      std::vector<std::pair<unsigned long, std::string>> open;
+      unsigned long                                       number = 0;
+      for (std::string line; std::getline(in, line);)
+        {
+          ++number;
+          const auto hash = line.find('#');
+          if (hash != std::string::npos)
+            line.erase(hash);
+          std::istringstream is(line);
+          std::string        word;
+          if (!(is >> word))
+            continue;
+          for (char &ch : word)
+            ch = std::tolower(static_cast<unsigned char>(ch));
+          if (word == "subsection")
+            {
+              std::string name;
+              std::getline(is >> std::ws, name);
+              open.emplace_back(number, name);
+            }
+          else if (word == "end")
+            {
+              if (open.empty())
+                throw SceneError("in " + place(source, origin, number) +
+                                 ": 'end' without an open 'subsection'");
+              open.pop_back();
+            }
+        }
+      if (!open.empty())
+        throw SceneError("in " + place(source, origin, open.back().first) +
+                         ": 'subsection " + open.back().second +
+                         "' is never closed (an 'end' line is missing)");
+    }
+  } // namespace
+
   Scene parse_scene(const std::string &text, const std::string &source_name,
                     const std::vector<std::string> &overrides)
   {
+    return parse_scene_text(text, source_name, overrides, nullptr);
+  }
+
+  Scene parse_scene_text(const std::string &text, const std::string &source_name,
+                         const std::vector<std::string> &overrides,
+                         const std::vector<std::string> *origin)
+  {
     ParameterHandler prm;
     declare_scene_parameters(prm);
+    check_sections(text, source_name, origin);
     try
       {
         prm.parse_input_from_string(text, /*last_line=*/"", /*skip_undefined=*/false);
       }
     catch (const dealii::ExceptionBase &e)
       {
-        throw SceneError("in " + source_name + ": " + human_message(e.what()));
+        throw SceneError("in " + parse_message(human_message(e.what()), source_name, origin));
       }
     catch (const std::exception &e)
       {
-        throw SceneError("in " + source_name + ": " + human_message(e.what()));
+        throw SceneError("in " + parse_message(human_message(e.what()), source_name, origin));
       }
     for (const auto &o : overrides)
       apply_override(prm, o);
@@ -840,7 +935,10 @@ end
     /// the scene text with its 'include FILE' lines replaced by the files' texts (a path
     /// relative to the including file, as for mesh files); refuses an include cycle (a scene
     /// that included itself recursed until the stack overflowed) and nesting beyond 16
-    std::string expand_includes(const std::string &file, std::vector<std::string> chain)
+    /// the scene text with every 'include FILE' line replaced by that file's text; origin
+    /// gets "FILE, line N" for every line of the result (messages name the real place)
+    std::string expand_includes(const std::string &file, std::vector<std::string> chain,
+                                std::vector<std::string> &origin)
     {
       std::error_code ec;
       const auto      canon = std::filesystem::weakly_canonical(file, ec).string();
@@ -854,9 +952,11 @@ end
       std::ifstream in(file);
       if (!in)
         throw SceneError("cannot open scene file '" + file + "'");
-      std::string out;
+      std::string  out;
+      unsigned int number = 0;
       for (std::string line; std::getline(in, line);)
         {
+          ++number;
           std::istringstream is(line);
           std::string        word, target;
           if (is >> word && word == "include" && is >> target)
@@ -868,11 +968,15 @@ end
                 throw SceneError("scene file '" + file + "': 'include " + target +
                                  "' does not name a readable file (paths are relative to the "
                                  "including file)");
-              out += expand_includes(path.string(), chain);
+              out += expand_includes(path.string(), chain, origin);
               out += '\n';
+              origin.push_back(file + ", line " + std::to_string(number));
             }
           else
-            out += line + '\n';
+            {
+              out += line + '\n';
+              origin.push_back(file + ", line " + std::to_string(number));
+            }
         }
       return out;
     }
@@ -946,7 +1050,8 @@ end
     if (std::filesystem::file_size(filename, ec) > max_bytes || ec)
       throw SceneError("scene file '" + filename + "' is larger than 16 MiB (or unreadable); a "
                        "scene is a short parameter file");
-    const std::string text = expand_includes(filename, {});
+    std::vector<std::string> origin;
+    const std::string        text = expand_includes(filename, {}, origin);
     // only comments and blank lines: refuse rather than silently run every default
     std::istringstream lines(text);
     bool               statement = false;
@@ -958,7 +1063,7 @@ end
     if (!statement)
       throw SceneError("scene file '" + filename + "' sets no parameter (it is empty or holds only "
                        "comments); run granhydro without a file for the default scene");
-    return parse_scene(text, filename, overrides);
+    return parse_scene_text(text, filename, overrides, &origin);
   }
 
   void validate(const Scene &s)
@@ -1061,6 +1166,8 @@ end
         if (vmax != 0 && s.boundary[i] != BoundaryType::no_slip_wall)
           fail("Domain/Wall velocity " + side, "only no-slip walls move (the boundary is " +
                                                  to_string(s.boundary[i]) + ")");
+        if (!(vmax <= 1e4))
+          fail("Domain/Wall velocity " + side, "|v| = " + fmt(vmax) + " m/s; allowed up to 1e4 m/s");
         if (!mesh && s.wall_velocity[i][d] != 0)
           fail("Domain/Wall velocity " + side, "a wall moves only tangentially: its component "
                                                "along " + std::string(1, "xyz"[d]) + " must be 0");
@@ -1084,14 +1191,18 @@ end
     if (s.fixed_time_step > 0 && s.end_time / s.fixed_time_step > 1e9)
       fail("Numerics/Fixed time step", "would need more than 1e9 steps to 'Time/End time' (" +
                                          fmt(s.end_time) + " s)");
-    if (s.cfl <= 0 || s.cfl > 1)
-      fail("Numerics/CFL number", "must lie in (0, 1] (SSP-RK3 stability)");
+    if (!(s.cfl >= 1e-3 && s.cfl <= 1))
+      fail("Numerics/CFL number", "must lie in [1e-3, 1] (SSP-RK3 stability; smaller steps only "
+                                  "creep: use 'Numerics/Fixed time step' for a tiny fixed step)");
+    if (!(s.linear_tolerance > 0))
+      fail("Diffusion step/Linear solver tolerance", "must be positive (GMRES cannot reach 0)");
     if (s.musta_local_cfl <= 0 || s.musta_local_cfl > 1)
       fail("Numerics/MUSTA local CFL", "must lie in (0, 1]");
     if (s.musta_tolerance <= 0)
       fail("Numerics/MUSTA tolerance", "must be positive");
-    if (s.grain_diameter <= 0)
-      fail("Material/Grain diameter", "must be positive");
+    if (!(s.grain_diameter >= 1e-9 && s.grain_diameter <= 10))
+      fail("Material/Grain diameter", fmt(s.grain_diameter) + " m; allowed 1e-9 .. 10 m (the "
+                                      "internal units are built on it)");
     if (s.material_density <= 0)
       fail("Material/Material density", "must be positive");
     if (s.adiabatic_index <= 1)
@@ -1171,6 +1282,13 @@ end
                                  "step (granular model with transport, cooling or gravity)");
     if (s.output_directory.empty())
       fail("Output/Directory", "must not be empty");
+    if (s.output_directory.size() > 1024)
+      fail("Output/Directory", "a path of " + std::to_string(s.output_directory.size()) +
+                                 " characters; allowed up to 1024");
+    for (const auto &part : std::filesystem::path(s.output_directory))
+      if (part.string().size() > 255)
+        fail("Output/Directory", "a folder name of " + std::to_string(part.string().size()) +
+                                   " characters; file systems allow up to 255");
     {
       // a file name, not a path: no '/', no leading '.', at most 100 characters of
       // letters, digits, '_', '-', '.'
@@ -1192,6 +1310,15 @@ end
         fail("Output/Directory", "'" + dir.string() + "' exists and is not a folder");
       if (std::filesystem::exists(dir, ec) && ::access(dir.c_str(), W_OK) != 0)
         fail("Output/Directory", "'" + dir.string() + "' is not writable");
+      // access() trusts permissions: a folder (e.g. under /proc) may still refuse new entries
+      if (std::filesystem::is_directory(dir, ec))
+        {
+          std::string probe = (dir / ".granhydro_probe_XXXXXX").string();
+          if (::mkdtemp(&probe[0]) == nullptr)
+            fail("Output/Directory", "cannot create folders in '" + dir.string() + "': " +
+                                       std::strerror(errno));
+          ::rmdir(probe.c_str());
+        }
     }
     if (s.section_direction >= 0 && dim != 3)
       fail("Output/Cross-section direction", "cross sections need a 3D scene");
@@ -1205,6 +1332,18 @@ end
                                        std::to_string(vel.size()));
     // expressions: let muParser check the syntax now, before any work
     auto check_expr = [&](const std::string &param, const std::string &expr) {
+      // one expression: a ',' outside parentheses would make muParser return the last of
+      // several values and silently drop the others
+      {
+        int depth = 0;
+        for (const char ch : expr)
+          {
+            depth += ch == '(' ? 1 : (ch == ')' ? -1 : 0);
+            if (ch == ',' && depth == 0)
+              fail(param, "'" + expr + "' holds several expressions separated by ','; give one "
+                          "(commas only inside function calls such as if(x < 0.1, a, b))");
+          }
+      }
       // muParser prints its own diagnostics to std::cerr; keep them out of the message
       std::ostringstream quiet;
       auto *old_buf = std::cerr.rdbuf(quiet.rdbuf());
