@@ -243,6 +243,14 @@ namespace granhydro
     for (unsigned int d = 0; d < dim; ++d)
       info.lattice[d] = std::llround((info.upper[d] - info.lower[d]) / info.cell_size[d]);
     info.n_cells = boxes.size();
+    const std::size_t stride = boxes.size() / 262144 + 1;
+    for (std::size_t i = 0; i < boxes.size(); i += stride)
+      {
+        std::array<double, 3> c{{0, 0, 0}};
+        for (unsigned int d = 0; d < dim; ++d)
+          c[d] = 0.5 * (boxes[i].lo[d] + boxes[i].hi[d]);
+        info.centres.push_back(c);
+      }
 
     // boundary faces: ids in range, and no boundary face between two cells (which would
     // mean duplicated vertices, i.e. cells not connected)

@@ -988,7 +988,8 @@ end
     /// packing fraction in (0, phi_c - guard) for the granular model (> 0 for the ideal
     /// gas), temperature > 0, all finite. Empty if fine, else "parameter|message".
     template <int dim>
-    std::string sample_initial_state(const Scene &s, const std::map<std::string, double> &constants)
+    std::string sample_initial_state(const Scene &s, const std::map<std::string, double> &constants,
+                                     const std::vector<std::array<double, 3>> &mesh_centres)
     {
       const std::string vars = dim == 1 ? "x" : (dim == 2 ? "x,y" : "x,y,z");
       dealii::FunctionParser<dim> phi(1), T(1), u(dim);
@@ -1001,6 +1002,8 @@ end
       std::size_t                 total = 1;
       for (unsigned int d = 0; d < dim; ++d)
         total *= (m[d] = std::min(s.cells[d], 64u));
+      if (!mesh_centres.empty()) // a mesh file: its coarse cell centres
+        total = mesh_centres.size();
       const bool   granular = s.model == "granular";
       const double phi_max  = s.phi_close_packing - s.guard_delta;
       for (std::size_t k = 0; k < total; ++k)
@@ -1009,7 +1012,8 @@ end
           std::size_t        r = k;
           for (unsigned int d = 0; d < dim; ++d)
             {
-              x[d] = s.lower[d] + (r % m[d] + 0.5) * (s.upper[d] - s.lower[d]) / m[d];
+              x[d] = mesh_centres.empty() ? s.lower[d] + (r % m[d] + 0.5) * (s.upper[d] - s.lower[d]) / m[d] :
+                                            mesh_centres[k][d];
               r /= m[d];
             }
           std::ostringstream where;
@@ -1425,8 +1429,9 @@ end
       }
     for (const auto &v : vel)
       check_expr("Initial state/Velocity", v);
-    // the whole initial state, sampled at the cell centres (box domains without a checkpoint)
-    if (!mesh && s.initial_checkpoint.empty())
+    // the whole initial state, sampled at the cell centres (of the box, or of the mesh
+    // file's coarse cells), unless a checkpoint gives it
+    if (s.initial_checkpoint.empty())
       {
         std::ostringstream quiet;
         auto *old_buf = std::cerr.rdbuf(quiet.rdbuf());
@@ -1434,9 +1439,9 @@ end
         try
           {
             const auto constants = expression_constants(s);
-            bad = dim == 1 ? sample_initial_state<1>(s, constants) :
-                  dim == 2 ? sample_initial_state<2>(s, constants) :
-                             sample_initial_state<3>(s, constants);
+            bad = dim == 1 ? sample_initial_state<1>(s, constants, mesh_info.centres) :
+                  dim == 2 ? sample_initial_state<2>(s, constants, mesh_info.centres) :
+                             sample_initial_state<3>(s, constants, mesh_info.centres);
           }
         catch (...)
           {

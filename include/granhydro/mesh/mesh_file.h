@@ -17,6 +17,7 @@
 #include <array>
 #include <cmath>
 #include <set>
+#include <vector>
 #include <string>
 #include <utility>
 
@@ -31,6 +32,9 @@ namespace granhydro
     unsigned long long          n_cells = 0;           ///< coarse cells in the file
     /// (boundary id, geometric normal direction) of every boundary face
     std::set<std::pair<unsigned int, unsigned int>> id_direction;
+    /// centres of the coarse cells (every k-th cell beyond 262 144), where the scene
+    /// checks the initial state
+    std::vector<std::array<double, 3>> centres;
   };
 
   /// read a gmsh (.msh) or ucd (.inp) file into an empty serial triangulation;
