@@ -170,8 +170,21 @@ namespace granhydro::io
 
   CheckpointData read_checkpoint_file(const std::string &file)
   {
-    bool              ok  = false;
-    const std::string buf = read_all(file, ok);
+    struct stat st;
+    if (::stat(file.c_str(), &st) != 0)
+      throw CheckpointError("cannot be read: " + os_reason(errno));
+    if (!S_ISREG(st.st_mode))
+      throw CheckpointError("is not a regular file (a folder or a device)");
+    bool        ok = false;
+    std::string buf;
+    try
+      {
+        buf = read_all(file, ok);
+      }
+    catch (const std::exception &)
+      {
+        ok = false;
+      }
     if (!ok)
       throw CheckpointError("cannot be read");
     const auto &magic = checkpoint_magic();
