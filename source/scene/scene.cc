@@ -1022,6 +1022,9 @@ end
           if (!std::isfinite(p) || !(p > 0))
             return "Initial state/Packing fraction|must be positive and finite everywhere: " +
                    fmt(p) + where.str();
+          if (!(p >= 1e-12))
+            return "Initial state/Packing fraction|must be at least 1e-12 (the scaled density "
+                   "would underflow): " + fmt(p) + where.str();
           if (granular && !(p < phi_max))
             return "Initial state/Packing fraction|must stay below phi_c - guard = " +
                    fmt(phi_max) + " (Material/Close packing fraction, Close packing "
@@ -1029,9 +1032,13 @@ end
           if (!std::isfinite(t) || !(t > 0))
             return "Initial state/Temperature|must be positive and finite everywhere: " +
                    fmt(t) + where.str();
+          if (!(std::sqrt(t / s.grain_mass()) <= 1e4))
+            return "Initial state/Temperature|gives a thermal speed sqrt(T/m) of " +
+                   fmt(std::sqrt(t / s.grain_mass())) + " m/s; allowed up to 1e4 m/s: " + fmt(t) +
+                   " J" + where.str();
           for (unsigned int d = 0; d < dim; ++d)
-            if (!std::isfinite(u.value(x, d)))
-              return "Initial state/Velocity|must be finite everywhere" + where.str();
+            if (!std::isfinite(u.value(x, d)) || !(std::abs(u.value(x, d)) <= 1e4))
+              return "Initial state/Velocity|must be finite and within 1e4 m/s everywhere" + where.str();
         }
       return {};
     }
@@ -1167,6 +1174,16 @@ end
         double            vmax = 0;
         for (unsigned int k = 0; k < dim; ++k)
           vmax = std::max(vmax, std::abs(s.wall_velocity[i][k]));
+        for (unsigned int k = 0; k < 3; ++k)
+          {
+            if (!(std::abs(s.wall_velocity[i][k]) <= 1e4))
+              fail("Domain/Wall velocity " + side, "|v| = " + fmt(std::abs(s.wall_velocity[i][k])) +
+                                                     " m/s; allowed up to 1e4 m/s");
+            if (k >= dim && s.wall_velocity[i][k] != 0) // it would be ignored
+              fail("Domain/Wall velocity " + side, "its " + std::string(1, "xyz"[k]) +
+                                                     " component names a direction the " +
+                                                     std::to_string(dim) + "D scene does not resolve");
+          }
         if (vmax != 0 && s.boundary[i] != BoundaryType::no_slip_wall)
           fail("Domain/Wall velocity " + side, "only no-slip walls move (the boundary is " +
                                                  to_string(s.boundary[i]) + ")");

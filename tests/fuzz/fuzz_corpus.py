@@ -38,7 +38,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument('--exe', help='the granhydro executable')
     ap.add_argument('--jobs', type=int, default=2)
-    ap.add_argument('--workdir', help='scratch folder (default: a temporary folder, removed afterwards)')
+    ap.add_argument('--workdir', help='folder for the scratch folder (default: the system temporary folder)')
     ap.add_argument('--timeout', type=float, default=30)
     ap.add_argument('--only', help='comma-separated substrings of case ids to run')
     ap.add_argument('--list', action='store_true', help='list the cases and exit')
@@ -58,10 +58,9 @@ def main():
         ap.error(f'--exe: executable {a.exe!r} does not exist')
 
     t0 = time.time()
-    scratch = Path(a.workdir) if a.workdir else Path(tempfile.mkdtemp(prefix='granhydro-fuzz-corpus-'))
     if a.workdir:
-        shutil.rmtree(scratch, ignore_errors=True)
-    scratch.mkdir(parents=True, exist_ok=True)
+        Path(a.workdir).mkdir(parents=True, exist_ok=True)
+    scratch = Path(tempfile.mkdtemp(prefix='granhydro-fuzz-corpus-', dir=a.workdir))
     # 2 GiB of address space: plenty for --check, and a scene that makes granhydro allocate
     # without bound fails fast (std::bad_alloc) instead of exhausting the machine
     runner = fz.Runner(a.exe, scratch, jobs=a.jobs, check_timeout=a.timeout, mem_gib=2)
@@ -107,8 +106,7 @@ def main():
         for c in ([f[0] for f in failing] if not a.only else cases):
             fz.write_repro(c, Path(a.write) / c.cid.replace(':', '_').replace('/', '_'), REPO)
         print(f'\nscene trees written to {a.write}')
-    if not a.workdir:
-        shutil.rmtree(scratch, ignore_errors=True)
+    shutil.rmtree(scratch, ignore_errors=True)
     dt = time.time() - t0
     print(f'\nfuzz corpus: {len(cases) - len(failing)} of {len(cases)} refused properly, '
           f'{len(failing)} failing, {dt:.0f} s')
