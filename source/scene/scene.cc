@@ -30,6 +30,15 @@ namespace granhydro
   {
     const char *side_names[6] = {"x-", "x+", "y-", "y+", "z-", "z+"};
 
+    /// decimals the code can compute with: finite and 0 or normal (a denormal such as
+    /// 1e-310 loses its digits and overflows when inverted)
+    bool usable_decimal(const double v)
+    {
+      return std::isfinite(v) && (v == 0 || std::abs(v) >= std::numeric_limits<double>::min());
+    }
+    const char *const usable_decimal_rule =
+      "decimal values must lie within 2.2e-308 .. 1.8e308 in magnitude, or be 0";
+
     /// a number for a message: 6 significant digits, exponent when needed
     std::string fmt(const double v)
     {
@@ -60,10 +69,9 @@ namespace granhydro
             throw SceneError("parameter '" + name + "': cannot read '" + parts[i] +
                              "' as a number");
           if constexpr (std::is_floating_point_v<T>)
-            if (!std::isfinite(v) || (v != 0 && std::abs(v) < std::numeric_limits<T>::min()))
-              throw SceneError("parameter '" + name + "': '" + parts[i] +
-                               "' is not a usable number (decimal values must lie within "
-                               "2.2e-308 .. 1.8e308 in magnitude, or be 0)");
+            if (!usable_decimal(v))
+              throw SceneError("parameter '" + name + "': '" + parts[i] + "' is not a usable number (" +
+                               usable_decimal_rule + ")");
           a[i] = v;
         }
       return a;
@@ -179,8 +187,7 @@ namespace granhydro
         if (constants.size() > 1000)
           throw SceneError("in " + s.source + ": parameter 'Initial state/Constants': more than "
                            "1000 constants; an initial state needs a few");
-        if (!(is >> v) || !(is >> std::ws).eof() || !std::isfinite(v) ||
-            (v != 0 && std::abs(v) < std::numeric_limits<double>::min()))
+        if (!(is >> v) || !(is >> std::ws).eof() || !usable_decimal(v))
           throw SceneError("in " + s.source + ": parameter 'Initial state/Constants': cannot read "
                            "the value of '" + name + "' ('" + kv[1] + "' is not a finite number)");
         constants[name] = v;
@@ -763,8 +770,8 @@ end
         const std::string entry = a != std::string::npos && b != std::string::npos ?
                                     m.substr(a + 11, b - a - 11) :
                                     std::string("?");
-        throw SceneError("in " + source_name + ": parameter '" + entry + "': " + m +
-                         " (decimal values must lie within 2.2e-308 .. 1.8e308 in magnitude, or be 0)");
+        throw SceneError("in " + source_name + ": parameter '" + entry + "': " + m + " (" +
+                         usable_decimal_rule + ")");
       }
   }
 
@@ -1083,11 +1090,6 @@ end
     auto fail = [&](const std::string &param, const std::string &msg) {
       throw SceneError("in " + s.source + ": parameter '" + param + "': " + msg);
     };
-    auto num = [](const double v) {
-      std::ostringstream os;
-      os << v;
-      return os.str();
-    };
     const bool mesh = !s.mesh_file.empty();
     MeshFileInfo mesh_info;
     if (mesh)
@@ -1270,10 +1272,10 @@ end
       for (unsigned int d = 0; d < dim; ++d)
         g2 += s.gravity[d] * s.gravity[d];
       if (!(std::sqrt(g2) <= 1e6))
-        fail("Effects/Gravity", "|g| = " + num(std::sqrt(g2)) + " m/s^2; allowed up to 1e6 m/s^2");
+        fail("Effects/Gravity", "|g| = " + fmt(std::sqrt(g2)) + " m/s^2; allowed up to 1e6 m/s^2");
       const double a = s.vibration_amplitude * std::pow(2 * M_PI * s.vibration_frequency, 2);
       if (!(a <= 1e6))
-        fail("Effects/Vibration amplitude", "the container's acceleration A (2 pi f)^2 = " + num(a) +
+        fail("Effects/Vibration amplitude", "the container's acceleration A (2 pi f)^2 = " + fmt(a) +
                                               " m/s^2; allowed up to 1e6 m/s^2");
     }
     // the scaled units keep the state's numbers near 1; a velocity unit far from the
@@ -1282,8 +1284,8 @@ end
       {
         const double v0 = std::sqrt(9.81 * s.grain_diameter);
         if (!(s.reference_velocity >= 1e-3 * v0 && s.reference_velocity <= 1e3 * v0))
-          fail("Numerics/Reference velocity", num(s.reference_velocity) + " m/s; allowed 0 (= sqrt(g sigma) = " +
-                                                num(v0) + " m/s) or within 1e-3 .. 1e3 times that");
+          fail("Numerics/Reference velocity", fmt(s.reference_velocity) + " m/s; allowed 0 (= sqrt(g sigma) = " +
+                                                fmt(v0) + " m/s) or within 1e-3 .. 1e3 times that");
       }
     if ((s.vibration_amplitude > 0) != (s.vibration_frequency > 0))
       fail("Effects/Vibration frequency", "a vibrated container needs both a positive "
@@ -1440,8 +1442,8 @@ end
                cp + "was written with 'Material/Model = " + std::string(h.model) + "'");
         const double t_si = h.time * h.length / h.velocity;
         if (!(t_si < s.end_time * (1 - 1e-12)))
-          fail("Initial state/Checkpoint", cp + "is at t = " + num(t_si) +
-                                             " s, not before 'Time/End time' = " + num(s.end_time) +
+          fail("Initial state/Checkpoint", cp + "is at t = " + fmt(t_si) +
+                                             " s, not before 'Time/End time' = " + fmt(s.end_time) +
                                              " s; raise the end time to continue the run");
       }
     for (const auto &v : vel)
