@@ -93,12 +93,12 @@ corrupt)
   cp $g appended.ck; printf 'garbage' >> appended.ck
   : > empty.ck
   printf 'not a checkpoint\n' > text.ck
-  { printf 'granhydro checkpoint v2\n'; tail -c +25 $g; } > old_format.ck
+  { printf 'granhydro checkpoint v3\n'; tail -c +25 $g; } > old_format.ck
   # semantic damage behind a valid checksum (a buggy writer): rewrite and re-sign
   python3 - "$g" <<'EOF' || fail "python3 could not craft the checkpoints"
 import struct, sys
 src = open(sys.argv[1], 'rb').read()
-magic = len(b"granhydro checkpoint v3\n")
+magic = len(b"granhydro checkpoint v4\n")
 def fnv(b):
     h = 14695981039346656037
     for x in b:
@@ -111,7 +111,7 @@ body = bytearray(src[:-8])
 # double length, mass, velocity, time; uint64 step, n_cells, outputs; ...
 off_time = magic + 8 + 24 + 48 + 24
 off_ncells = off_time + 8 + 8
-hdr = 232  # sizeof(CheckpointHeader) on x86-64 (checked: the first row starts there)
+hdr = 240  # sizeof(CheckpointHeader) on x86-64 (checked: the first row starts there)
 nc = struct.unpack_from('<i', body, magic + 4)[0]
 first_value = magic + hdr + 8
 b = bytearray(body); struct.pack_into('<d', b, first_value, float('nan')); sign(bytes(b), 'nan_value.ck')

@@ -609,11 +609,11 @@ def read_last_profile(rundir):
     return t, {h: [r[i] for r in rows] for i, h in enumerate(header)}
 
 
-CHECKPOINT_MAGIC = b"granhydro checkpoint v3\n"  # keys: fine-lattice key * 8 + level
+CHECKPOINT_MAGIC = b"granhydro checkpoint v4\n"  # keys: fine-lattice key * 8 + level
 # io::CheckpointHeader (include/granhydro/io/checkpoint.h) with x86-64 alignment: dims,
 # cells, corners, units, time, step/n_cells/outputs, model, n_values, the implicit
-# step's history (5 int32 + padding, t, dt, N[4]); 232 bytes
-CHECKPOINT_HEADER = struct.Struct("=ii3Q3d3d4d3Q16si4x5i4x2d4d")
+# step's history (5 int32 + padding, t, dt, N[4]), the convective time owed; 240 bytes
+CHECKPOINT_HEADER = struct.Struct("=ii3Q3d3d4d3Q16si4x5i4x2d4dd")
 
 
 def read_checkpoint(path):

@@ -280,10 +280,7 @@ namespace granhydro::diffusion
     U0.assign(U.begin(), U.begin() + n);
     if (Y.size() != U.size())
       Y.reinit(patch.partitioner());
-    double scale = 0;
-    for (std::size_t i = 0; i < n; ++i)
-      scale = std::max(scale, std::abs(U0[i]));
-    scale = Utilities::MPI::max(scale, comm);
+    const std::vector<double> scale = newton_scale(U0, NC, comm);
     // diagonally implicit (lower triangular, one diagonal value): stage by stage
     bool dirk = stages > 1;
     for (unsigned int k = 0; k < stages; ++k)
@@ -408,9 +405,30 @@ namespace granhydro::diffusion
     return true;
   }
 
+  std::vector<double> newton_scale(const std::vector<double> &U, const unsigned int NC, const MPI_Comm comm)
+  {
+    const std::size_t   cells = U.size() / NC;
+    std::vector<double> s(U.size()), floor(NC, 0.);
+    for (std::size_t i = 0; i < cells; ++i)
+      {
+        const double *u = &U[i * NC];
+        const double  n = std::abs(u[0]), E = std::abs(u[NC - 1]);
+        s[i * NC] = n;
+        for (unsigned int c = 1; c + 1 < NC; ++c)
+          s[i * NC + c] = std::sqrt(2 * n * E); // >= |n u_c|: E >= n |u|^2 / 2
+        s[i * NC + NC - 1] = E;
+        for (unsigned int c = 0; c < NC; ++c)
+          floor[c] = std::max(floor[c], s[i * NC + c]);
+      }
+    Utilities::MPI::max(floor, comm, floor);
+    for (std::size_t i = 0; i < s.size(); ++i)
+      s[i] = std::max(s[i], newton_scale_floor * floor[i % NC]);
+    return s;
+  }
+
   template <int dim>
   bool ImplicitIntegrator<dim>::newton(const std::vector<double> &base, const std::vector<double> &tk,
-                                       const double dt, const Table &N, const double scale,
+                                       const double dt, const Table &N, const std::vector<double> &scale,
                                        std::vector<double> &K, std::vector<double> &power,
                                        unsigned int &iterations)
   {
@@ -513,6 +531,7 @@ namespace granhydro::diffusion
         stats.linear_seconds += timer.wall_time();
         stats.linear_iterations += control.last_step();
         ++stats.newton_iterations;
+        // the largest update relative to its cell's own scale
         double      dmax = 0;
         std::size_t imax = 0;
         for (std::size_t i = 0; i < n; ++i)
@@ -521,9 +540,9 @@ namespace granhydro::diffusion
               const double d =
                 blocks ? bdelta.local_element(i * stages + k) : delta[part.local_to_global(i) * stages + k];
               K[i * stages + k] += d;
-              if (std::abs(d) > dmax)
+              if (std::abs(d) > dmax * scale[i])
                 {
-                  dmax = std::abs(d);
+                  dmax = std::abs(d) / scale[i];
                   imax = i;
                 }
             }
@@ -531,7 +550,7 @@ namespace granhydro::diffusion
         dmax = Utilities::MPI::max(dmax, comm) * dt;
         if (!std::isfinite(dmax))
           break;
-        if (dmax <= settings.newton_tolerance * scale)
+        if (dmax <= settings.newton_tolerance)
           {
             // final slopes K_k = f(Y_k) at the converged stage values
             std::vector<double> Kf(n * stages);
@@ -550,7 +569,7 @@ namespace granhydro::diffusion
           {
             std::ostringstream os;
             os << "modified Newton stalled after " << it + 1 << " iterations (update "
-               << dmax / scale << " of max|U|, tolerance " << settings.newton_tolerance << ")";
+               << dmax << " of the cell's own scale, tolerance " << settings.newton_tolerance << ")";
             if (dmax_local * dt == dmax && n > 0) // this rank holds the largest update: where
               {
                 const unsigned int c = imax / NC;

@@ -80,7 +80,10 @@ namespace granhydro
       pcout << "  diffusion step: "
             << (scene.diffusion_active() ?
                   scene.integrator + ", " + (scene.diagonal_flux ? "diagonal" : "full") +
-                    " flux" + (scene.convection ? ", Strang splitting C(dt/2) V(dt) C(dt/2)" : "") :
+                    " flux" + (scene.convection ? (scene.merge_strang ? ", Strang splitting C(dt/2) V(dt) C(dt/2) "
+                                                                           "with adjacent C halves merged" :
+                                                                           ", Strang splitting C(dt/2) V(dt) C(dt/2)") :
+                                                    "") :
                   std::string("off (no transport, cooling, body force or dissipative wall)"))
             << "\n";
     pcout
@@ -279,6 +282,7 @@ namespace granhydro
         h.time     = t;
         h.step     = step;
         h.n_cells  = rows.size();
+        h.convection_owed = owed_;
         h.outputs  = output ? output->count() : 0;
         std::snprintf(h.model, sizeof(h.model), "%s", scene.model.c_str());
         auto &hh        = h.history;
@@ -386,6 +390,7 @@ namespace granhydro
       throw SceneError(what + "does not hold every cell of the mesh");
     start_time_ = same_units ? h.time : h.time * h.length / h.velocity / units_.time();
     start_step_ = h.step;
+    owed_       = same_units ? h.convection_owed : h.convection_owed * h.length / h.velocity / units_.time();
     if (integrator && same_units)
       {
         history.rkl2_blocked = h.history.rkl2_blocked;
@@ -578,40 +583,74 @@ namespace granhydro
   }
 
   template <int dim, class Description>
-  bool Simulation<dim, Description>::advance(const double t, const double dt)
+  void Simulation<dim, Description>::repair(Vector &V)
   {
-    using clock = std::chrono::steady_clock;
     // a cooling pile under the dense closure may end a part of the step with T slightly
     // below zero (GranularGas::admissible): set T to the floor there, counted
-    auto repair = [&]() {
-      if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
-        if (desc.contact.active)
-          for (unsigned int s = 0; s < patch_->n_owned(); ++s)
-            {
-              State S;
-              double *u = &U.local_element(std::size_t(s) * (dim + 2));
-              std::copy(u, u + dim + 2, S.begin());
-              const double added = desc.repair_temperature(S);
-              if (added > 0)
-                {
-                  ++temperature_repairs;
-                  max_repair = std::max(max_repair, added / S[0]);
-                  u[dim + 1] = S[dim + 1];
-                }
-            }
-    };
-    auto convect = [&](const double h) {
-      const auto c0 = clock::now();
-      const bool ok = conv->ssp_rk3_step(U, h);
-      conv_seconds += std::chrono::duration<double>(clock::now() - c0).count();
-      if (ok)
-        repair();
-      return ok && conv->admissible(U);
-    };
+    if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
+      if (desc.contact.active)
+        for (unsigned int s = 0; s < patch_->n_owned(); ++s)
+          {
+            State   S;
+            double *u = &V.local_element(std::size_t(s) * (dim + 2));
+            std::copy(u, u + dim + 2, S.begin());
+            const double added = desc.repair_temperature(S);
+            if (added > 0)
+              {
+                ++temperature_repairs;
+                max_repair = std::max(max_repair, added / S[0]);
+                u[dim + 1] = S[dim + 1];
+              }
+          }
+  }
+
+  template <int dim, class Description>
+  bool Simulation<dim, Description>::convect(Vector &V, const double h, const unsigned int pieces)
+  {
+    using clock   = std::chrono::steady_clock;
+    const auto c0 = clock::now();
+    bool       ok = true;
+    for (unsigned int i = 0; i < pieces && ok; ++i)
+      {
+        ok = conv->ssp_rk3_step(V, h / pieces);
+        if (ok)
+          repair(V);
+        ok = ok && conv->admissible(V);
+      }
+    conv_seconds += std::chrono::duration<double>(clock::now() - c0).count();
+    return ok;
+  }
+
+  template <int dim, class Description>
+  bool Simulation<dim, Description>::synchronised_state(Vector &V)
+  {
+    V = U;
+    if (owed_ > 0 && !convect(V, owed_))
+      {
+        V = U;
+        return false;
+      }
+    return true;
+  }
+
+  template <int dim, class Description>
+  bool Simulation<dim, Description>::advance(const double t, const double dt, const bool sync,
+                                             const double max_convective_step)
+  {
+    using clock = std::chrono::steady_clock;
     if (!integrator)
-      return convect(dt);
-    if (scene.convection && !convect(0.5 * dt))
-      return false;
+      return convect(U, owed_ + dt);
+    if (scene.convection)
+      {
+        // the owed half of the previous step merged with this step's first half, in
+        // pieces of at most max_convective_step (the CFL limit)
+        const double h      = owed_ + 0.5 * dt;
+        const double limit  = max_convective_step > 0 ? max_convective_step : dt;
+        const auto   pieces = static_cast<unsigned int>(std::max(1., std::ceil(h / limit * (1 - 1e-12))));
+        convective_pieces += pieces;
+        if (!convect(U, h, pieces))
+          return false;
+      }
     const auto c0       = clock::now();
     const auto switches = integrator->statistics().switches_to_midpoint;
     const bool ok       = integrator->step(U, t, dt);
@@ -622,9 +661,13 @@ namespace granhydro
             << dt * units_.time() << " s)\n";
     if (!ok)
       return false;
-    repair();
-    if (scene.convection && !convect(0.5 * dt))
-      return false;
+    repair(U);
+    if (scene.convection && sync)
+      {
+        ++convective_pieces;
+        if (!convect(U, 0.5 * dt))
+          return false;
+      }
     return true;
   }
 
@@ -662,8 +705,20 @@ namespace granhydro
       next_output = std::min(next_output + interval, t_end);
     conv_seconds = diff_seconds = adapt_seconds = 0;
     temperature_repairs = 0;
+    convective_pieces   = 0;
     max_repair          = 0;
     unsigned int step = start_step_;
+    // Numerics/Strang splitting = merged: adjacent convective half-steps of the splitting
+    // are taken as one (advance())
+    const bool merge = integrator && scene.convection && scene.merge_strang;
+    if (owed_ > 0 && !merge) // a checkpoint of a merged run restarted with symmetric steps
+      {
+        Vector V;
+        if (!synchronised_state(V))
+          throw RunError("the convective half-step owed by the checkpoint failed");
+        U     = V;
+        owed_ = 0;
+      }
     bool         have_steady_reference = false, wall_limited = false;
     double       steady_ke = 0, steady_com = 0;
     const std::string checkpoint = scene.output_file(".checkpoint");
@@ -709,7 +764,19 @@ namespace granhydro
     auto finish = [&](const std::string &status) {
       if (!(status == "steady" && t < t_end * (1 - 1e-12))) // a steady stop has just written its output
         {
-          output->write(U, t * t0, step);
+          // stopped between output times (signal, wall time, failure) with convective
+          // time owed: the output shows the synchronised state, the checkpoint keeps the
+          // state and the owed time, so that a restart continues exactly
+          if (owed_ > 0)
+            {
+              Vector V;
+              if (!synchronised_state(V))
+                pcout << "  the convective half-step owed at the stop failed: the final output "
+                         "shows the state before it\n";
+              output->write(V, t * t0, step);
+            }
+          else
+            output->write(U, t * t0, step);
           write_checkpoint_now();
         }
       sum.steps              = step;
@@ -724,6 +791,7 @@ namespace granhydro
       sum.refined_cells      = refined_cells;
       sum.coarsened_cells    = coarsened_cells;
     sum.temperature_repairs = Utilities::MPI::sum(temperature_repairs, comm);
+    sum.convective_steps    = convective_pieces; // the same on every rank
     sum.max_temperature_repair = Utilities::MPI::max(max_repair, comm);
       sum.ranks              = Utilities::MPI::n_mpi_processes(comm);
       {
@@ -751,7 +819,11 @@ namespace granhydro
             << sum.rejected_steps << " rejected (retried with half dt)\n"
             << "  wall " << sum.wall_seconds << " s, convection " << sum.convection_seconds << " s, "
             << cs.cell_updates / std::max(sum.convection_seconds, 1e-30) / nr
-            << " cell-updates/s per RK stage per core\n"
+            << " cell-updates/s per RK stage per core";
+      if (integrator && scene.convection)
+        pcout << ", " << sum.convective_steps << " SSP-RK3 steps ("
+              << (scene.merge_strang ? "merged" : "symmetric") << " Strang splitting)";
+      pcout << "\n"
             << "  flux points " << cs.flux.points;
       if (scene.flux == FluxType::musta)
         pcout << ", MUSTA stages/point " << double(cs.flux.stages) / std::max<double>(cs.flux.points, 1)
@@ -835,22 +907,36 @@ namespace granhydro
             adapt_mesh(false);
             adapt_seconds += std::chrono::duration<double>(clock::now() - c0).count();
           }
-        double dt = dt_fixed;
+        double dt = dt_fixed, dt_cfl = 0;
         if (scene.convection) // the convective CFL limits the step; diffusion never does
           {
             const double rate = conv->max_rate(U);
             if (!(rate > 0) || !std::isfinite(rate))
               throw RunError("no finite wave speed at t = " + std::to_string(t * t0) + " s");
-            dt = dt_fixed > 0 ? std::min(scene.cfl / rate, dt_fixed) : scene.cfl / rate;
-            if (scene.cfl / rate < min_cfl)
+            dt_cfl = scene.cfl / rate;
+            dt     = dt_fixed > 0 ? std::min(dt_cfl, dt_fixed) : dt_cfl;
+            if (dt_cfl < min_cfl)
               {
-                min_cfl   = scene.cfl / rate;
+                min_cfl   = dt_cfl;
                 min_cfl_t = t;
               }
+            // merged splitting: the step's convective part is the owed half plus dt/2;
+            // keep it within the CFL limit by shortening dt (the step after is then back
+            // at the limit). Where the limit fell by more than that allows, the
+            // convective part is split into pieces instead (advance())
+            if (merge && owed_ > 0 && 2 * (dt_cfl - owed_) >= 0.5 * dt)
+              dt = std::min(dt, 2 * (dt_cfl - owed_));
           }
         const double dt_uncut = dt;
         dt = std::min(dt, t_end - t);
         dt = std::min(dt, next_output - t);
+        // merged Strang splitting: the closing C(dt/2) is owed to the next step, except
+        // at output and end times and before the step limit (a checkpoint between output
+        // times stores the owed time, so a restart continues exactly)
+        const bool last_step = scene.max_steps > 0 && step + 1 >= scene.max_steps;
+        auto       sync_at   = [&](const double h) {
+          return !merge || last_step || t + h >= next_output * (1 - 1e-12);
+        };
         if (backup.get_partitioner() != U.get_partitioner())
           backup.reinit(U.get_partitioner()); // the mesh changed
         backup          = U;
@@ -862,7 +948,8 @@ namespace granhydro
                 // the splitting-error allowance of the temperature repair (GranularGas)
                 desc.repair_energy = 10 * std::pow(g_eff * dt * t0 / units_.velocity, 2);
               }
-            if (advance(t, dt) && conv->admissible(U, &why))
+            // a retried step (halved dt) also halves its convective pieces
+            if (advance(t, dt, sync_at(dt), tries == 0 ? dt_cfl : dt) && conv->admissible(U, &why))
               break;
             why.clear();
             conv->admissible(U, &why); // where and what, for the message
@@ -905,6 +992,7 @@ namespace granhydro
             U  = backup;
             dt = dt / 2;
           }
+        owed_ = sync_at(dt) ? 0 : 0.5 * dt;
         t += dt;
         ++step;
         // a step cut short to land on an output or end time says nothing about the
@@ -1096,6 +1184,7 @@ namespace granhydro
         << "steady," << (sum.steady ? 1 : 0) << "\n"
         << "wall_seconds," << sum.wall_seconds << "\n"
         << "convection_seconds," << sum.convection_seconds << "\n"
+        << "convective_steps," << sum.convective_steps << "\n"
         << "diffusion_seconds," << sum.diffusion_seconds << "\n"
         << "min_dt," << sum.min_dt_si << "\n"
         << "max_dt," << sum.max_dt_si << "\n"

@@ -16,10 +16,16 @@ namespace granhydro::io
 {
   namespace
   {
-    const std::string &magic_v2()
+    /// the magic line of an older format ("granhydro checkpoint vK\n", K < 4), or empty
+    std::string older_format(const std::string &buf)
     {
-      static const std::string m = "granhydro checkpoint v2\n";
-      return m;
+      for (const char *v : {"2", "3"})
+        {
+          const std::string m = std::string("granhydro checkpoint v") + v + "\n";
+          if (buf.compare(0, m.size(), m) == 0)
+            return v;
+        }
+      return "";
     }
 
     /// FNV-1a, 64 bit: detects flipped bits and torn writes (not an adversary)
@@ -113,7 +119,7 @@ namespace granhydro::io
 
   const std::string &checkpoint_magic()
   {
-    static const std::string m = "granhydro checkpoint v3\n";
+    static const std::string m = "granhydro checkpoint v4\n";
     return m;
   }
 
@@ -188,9 +194,10 @@ namespace granhydro::io
     if (!ok)
       throw CheckpointError("cannot be read");
     const auto &magic = checkpoint_magic();
-    if (buf.compare(0, magic_v2().size(), magic_v2()) == 0)
-      throw CheckpointError("was written by an older granhydro (checkpoint format v2, without a "
-                            "checksum); restart it with that version or start from the scene");
+    if (const std::string v = older_format(buf); !v.empty())
+      throw CheckpointError("was written by an older granhydro (checkpoint format v" + v +
+                            "; this version writes v4); restart it with that version or start "
+                            "from the scene");
     if (buf.size() < magic.size() || buf.compare(0, magic.size(), magic) != 0)
       throw CheckpointError("is not a granhydro checkpoint file");
     CheckpointData d;
@@ -234,6 +241,8 @@ namespace granhydro::io
         (hs.matrix_valid && (hs.matrix_stages < 1 || hs.matrix_stages > 2 || !positive(hs.matrix_dt) ||
                              !std::isfinite(hs.matrix_t))))
       throw CheckpointError("has a corrupted header (implicit-step history)");
+    if (!std::isfinite(h.convection_owed) || h.convection_owed < 0)
+      throw CheckpointError("has a corrupted header (convective time owed)");
     const unsigned int nc = h.n_components, nv = h.n_values;
     d.keys.resize(h.n_cells);
     d.values.resize(h.n_cells * nv);

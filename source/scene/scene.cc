@@ -379,8 +379,9 @@ namespace granhydro
       prm.declare_entry("MUSTA maximum stages", "4", Patterns::Integer(1, 20),
                         "Cap on the number of FORCE stages of the MUSTA flux (1 = FORCE).");
       prm.declare_entry("MUSTA tolerance", "0.01", Patterns::Double(0, 1),
-                        "Stopping rule: stop when the relative change of the FORCE flux "
-                        "between stages is below this (paper: 1 %).");
+                        "Stopping rule: stop when the FORCE flux changes between stages by "
+                        "less than this in mass, momentum (as a vector) and energy, each "
+                        "relative to max(|F|, S_max (|U_L| + |U_R|)/2) (paper: 1 %).");
       prm.declare_entry("MUSTA local CFL", "0.9", Patterns::Double(0, 1),
                         "Local Courant number of the MUSTA predictor stages (Titarev-Toro).");
       prm.declare_entry("CFL number", "0.4", Patterns::Double(0, 1),
@@ -391,6 +392,12 @@ namespace granhydro
       prm.declare_entry("Reference velocity", "0", Patterns::Double(0, Patterns::Double::max_double_value),
                         "Velocity unit of the internal scaled units [m/s]; 0 = sqrt(g sigma), "
                         "g = 9.81 m/s^2.");
+      prm.declare_entry("Strang splitting", "merged", Patterns::Selection("merged|symmetric"),
+                        "How the convective step C and the diffusion step V are composed "
+                        "(eq. 3.5). symmetric: C(dt/2) V(dt) C(dt/2) every step. merged: the "
+                        "same scheme with adjacent convective halves taken as one step, "
+                        "C(dt0/2) V(dt0) C((dt0 + dt1)/2) V(dt1) ... C(dtn/2), synchronised at "
+                        "every output time: half the convective work, second order as well.");
       prm.declare_entry("Maximum step retries", "6", Patterns::Integer(0, 30),
                         "A step whose result is inadmissible (n <= 0 or T <= 0) is retried "
                         "with half the time step at most this many times, then the run stops.");
@@ -440,8 +447,10 @@ namespace granhydro
                         "implicit midpoint when its Newton iteration fails), or the sub-cycled "
                         "explicit Euler baseline.");
       prm.declare_entry("Newton tolerance", "1e-10", Patterns::Double(0, 1),
-                        "Modified Newton stops when dt * max |change of stage slopes| is below "
-                        "this times max |U| (scaled units).");
+                        "Modified Newton stops when dt * |change of stage slopes| is below "
+                        "this times the cell's own scale in every cell: its density, "
+                        "sqrt(2 n E) for momenta, its energy density (at least 1e-3 of that "
+                        "component's largest value in the domain).");
       prm.declare_entry("Newton maximum iterations", "25", Patterns::Integer(1, 200),
                         "Cap on modified Newton iterations; a step that does not converge is "
                         "retried with half the time step.");
@@ -868,6 +877,7 @@ end
       s.fixed_time_step    = prm.get_double("Fixed time step");
       s.reference_velocity = prm.get_double("Reference velocity");
       s.max_step_retries   = prm.get_integer("Maximum step retries");
+      s.merge_strang       = prm.get("Strang splitting") == "merged";
     }
     prm.leave_subsection();
 

@@ -7,9 +7,11 @@
  *  - MUSTA: multi-stage FORCE, paper eqs. (4.7)-(4.9), Titarev & Toro (2004),
  *    with the dissipation term carrying dx/dt (doc/physics.md P12). Each stage
  *    uses the local ratio dt/dx = C_loc / S_max(U_L, U_R) (Titarev-Toro's
- *    local Courant number, default 0.9). The iteration stops when the relative
- *    change of the FORCE flux between stages is below the tolerance (paper:
- *    1 %) or at the stage cap. If a predictor state leaves the admissible set
+ *    local Courant number, default 0.9). The iteration stops when the FORCE
+ *    flux changes between stages by less than the tolerance (paper: 1 %) in
+ *    mass, momentum (Euclidean norm) and energy, each relative to its own
+ *    scale max(|F|, S_max (|U_L| + |U_R|)/2) - free of the unit system - or
+ *    at the stage cap. If a predictor state leaves the admissible set
  *    (near vacuum) the face falls back to the Rusanov flux of the original
  *    states; such fallbacks are counted.
  *  - Rusanov (local Lax-Friedrichs) and HLL (Davis wave-speed estimates).
@@ -175,16 +177,29 @@ namespace granhydro::convection
           if (!lanes::any(active))
             break;
           desc.flux(Uh, d, Fh);
-          V diff = V(), norm = V();
+          // the 1 % rule for mass, momentum (as a vector) and energy separately, each
+          // against its own scale: its flux, or the wave speed times its state (for a
+          // flux near 0, e.g. mass at rest), so the decision is the same in any unit
+          // system (and in any rotated frame)
+          V change[3] = {V(), V(), V()}, flux2[3] = {V(), V(), V()}, state2[3] = {V(), V(), V()};
           for (unsigned int c = 0; c < NC; ++c)
             {
               const V Fc = 0.25 * (FL[c] + 2 * Fh[c] + FR[c] - (UR[c] - UL[c]) / r); // eq. 4.7b, P12
-              diff += (Fc - Fprev[c]) * (Fc - Fprev[c]);
-              norm += Fc * Fc;
+              const unsigned int g  = c == 0 ? 0 : (c + 1 == NC ? 2 : 1);
+              const V            Uc = 0.5 * (lanes::abs(UL[c]) + lanes::abs(UR[c]));
+              change[g] += (Fc - Fprev[c]) * (Fc - Fprev[c]);
+              flux2[g] += Fc * Fc;
+              state2[g] += Uc * Uc;
               F[c] = active ? Fc : F[c];
             }
+          M converged = V() == V();
+          for (unsigned int g = 0; g < 3; ++g)
+            {
+              const V scale2 = smax * smax * state2[g];
+              converged      = converged && (change[g] <= tol * tol * (flux2[g] < scale2 ? scale2 : flux2[g]));
+            }
           if (l > 0)
-            active = active && !(diff <= tol * tol * norm); // 1 % rule
+            active = active && !converged;
           if (l + 1 == max_stages || !lanes::any(active))
             break;
           for (unsigned int c = 0; c < NC; ++c)

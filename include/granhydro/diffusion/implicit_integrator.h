@@ -92,6 +92,14 @@ namespace granhydro::diffusion
     double mu, nu, mu_tilde, gamma_tilde;
   };
   RKL2Stage rkl2_stage(const unsigned int j, const unsigned int s);
+  /// Newton's convergence scale of every unknown of the owned cells (U: NC values per
+  /// cell): each cell's own state - its density, sqrt(2 n E) for the momenta (>= |n u|),
+  /// its energy density - so that dilute cells converge as tightly as dense ones, but at
+  /// least newton_scale_floor times the largest of that component over all ranks (a cell
+  /// near vacuum is not asked for round-off accuracy)
+  std::vector<double> newton_scale(const std::vector<double> &U, const unsigned int NC, const MPI_Comm comm);
+  inline constexpr double newton_scale_floor = 1e-3;
+
   /// the fewest RKL2 stages (>= 2) stable for dt = ratio x the forward-Euler limit:
   /// ratio <= (s^2 + s - 2) / 4
   unsigned int rkl2_stages(const double ratio);
@@ -110,7 +118,7 @@ namespace granhydro::diffusion
   struct IntegratorSettings
   {
     ImplicitMethod method             = ImplicitMethod::gauss_legendre;
-    double         newton_tolerance   = 1e-10; ///< relative, on dt * (change of the stage slopes)
+    double         newton_tolerance   = 1e-10; ///< relative to each cell's own state (newton_scale())
     unsigned int   newton_max_iterations = 25;
     double         linear_tolerance   = 1e-12; ///< relative GMRES residual
     bool           amg                = false;
@@ -222,10 +230,11 @@ namespace granhydro::diffusion
     /// modified Newton for the slopes K (interleaved, N.size() stages) of the stage values
     /// Y_k = base + dt sum_j N_kj K_j at the times tk[k], with the matrix of setup_newton;
     /// K holds the first guess. On success K_k = f(Y_k) at the converged stage values and
-    /// power[k] is the frictional power there.
+    /// power[k] is the frictional power there. Converged when dt |change of K| <= Newton
+    /// tolerance x scale[i] for every owned unknown i (newton_scale()).
     bool newton(const std::vector<double> &base, const std::vector<double> &tk, const double dt,
-                const Table &N, const double scale, std::vector<double> &K, std::vector<double> &power,
-                unsigned int &iterations);
+                const Table &N, const std::vector<double> &scale, std::vector<double> &K,
+                std::vector<double> &power, unsigned int &iterations);
     bool explicit_step(Vector &U, const double t, const double dt);
     /// RKL2 super-time-step (explicit_limit and W from step())
     bool rkl2_step(Vector &U, const double t, const double dt);

@@ -61,6 +61,9 @@ namespace granhydro
     /// thermal-energy deficit repaired per grain (scaled)
     unsigned long long temperature_repairs = 0;
     double             max_temperature_repair = 0;
+    /// SSP-RK3 steps of the convective part (with the diffusion step: 2 per step with
+    /// symmetric Strang splitting, about 1 with merged; retried steps included)
+    unsigned long long convective_steps = 0;
     /// peak resident memory of the process [bytes]: the largest over the ranks, and the
     /// sum over the ranks (at the end of the run; getrusage's ru_maxrss)
     double peak_memory_max = 0, peak_memory_total = 0;
@@ -89,9 +92,24 @@ namespace granhydro
     /// run to the scene's end time (or max steps)
     RunSummary run();
 
-    /// one time step of size dt_si [s] (Strang splitting C(dt/2) V(dt) C(dt/2), eq. 3.5,
-    /// or only the active half); false if a part failed (state then undefined)
-    bool advance(const double t_scaled, const double dt_scaled);
+    /// one time step of size dt (scaled) from time t: Strang splitting C(dt/2) V(dt)
+    /// C(dt/2), eq. 3.5, or only the active part. With Numerics/Strang splitting = merged
+    /// the first C also takes the convective time still owed by the previous step
+    /// (convection_owed()), and without sync the closing C(dt/2) is left owed to the next
+    /// step: C(dt0/2) V(dt0) C((dt0 + dt1)/2) V(dt1) ... C(dtn/2), the same scheme with
+    /// half the convective steps. false if a part failed (state then undefined; the owed
+    /// time is not changed: the caller commits it with set_convection_owed()).
+    /// max_convective_step (scaled; 0 = dt): the CFL limit, the longest convective step
+    bool advance(const double t_scaled, const double dt_scaled, const bool sync = true,
+                 const double max_convective_step = 0);
+
+    /// scaled convective time the state still owes (0 after a synchronised step)
+    double convection_owed() const { return owed_; }
+    void   set_convection_owed(const double h) { owed_ = h; }
+
+    /// the state with the owed convective time applied (a copy: U is not changed); false
+    /// (and the unsynchronised state) if that convective step fails
+    bool synchronised_state(Vector &V);
 
     const CartesianPatch<dim> &patch() const { return *patch_; }
     const Vector              &state() const { return U; }
@@ -131,6 +149,11 @@ namespace granhydro
     unsigned int n_adaptations() const { return adaptations; }
 
   private:
+    /// SSP-RK3 over convective time h in `pieces` equal steps, then the temperature
+    /// repair; false if a stage failed or the result is inadmissible
+    bool convect(Vector &V, const double h, const unsigned int pieces = 1);
+    /// the dense closure's temperature floor on V (counted), GranularGas only
+    void repair(Vector &V);
     /// gravity and the container's inertial force in scaled units
     physics::BodyForce body_force() const;
     /// rebuild the operators' tables after the patch changed
@@ -161,7 +184,9 @@ namespace granhydro
     std::unique_ptr<diffusion::ImplicitIntegrator<dim>> integrator;
     double conv_seconds = 0, diff_seconds = 0, adapt_seconds = 0;
     unsigned long long temperature_repairs = 0;
+    unsigned long long convective_pieces   = 0; ///< SSP-RK3 steps of the split runs
     double             max_repair          = 0;
+    double       owed_       = 0; ///< scaled convective time owed (merged Strang splitting)
     double       start_time_ = 0; ///< scaled
     unsigned int start_step_ = 0;
     Vector                    U;

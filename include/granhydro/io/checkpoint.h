@@ -6,7 +6,7 @@
  * meaning of what it reads (mesh, material, time) itself.
  *
  * Layout (little-endian, this machine's doubles):
- *   magic "granhydro checkpoint v3\n" | CheckpointHeader | n_cells rows of
+ *   magic "granhydro checkpoint v4\n" | CheckpointHeader | n_cells rows of
  *   (int64 key, n_values doubles) | uint64 FNV-1a checksum of every byte before it.
  * A row holds the state (dim + 2 values) and, when the header says so, the state the
  * implicit step's kept Newton matrix was built from (another dim + 2 values), so that a
@@ -53,6 +53,9 @@ namespace granhydro::io
     char              model[16] = {};
     std::int32_t      n_values = 0; ///< doubles per row: n_components, or 2 n_components with history
     IntegratorHistory history;
+    /// scaled convective time the state still owes: with merged Strang half-steps a run
+    /// interrupted between output times stops after V, before the second C(dt/2)
+    double convection_owed = 0;
   };
 
   /// the magic line of the current format

@@ -128,6 +128,10 @@ namespace granhydro
     double       fixed_time_step  = 0;   // [s], 0: from CFL
     double       reference_velocity = 0; // [m/s], 0: sqrt(g sigma), g = 9.81
     unsigned int max_step_retries = 6;
+    /// Strang splitting with the diffusion step: merged (the closing C(dt/2) of a step and
+    /// the opening one of the next taken as one convective step, synchronised at output
+    /// times) or symmetric (C(dt/2) V(dt) C(dt/2) every step)
+    bool         merge_strang     = true;
 
     // Effects (granular model) and body force
     bool                  convection      = true;
