@@ -1,11 +1,12 @@
 #!/bin/bash
-# Cost and accuracy of the merged Strang splitting (Numerics/Strang splitting), before/after.
+# Cost and accuracy of the merged Strang splitting (Numerics/Strang splitting) and of
+# MUSTA's first-stage test (Numerics/MUSTA minimum stages = 1, config merged1), before/after.
 #
 #   benchmarks/splitting.sh OLD_DIR [ROUNDS]
 #
 # OLD_DIR holds an earlier build (its granhydro and libgranhydro_core.so, run with
 # LD_LIBRARY_PATH=OLD_DIR); the new one is build/granhydro, run with `symmetric` and
-# `merged` splitting. Each round runs every scene with each configuration, one process at
+# `merged` splitting, and merged with `MUSTA minimum stages = 1` (merged1). Each round runs every scene with each configuration, one process at
 # a time, interleaved, so that a noisy shared machine hits all of them alike. Writes
 # bench-splitting/results.csv and prints the medians of the summary timers, and the
 # largest difference of the final phi and T profiles to a reference run (symmetric,
@@ -20,7 +21,7 @@ mk() { # scene-file tag extra-lines
   printf "subsection Output\n  set Directory = $OUT/out-$2\n  set Write VTU = false\nend\n$3\n" >> $2.prm
 }
 SCENES="bb:$REPO/parameters/bouncing_bed-ci.prm:1e-4 bed1d:$REPO/parameters/vibrated_bed_1d.prm:4e-5 hv:$REPO/parameters/hard/harsh_vibration-ci.prm:4e-5 sed:$REPO/parameters/sedimentation.prm:0"
-CONFIGS="old symmetric merged"
+CONFIGS="old symmetric merged merged1"
 for sc in $SCENES; do
   IFS=: read name f dt <<< "$sc"
   extra=""
@@ -29,6 +30,7 @@ for sc in $SCENES; do
   mk $f $name-old "$extra"
   mk $f $name-symmetric "$extra\nsubsection Numerics\n  set Strang splitting = symmetric\nend"
   mk $f $name-merged "$extra\nsubsection Numerics\n  set Strang splitting = merged\nend"
+  mk $f $name-merged1 "$extra\nsubsection Numerics\n  set Strang splitting = merged\n  set MUSTA minimum stages = 1\nend"
   [ $dt != 0 ] && mk $f $name-ref "$extra\nsubsection Numerics\n  set Strang splitting = symmetric\n  set Fixed time step = $dt\nend\nsubsection Diffusion step\n  set Linear forcing = fixed\n  set Reuse Newton matrix = false\nend"
 done
 echo "scene,config,round,wall,convection,diffusion,steps,newton,musta_stages" > results.csv

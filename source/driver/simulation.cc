@@ -91,7 +91,8 @@ namespace granhydro
           << to_string(scene.face_quadrature) << " face quadrature, " << to_string(scene.flux)
           << " flux";
     if (scene.flux == FluxType::musta)
-      pcout << " (<= " << scene.musta_max_stages << " stages, tol " << scene.musta_tolerance << ")";
+      pcout << " (" << scene.musta_min_stages << " to " << scene.musta_max_stages << " stages, tol "
+            << scene.musta_tolerance << ")";
     pcout << ", SSP-RK3, CFL " << scene.cfl << "\n  boundaries:";
     for (unsigned int d = 0; d < dim; ++d)
       pcout << ' ' << ax[d] << "-/+ = " << to_string(scene.boundary[2 * d]) << '/'

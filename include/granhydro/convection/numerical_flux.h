@@ -44,6 +44,7 @@ namespace granhydro::convection
       : desc(desc)
       , type(scene.flux)
       , max_stages(scene.musta_max_stages)
+      , min_stages(scene.musta_min_stages)
       , tol(scene.musta_tolerance)
       , cloc(scene.musta_local_cfl)
     {}
@@ -180,14 +181,19 @@ namespace granhydro::convection
           // the 1 % rule for mass, momentum (as a vector) and energy separately, each
           // against its own scale: its flux, or the wave speed times its state (for a
           // flux near 0, e.g. mass at rest), so the decision is the same in any unit
-          // system (and in any rotated frame)
+          // system (and in any rotated frame). With MUSTA minimum stages = 1, after the
+          // first stage (no previous flux yet) the change a further stage would make is
+          // estimated by S_max |U_R - U_L| (a stage moves the states by about C_loc
+          // |U_R - U_L| / 2, and the flux with them at wave speeds <= S_max): a face
+          // whose jump is that small keeps the FORCE flux
           V change[3] = {V(), V(), V()}, flux2[3] = {V(), V(), V()}, state2[3] = {V(), V(), V()};
           for (unsigned int c = 0; c < NC; ++c)
             {
               const V Fc = 0.25 * (FL[c] + 2 * Fh[c] + FR[c] - (UR[c] - UL[c]) / r); // eq. 4.7b, P12
               const unsigned int g  = c == 0 ? 0 : (c + 1 == NC ? 2 : 1);
               const V            Uc = 0.5 * (lanes::abs(UL[c]) + lanes::abs(UR[c]));
-              change[g] += (Fc - Fprev[c]) * (Fc - Fprev[c]);
+              const V            dF = l == 0 ? smax * (UR[c] - UL[c]) : Fc - Fprev[c];
+              change[g] += dF * dF;
               flux2[g] += Fc * Fc;
               state2[g] += Uc * Uc;
               F[c] = active ? Fc : F[c];
@@ -198,7 +204,7 @@ namespace granhydro::convection
               const V scale2 = smax * smax * state2[g];
               converged      = converged && (change[g] <= tol * tol * (flux2[g] < scale2 ? scale2 : flux2[g]));
             }
-          if (l > 0)
+          if (l + 1 >= min_stages)
             active = active && !converged;
           if (l + 1 == max_stages || !lanes::any(active))
             break;
@@ -229,7 +235,7 @@ namespace granhydro::convection
   private:
     const Description &desc;
     FluxType           type;
-    unsigned int       max_stages;
+    unsigned int       max_stages, min_stages;
     double             tol, cloc;
   };
 } // namespace granhydro::convection

@@ -122,6 +122,8 @@ namespace granhydro
     bool               no_slip_pressure_flux = false;
     FluxType           flux            = FluxType::musta;
     unsigned int musta_max_stages = 4;
+    /// 2: the 1 % rule compares stages (at least 2); 1: also a first-stage test on the jump
+    unsigned int musta_min_stages = 2;
     double       musta_tolerance  = 0.01;
     double       musta_local_cfl  = 0.9;
     double       cfl              = 0.4;
