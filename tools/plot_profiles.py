@@ -92,9 +92,14 @@ def main():
         print(f"plot_profiles: wrote {out}")
         return
     fig, axes = plt.subplots(1, 4, figsize=(16, 4.5), sharey=True)
+    # one colour per output time in every panel; beyond 12 times a colour scale over
+    # time (with a colour bar) instead of a legend that would not fit
+    n_times = len(blocks)
+    many = n_times > 12
+    t_lo, t_hi = min(blocks), max(blocks)
     for i, (t, rows) in enumerate(sorted(blocks.items())):
         y = [r[1] for r in rows]
-        colour = f"C{i % 10}"  # one colour per output time in every panel
+        colour = plt.cm.viridis((t - t_lo) / max(t_hi - t_lo, 1e-300)) if many else f"C{i % 10}"
         for ax, (name, label) in zip(axes, panels):
             ax.plot([r[col[name]] for r in rows], y, color=colour, label=f"t = {t:g} s")
             ax.set_xlabel(label)
@@ -111,9 +116,13 @@ def main():
     axes[3].legend(handles=[plt.Line2D([], [], color="k", linestyle=style, label=label)
                             for _, label, style in energy], fontsize=7)
     axes[0].set_ylabel(coord)
-    axes[0].legend(fontsize=7)
     fig.suptitle(a.title or os.path.abspath(a.directory))
     fig.tight_layout()
+    if many:
+        sm = plt.cm.ScalarMappable(cmap="viridis", norm=plt.Normalize(t_lo, t_hi))
+        fig.colorbar(sm, ax=list(axes), label="time [s]", fraction=0.02, pad=0.01)
+    else:
+        axes[0].legend(fontsize=7)
     out = a.out or default_out
     fig.savefig(out, dpi=110)
     print(f"plot_profiles: wrote {out}")
