@@ -63,9 +63,9 @@ int main()
   // the default rule (at least 2 stages) and the first-stage test (MUSTA minimum stages = 1)
   for (const unsigned int min_stages : {2u, 1u})
   {
-  Scene scene; // defaults: MUSTA, <= 4 stages, tolerance 0.01, local CFL 0.9
-  scene.musta_min_stages = min_stages;
-  const Flux         flux(gas, scene);
+  convection::ConvectionSettings settings; // defaults: MUSTA, <= 4 stages, tolerance 0.01, local CFL 0.9
+  settings.musta_min_stages = min_stages;
+  const Flux         flux(gas, settings);
   const std::string  rule = "minimum stages " + std::to_string(min_stages) + ": ";
   unsigned long long total_stages = 0, two_stage = 0, one_stage = 0;
   for (const auto &[ea, eb] : std::vector<std::pair<int, int>>{{0, 0}, {20, -10}, {-20, 10}, {40, 20}, {-40, -20}, {3, 7}})

@@ -17,19 +17,19 @@ namespace granhydro::convection
   template <int dim, class Description>
   ConvectionOperator<dim, Description>::ConvectionOperator(const CartesianPatch<dim> &patch,
                                                            const Description         &desc,
-                                                           const Scene               &scene)
+                                                           const ConvectionSettings  &settings)
     : patch(patch)
     , desc(desc)
-    , numflux(desc, scene)
-    , rtype(scene.reconstruction)
+    , numflux(desc, settings)
+    , rtype(settings.reconstruction)
     // first order: every transverse point carries the cell average, so the face
     // average is exact and the transverse stages are skipped
-    , transverse(dim > 1 && scene.reconstruction != ReconstructionType::first_order)
-    , P(scene.face_quadrature == FaceQuadrature::gauss ? 2 : 1)
-    , no_slip_pressure_flux(scene.no_slip_pressure_flux)
-    , boundary_type(scene.boundary)
+    , transverse(dim > 1 && settings.reconstruction != ReconstructionType::first_order)
+    , P(settings.face_quadrature == FaceQuadrature::gauss ? 2 : 1)
+    , no_slip_pressure_flux(settings.no_slip_pressure_flux)
+    , boundary_type(settings.boundary)
   {
-    length_unit = scene.units().length;
+    length_unit = settings.length_unit;
   }
 
   template <int dim, class Description>

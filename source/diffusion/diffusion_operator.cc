@@ -20,7 +20,9 @@ namespace granhydro::diffusion
     , desc(desc)
     , settings(settings)
     , length_unit(length_unit)
-  {}
+  {
+    set_time(0);
+  }
 
   template <int dim>
   void DiffusionOperator<dim>::setup()

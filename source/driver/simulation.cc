@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <unistd.h>
 #include <type_traits>
 #include <limits>
 #include <fstream>
@@ -126,7 +127,8 @@ namespace granhydro
       convection::ConvectionOperator<dim, Description>::stencil_half_width(scene.reconstruction);
     patch_ = std::make_unique<CartesianPatch<dim>>(comm);
     patch_->build(scene, r + 1);
-    conv = std::make_unique<convection::ConvectionOperator<dim, Description>>(*patch_, desc, scene);
+    conv = std::make_unique<convection::ConvectionOperator<dim, Description>>(*patch_, desc,
+                                                                              scene.convection_settings());
     conv->setup();
     if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
       if (scene.diffusion_active())
@@ -674,6 +676,14 @@ namespace granhydro
 
   namespace
   {
+    /// the summary is written whole to a temporary file and renamed: one per process, so
+    /// that two runs sharing an output folder never rename each other's file away (the
+    /// last one to finish leaves its summary)
+    std::string summary_tmp(const std::string &file)
+    {
+      return file + ".tmp." + std::to_string(::getpid());
+    }
+
     std::string hms(double s)
     {
       const long          k = std::lround(std::max(0., s));
@@ -741,9 +751,10 @@ namespace granhydro
     if (scene.write_summary && Utilities::MPI::this_mpi_process(comm) == 0)
       {
         const std::string file = scene.output_file("_summary.csv");
-        std::ofstream(file + ".tmp") << "key,value\nstatus,running\n";
+        const std::string tmp = summary_tmp(file);
+        std::ofstream(tmp) << "key,value\nstatus,running\n";
         std::error_code ec;
-        std::filesystem::rename(file + ".tmp", file, ec);
+        std::filesystem::rename(tmp, file, ec);
       }
     // a run from the scene's initial state writes it; a restart (even from the t = 0
     // checkpoint) has it already
@@ -1164,7 +1175,8 @@ namespace granhydro
     std::error_code ec;
     std::filesystem::create_directories(scene.output_directory, ec);
     const std::string file = scene.output_file("_summary.csv");
-    std::ofstream     out(file + ".tmp");
+    const std::string tmp  = summary_tmp(file);
+    std::ofstream     out(tmp);
     if (!out)
       throw RunError("cannot write " + file + " (Output/Directory)");
     const double t0 = units_.time();
@@ -1226,7 +1238,7 @@ namespace granhydro
         << "max_dt_over_explicit," << ds.max_dt_over_explicit << "\n"
         << "friction_dissipation_J," << friction_dissipation_si(sum) << "\n";
     out.close();
-    std::filesystem::rename(file + ".tmp", file, ec);
+    std::filesystem::rename(tmp, file, ec);
     if (ec)
       throw RunError("cannot write " + file + ": " + ec.message());
   }

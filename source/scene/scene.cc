@@ -206,6 +206,22 @@ namespace granhydro
     return viscosity || heat_conduction || (cooling && restitution < 1) || g;
   }
 
+  convection::ConvectionSettings Scene::convection_settings() const
+  {
+    convection::ConvectionSettings c;
+    c.reconstruction        = reconstruction;
+    c.face_quadrature       = face_quadrature;
+    c.flux                  = flux;
+    c.musta_max_stages      = musta_max_stages;
+    c.musta_min_stages      = musta_min_stages;
+    c.musta_tolerance       = musta_tolerance;
+    c.musta_local_cfl       = musta_local_cfl;
+    c.no_slip_pressure_flux = no_slip_pressure_flux;
+    c.boundary              = boundary;
+    c.length_unit           = units().length;
+    return c;
+  }
+
   Units Scene::units() const
   {
     Units u;

@@ -51,7 +51,8 @@ namespace granhydro::convection
     static constexpr unsigned int NC = dim + 2;
     using Vector                     = dealii::LinearAlgebra::distributed::Vector<double>;
 
-    ConvectionOperator(const CartesianPatch<dim> &patch, const Description &desc, const Scene &scene);
+    ConvectionOperator(const CartesianPatch<dim> &patch, const Description &desc,
+                       const ConvectionSettings &settings);
 
     /// the stencil half width of the scene's reconstruction (ghost width - 1)
     static unsigned int stencil_half_width(const ReconstructionType t);

@@ -21,7 +21,7 @@
  */
 #include <granhydro/physics/ideal_gas.h>
 #include <granhydro/physics/lanes.h>
-#include <granhydro/scene/scene.h>
+#include <granhydro/convection/settings.h>
 
 #include <algorithm>
 #include <cmath>
@@ -40,13 +40,13 @@ namespace granhydro::convection
     using State = physics::State<dim>;
     static constexpr unsigned int NC = dim + 2;
 
-    NumericalFlux(const Description &desc, const Scene &scene)
+    NumericalFlux(const Description &desc, const ConvectionSettings &settings)
       : desc(desc)
-      , type(scene.flux)
-      , max_stages(scene.musta_max_stages)
-      , min_stages(scene.musta_min_stages)
-      , tol(scene.musta_tolerance)
-      , cloc(scene.musta_local_cfl)
+      , type(settings.flux)
+      , max_stages(settings.musta_max_stages)
+      , min_stages(settings.musta_min_stages)
+      , tol(settings.musta_tolerance)
+      , cloc(settings.musta_local_cfl)
     {}
 
     void operator()(const State &UL, const State &UR, const unsigned int d, State &F,

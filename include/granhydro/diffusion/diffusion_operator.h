@@ -115,10 +115,14 @@ namespace granhydro::diffusion
     bool diagonal_only() const { return settings.diagonal_only; }
 
     /// time (scaled) at which the sources are evaluated (vibrated container)
-    void set_time(const double t) const { time = t; }
+    void set_time(const double t) const
+    {
+      time  = t;
+      force = settings.body.at(t); // once per time, not per cell
+    }
 
     /// the body force per unit mass at the current time (scaled units)
-    std::array<double, 3> body_force() const { return settings.body.at(time); }
+    const std::array<double, 3> &body_force() const { return force; }
 
   private:
     /// a face on a dissipative wall: eps_w and the sign of the wall's outward normal
@@ -151,6 +155,7 @@ namespace granhydro::diffusion
     mutable std::vector<double> Fp[dim];
     mutable std::vector<double> Ff[dim]; ///< per face: frictional work flux and momentum flux
     mutable double              time = 0;
+    mutable std::array<double, 3> force{{0, 0, 0}}; ///< settings.body.at(time)
     mutable double              friction_power_ = 0;
     bool                        friction_active = false;
   };

@@ -7,6 +7,9 @@
  */
 #include <deal.II/base/parameter_handler.h>
 
+#include <granhydro/boundary/boundary_conditions.h>
+#include <granhydro/convection/settings.h>
+
 #include <array>
 #include <map>
 #include <stdexcept>
@@ -21,35 +24,6 @@ namespace granhydro
   {
   public:
     using std::runtime_error::runtime_error;
-  };
-
-  enum class BoundaryType
-  {
-    periodic,
-    slip_wall,
-    no_slip_wall,
-    outflow
-  };
-
-  enum class ReconstructionType
-  {
-    first_order,
-    muscl,
-    weno3,
-    weno5
-  };
-
-  enum class FaceQuadrature
-  {
-    gauss,
-    midpoint
-  };
-
-  enum class FluxType
-  {
-    musta,
-    rusanov,
-    hll
   };
 
   /// Scaled units: length sigma, mass m (grain mass), velocity V0.
@@ -194,6 +168,8 @@ namespace granhydro
     bool         verbose           = true;
 
     Units units() const;
+    /// what the convective step needs (convection/settings.h)
+    convection::ConvectionSettings convection_settings() const;
     double grain_mass() const;
   };
 

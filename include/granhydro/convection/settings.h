@@ -1,0 +1,59 @@
+#pragma once
+/**
+ * @file settings.h
+ * What the convective step needs to know, and nothing else: the reconstruction, the
+ * face quadrature, the numerical flux with its MUSTA parameters, and the boundary
+ * kinds. scene/ fills it (Scene::convection_settings()); the convection kernel never
+ * sees the scene.
+ */
+#include <granhydro/boundary/boundary_conditions.h>
+
+#include <array>
+
+namespace granhydro
+{
+  enum class ReconstructionType
+  {
+    first_order,
+    muscl,
+    weno3,
+    weno5
+  };
+
+  enum class FaceQuadrature
+  {
+    gauss,
+    midpoint
+  };
+
+  enum class FluxType
+  {
+    musta,
+    rusanov,
+    hll
+  };
+} // namespace granhydro
+
+namespace granhydro::convection
+{
+  struct ConvectionSettings
+  {
+    ReconstructionType reconstruction  = ReconstructionType::weno5;
+    FaceQuadrature     face_quadrature = FaceQuadrature::gauss;
+    FluxType           flux            = FluxType::musta;
+    /// MUSTA: stage cap, minimum stages (2: the 1 % rule compares stages; 1: also the
+    /// first-stage test on the jump), the 1 % tolerance and the local Courant number
+    unsigned int musta_max_stages = 4;
+    unsigned int musta_min_stages = 2;
+    double       musta_tolerance  = 0.01;
+    double       musta_local_cfl  = 0.9;
+    /// no-slip walls: only the wall pressure in the normal momentum (paper eq. 6.1a)
+    /// instead of the mirror-ghost flux
+    bool no_slip_pressure_flux = false;
+    /// boundary[2 d] lower and boundary[2 d + 1] upper side of direction d (mesh files:
+    /// by boundary id)
+    std::array<BoundaryType, 6> boundary{};
+    /// the length unit of the scaled units [m] (messages in metres)
+    double length_unit = 1;
+  };
+} // namespace granhydro::convection
