@@ -81,10 +81,10 @@ namespace granhydro
       pcout << "  diffusion step: "
             << (scene.diffusion_active() ?
                   scene.integrator + ", " + (scene.diagonal_flux ? "diagonal" : "full") +
-                    " flux" + (scene.convection ? (scene.merge_strang ? ", Strang splitting C(dt/2) V(dt) C(dt/2) "
-                                                                           "with adjacent C halves merged" :
-                                                                           ", Strang splitting C(dt/2) V(dt) C(dt/2)") :
-                                                    "") :
+                    " flux" +
+                    (scene.convection ? std::string(", Strang splitting C(dt/2) V(dt) C(dt/2)") +
+                                          (scene.merge_strang ? " with adjacent C halves merged" : "") :
+                                        std::string()) :
                   std::string("off (no transport, cooling, body force or dissipative wall)"))
             << "\n";
     pcout
@@ -641,8 +641,8 @@ namespace granhydro
                                              const double max_convective_step)
   {
     using clock = std::chrono::steady_clock;
-    if (!integrator)
-      return convect(U, owed_ + dt);
+    if (!integrator) // nothing is ever owed without the diffusion step
+      return convect(U, dt);
     if (scene.convection)
       {
         // the owed half of the previous step merged with this step's first half, in
@@ -724,10 +724,8 @@ namespace granhydro
     const bool merge = integrator && scene.convection && scene.merge_strang;
     if (owed_ > 0 && !merge) // a checkpoint of a merged run restarted with symmetric steps
       {
-        Vector V;
-        if (!synchronised_state(V))
+        if (!convect(U, owed_))
           throw RunError("the convective half-step owed by the checkpoint failed");
-        U     = V;
         owed_ = 0;
       }
     bool         have_steady_reference = false, wall_limited = false;
@@ -936,8 +934,9 @@ namespace granhydro
             // keep it within the CFL limit by shortening dt (the step after is then back
             // at the limit). Where the limit fell by more than that allows, the
             // convective part is split into pieces instead (advance())
-            if (merge && owed_ > 0 && 2 * (dt_cfl - owed_) >= 0.5 * dt)
-              dt = std::min(dt, 2 * (dt_cfl - owed_));
+            const double room = 2 * (dt_cfl - owed_); // the longest dt with owed + dt/2 <= dt_cfl
+            if (merge && owed_ > 0 && room >= 0.5 * dt)
+              dt = std::min(dt, room);
           }
         const double dt_uncut = dt;
         dt = std::min(dt, t_end - t);
