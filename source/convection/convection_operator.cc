@@ -178,17 +178,7 @@ namespace granhydro::convection
         }
     }
 
-    /// AVX2 paths on x86 CPUs that have it; GRANHYDRO_NO_AVX2 (set, any value) forces the
-    /// default-target vectors (testing: both paths give the same results bit for bit)
-    bool use_avx2()
-    {
-#if defined(__x86_64__) || defined(__i386__)
-      static const bool avx2 = __builtin_cpu_supports("avx2") && std::getenv("GRANHYDRO_NO_AVX2") == nullptr;
-      return avx2;
-#else
-      return false;
-#endif
-    }
+    using physics::lanes::use_avx2;
 
 #if defined(__x86_64__) || defined(__i386__)
     template <int dim, class Description>

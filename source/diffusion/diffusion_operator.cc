@@ -11,6 +11,21 @@ namespace granhydro::diffusion
   using namespace dealii;
   using physics::State;
 
+  namespace
+  {
+    // GCC vector of 4 doubles (element-wise IEEE arithmetic, no contraction on the default
+    // target): 4 faces side by side, each lane bit for bit the scalar face flux
+    typedef double v4d __attribute__((vector_size(32), aligned(8)));
+
+    template <int dim>
+    inline State<dim> state(const double *W, const unsigned int s)
+    {
+      State<dim> U;
+      std::copy(W + std::size_t(s) * (dim + 2), W + std::size_t(s + 1) * (dim + 2), U.begin());
+      return U;
+    }
+  } // namespace
+
   template <int dim>
   DiffusionOperator<dim>::DiffusionOperator(const CartesianPatch<dim>       &patch,
                                             const physics::GranularGas<dim> &desc,
@@ -39,6 +54,11 @@ namespace granhydro::diffusion
         for (std::size_t k = 0; k < faces.size(); ++k)
           inv_dist[d][k] = length_unit / (0.5 * (patch.cell_size(faces[k].l, d) + patch.cell_size(faces[k].r, d)));
       }
+    // scaled cell volumes (the product of the edges, as 1 / prod inv_h)
+    cell_volume.assign(n_owned, 1.);
+    for (unsigned int s = 0; s < n_owned; ++s)
+      for (unsigned int d = 0; d < dim; ++d)
+        cell_volume[s] /= inv_h[d][s];
     friction_active = desc.contact.active && desc.contact.mu_factor > 0 && settings.viscous;
     src.resize(patch.n_slots());
     flip.assign(patch.n_slots(), 0u);
@@ -74,24 +94,143 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
-  physics::TransportCoefficients DiffusionOperator<dim>::coefficients(const double n,
-                                                                      const double T) const
+  template <class V>
+  physics::TransportCoefficientsT<V> DiffusionOperator<dim>::coefficients(const V n, const V T) const
   {
-    auto c = desc.model.transport(n, std::max(T, 0.), 1., 1.);
+    using physics::lanes::constant;
+    // max(T, 0) as std::max(T, 0.): T < 0 ? 0 : T (a NaN stays)
+    auto c = desc.model.transport(n, T < V{} ? V{} : T, 1., 1.);
     if (settings.max_free_path > 0)
       {
         // Knudsen cap: l = 1/(sqrt(2) pi n) > L scales the fluxes' coefficients by L/l
-        const double f = std::min(1., std::sqrt(2.) * M_PI * n * settings.max_free_path);
+        // (min(1, x) as std::min(1., x): x < 1 ? x : 1)
+        const V x = constant<V>(std::sqrt(2.) * M_PI) * n * settings.max_free_path;
+        const V f = x < constant<V>(1.) ? x : constant<V>(1.);
         c.eta *= f;
         c.gamma *= f;
         c.kappa *= f;
         c.mu *= f;
       }
     if (!settings.viscous)
-      c.eta = c.gamma = 0;
+      c.eta = c.gamma = V{};
     if (!settings.heat)
-      c.kappa = c.mu = 0;
+      c.kappa = c.mu = V{};
     return c;
+  }
+
+  template <int dim>
+  template <class V>
+  void DiffusionOperator<dim>::face_flux_lanes(const double *W, const unsigned int d, const V ihn,
+                                               const unsigned int *l, const unsigned int *r,
+                                               const std::array<V, dim + 2> &UL,
+                                               const std::array<V, dim + 2> &UR,
+                                               std::array<V, dim + 2>       &F,
+                                               std::array<V, dim + 2>       *friction) const
+  {
+    namespace lanes        = physics::lanes;
+    constexpr unsigned int L = lanes::width<V>;
+    using SV                 = std::array<V, NC>;
+    // The gradients come from differences of the *thermal* states U* = U - (0, .., 0, n w(n)):
+    // the contact energy n w of a dense closure is not thermal, and w changes by orders of
+    // magnitude across a cell near phi_c, so it is removed exactly from each cell's state
+    // before the chain rule of doc/physics.md 4.1 (at the face state) turns the differences into
+    // gradients of u and of the granular T - never of T + 2w/3 (doc/physics.md 4.5).
+    // physics::primitive_gradients(..., dw_dn) is the pointwise form of the same
+    // correction. Without a closure U* = U and nothing changes. The contact energy has
+    // branches and pow: it is evaluated lane by lane.
+    auto thermal = [&](const SV &U, SV &Us) {
+      Us = U;
+      if (desc.contact.active)
+        {
+          V nw;
+          for (unsigned int i = 0; i < L; ++i)
+            lanes::ref(nw, i) = desc.contact.energy_density(lanes::get(U[0], i));
+          Us[dim + 1] -= nw;
+        }
+    };
+    SV                                  Uf, SL, SR;
+    physics::StateGradient<dim, V>      dU;
+    thermal(UL, SL);
+    thermal(UR, SR);
+    for (unsigned int c = 0; c < NC; ++c)
+      {
+        Uf[c]    = 0.5 * (SL[c] + SR[c]);
+        dU[d][c] = (SR[c] - SL[c]) * ihn;
+      }
+    for (unsigned int j = 0; j < dim; ++j)
+      if (j != d)
+        {
+          dU[j].fill(V{});
+          if (settings.diagonal_only)
+            continue;
+          // the average of the two cells' differences along j over their gradient
+          // neighbours (central on a uniform mesh; one-sided next to a finer region)
+          for (const unsigned int *side : {l, r})
+            {
+              SV                       up, um;
+              V                        w{};
+              lanes::Mask<V>           use{};
+              for (unsigned int i = 0; i < L; ++i)
+                {
+                  const unsigned int s = side[i];
+                  const int    p = patch.gradient_neighbor(s, j, 1), m = patch.gradient_neighbor(s, j, 0);
+                  const double span = (p >= 0 ? patch.gradient_offset(s, j, 1) : 0.) -
+                                      (m >= 0 ? patch.gradient_offset(s, j, 0) : 0.);
+                  const double *wp = W + std::size_t(p >= 0 ? p : s) * NC, *wm = W + std::size_t(m >= 0 ? m : s) * NC;
+                  for (unsigned int c = 0; c < NC; ++c)
+                    {
+                      lanes::ref(up[c], i) = wp[c];
+                      lanes::ref(um[c], i) = wm[c];
+                    }
+                  if (span > 0)
+                    {
+                      lanes::ref(w, i) = 0.5 * length_unit / span;
+                      if constexpr (L == 1)
+                        use = true;
+                      else
+                        use[i] = -1;
+                    }
+                }
+              if (!lanes::any(use))
+                continue;
+              thermal(SV(up), up);
+              thermal(SV(um), um);
+              for (unsigned int c = 0; c < NC; ++c)
+                {
+                  const V sum = dU[j][c] + w * (up[c] - um[c]);
+                  dU[j][c]    = use ? sum : dU[j][c]; // lanes without a span add nothing
+                }
+            }
+        }
+    // the face state's granular temperature (its contact energy is already removed: nw = 0)
+    const V                                   nf = Uf[0], Tf = desc.temperature(Uf, V{});
+    const physics::PrimitiveGradients<dim, V> g  = physics::primitive_gradients<dim, V>(Uf, dU, 1.);
+    F = physics::viscous_flux_primitive<dim>(Uf, g, coefficients(nf, Tf), 1., d);
+    if (friction_active)
+      {
+        // frictional (contact) shear stress of the dense closure: its momentum flux is
+        // part of F, its work tau_f.u is not - that energy leaves the grains as heat
+        // (doc/physics.md 4.5); residual() adds u . div(tau_f) to the energy instead, so that
+        // T obeys the kinetic equation only. friction = (work flux, momentum flux).
+        struct
+        {
+          V eta, gamma, kappa, mu;
+        } cf{V{}, V{}, V{}, V{}};
+        for (unsigned int i = 0; i < L; ++i)
+          lanes::ref(cf.eta, i) = desc.contact.viscosity(lanes::get(nf, i));
+        const SV Ff = physics::viscous_flux_primitive<dim>(Uf, g, cf, 1., d);
+        for (unsigned int k = 0; k < dim; ++k)
+          F[1 + k] += Ff[1 + k];
+        if (friction)
+          {
+            (*friction)[0] = Ff[dim + 1];
+            for (unsigned int k = 0; k < dim; ++k)
+              (*friction)[1 + k] = Ff[1 + k];
+            (*friction)[dim + 1] = V{};
+          }
+      }
+    else if (friction)
+      friction->fill(V{});
   }
 
   template <int dim>
@@ -101,74 +240,7 @@ namespace granhydro::diffusion
                                          const WallFace &wall, State<dim> &F,
                                          State<dim> *friction) const
   {
-    // The gradients come from differences of the *thermal* states U* = U - (0, .., 0, n w(n)):
-    // the contact energy n w of a dense closure is not thermal, and w changes by orders of
-    // magnitude across a cell near phi_c, so it is removed exactly from each cell's state
-    // before the chain rule of doc/physics.md 4.1 (at the face state) turns the differences into
-    // gradients of u and of the granular T - never of T + 2w/3 (doc/physics.md 4.5).
-    // physics::primitive_gradients(..., dw_dn) is the pointwise form of the same
-    // correction. Without a closure U* = U and nothing changes.
-    auto thermal = [&](const double *U, double *Us) {
-      std::copy(U, U + NC, Us);
-      if (desc.contact.active)
-        Us[dim + 1] -= desc.contact.energy_density(U[0]);
-    };
-    State<dim>                  Uf, SL, SR;
-    physics::StateGradient<dim> dU;
-    thermal(UL.data(), SL.data());
-    thermal(UR.data(), SR.data());
-    for (unsigned int c = 0; c < NC; ++c)
-      {
-        Uf[c]    = 0.5 * (SL[c] + SR[c]);
-        dU[d][c] = (SR[c] - SL[c]) * ihn;
-      }
-    for (unsigned int j = 0; j < dim; ++j)
-      if (j != d)
-        {
-          dU[j].fill(0.);
-          if (settings.diagonal_only)
-            continue;
-          // the average of the two cells' differences along j over their gradient
-          // neighbours (central on a uniform mesh; one-sided next to a finer region)
-          for (const unsigned int s : {l, r})
-            {
-              const int    p = patch.gradient_neighbor(s, j, 1), m = patch.gradient_neighbor(s, j, 0);
-              const double span = (p >= 0 ? patch.gradient_offset(s, j, 1) : 0.) -
-                                  (m >= 0 ? patch.gradient_offset(s, j, 0) : 0.);
-              if (span <= 0)
-                continue;
-              double up[NC], um[NC];
-              thermal(W + std::size_t(p >= 0 ? p : s) * NC, up);
-              thermal(W + std::size_t(m >= 0 ? m : s) * NC, um);
-              const double w = 0.5 * length_unit / span;
-              for (unsigned int c = 0; c < NC; ++c)
-                dU[j][c] += w * (up[c] - um[c]);
-            }
-        }
-    // the face state's granular temperature (its contact energy is already removed: nw = 0)
-    const double                           nf = Uf[0], Tf = desc.temperature(Uf, 0.);
-    const physics::PrimitiveGradients<dim> g  = physics::primitive_gradients<dim>(Uf, dU, 1.);
-    F = physics::viscous_flux_primitive<dim>(Uf, g, coefficients(nf, Tf), 1., d);
-    if (friction_active)
-      {
-        // frictional (contact) shear stress of the dense closure: its momentum flux is
-        // part of F, its work tau_f.u is not - that energy leaves the grains as heat
-        // (doc/physics.md 4.5); residual() adds u . div(tau_f) to the energy instead, so that
-        // T obeys the kinetic equation only. friction = (work flux, momentum flux).
-        const physics::DiffusiveCoefficients cf{desc.contact.viscosity(nf), 0., 0., 0.};
-        const State<dim> Ff = physics::viscous_flux_primitive<dim>(Uf, g, cf, 1., d);
-        for (unsigned int k = 0; k < dim; ++k)
-          F[1 + k] += Ff[1 + k];
-        if (friction)
-          {
-            (*friction)[0] = Ff[dim + 1];
-            for (unsigned int k = 0; k < dim; ++k)
-              (*friction)[1 + k] = Ff[1 + k];
-            (*friction)[dim + 1] = 0;
-          }
-      }
-    else if (friction)
-      friction->fill(0.);
+    face_flux_lanes<double>(W, d, ihn, &l, &r, UL, UR, F, friction);
     if (wall.sign != 0)
       {
         // energy into the wall (doc/physics.md 5.2, contact theorem, m = 1). The cell update
@@ -179,77 +251,191 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
-  void DiffusionOperator<dim>::source(const State<dim> &U, State<dim> &S) const
+  template <class V>
+  __attribute__((always_inline)) inline void DiffusionOperator<dim>::face_fluxes(const double *W, const unsigned int d) const
   {
-    S.fill(0.);
+    namespace lanes        = physics::lanes;
+    constexpr unsigned int L = lanes::width<V>;
+    using SV                 = std::array<V, NC>;
+    const auto &faces        = patch.faces(d);
+    const std::size_t nf     = faces.size();
+    std::size_t       k      = 0;
+    for (; k + L <= nf; k += L)
+      {
+        unsigned int l[L], r[L];
+        SV           UL, UR, F, G;
+        V            ihn;
+        for (unsigned int i = 0; i < L; ++i)
+          {
+            l[i] = faces[k + i].l;
+            r[i] = faces[k + i].r;
+            lanes::ref(ihn, i) = inv_dist[d][k + i];
+            for (unsigned int c = 0; c < NC; ++c)
+              {
+                lanes::ref(UL[c], i) = W[std::size_t(l[i]) * NC + c];
+                lanes::ref(UR[c], i) = W[std::size_t(r[i]) * NC + c];
+              }
+          }
+        face_flux_lanes<V>(W, d, ihn, l, r, UL, UR, F, friction_active ? &G : nullptr);
+        for (unsigned int i = 0; i < L; ++i)
+          {
+            double *Fk = &Fp[d][(k + i) * NC];
+            for (unsigned int c = 0; c < NC; ++c)
+              Fk[c] = lanes::get(F[c], i);
+            if (friction_active)
+              for (unsigned int c = 0; c < NC; ++c)
+                Ff[d][(k + i) * NC + c] = lanes::get(G[c], i);
+            const WallFace &wall = walls[d][k + i];
+            if (wall.sign != 0) // as in face_flux()
+              Fk[dim + 1] -= wall.sign * desc.wall_heat_flux(wall.sign > 0 ? state<dim>(W, l[i]) : state<dim>(W, r[i]), wall.eps_w);
+          }
+      }
+    for (; k < nf; ++k)
+      {
+        const unsigned int l = faces[k].l, r = faces[k].r;
+        State<dim>         F, G;
+        face_flux(W, d, inv_dist[d][k], l, r, state<dim>(W, l), state<dim>(W, r), walls[d][k], F,
+                  friction_active ? &G : nullptr);
+        std::copy(F.begin(), F.end(), &Fp[d][k * NC]);
+        if (friction_active)
+          std::copy(G.begin(), G.end(), &Ff[d][k * NC]);
+      }
+  }
+
+  template <int dim>
+  template <class V>
+  void DiffusionOperator<dim>::source_lanes(const std::array<V, dim + 2> &U, std::array<V, dim + 2> &S) const
+  {
+    namespace lanes = physics::lanes;
+    S.fill(V{});
     if (settings.body.active())
-      physics::BodyForce::add_source<dim>(body_force(), U.data(), S.data());
+      physics::BodyForce::add_source<dim, V>(body_force(), U.data(), S.data());
     if (settings.cooling && desc.model.eps() < 1)
       {
-        const double n = U[0], T = std::max(desc.temperature(U), 0.);
+        V nw{}; // contact energy density, lane by lane (branches and pow)
+        if (desc.contact.active)
+          for (unsigned int i = 0; i < lanes::width<V>; ++i)
+            lanes::ref(nw, i) = desc.contact.energy_density(lanes::get(U[0], i));
+        const V n = U[0], T0 = desc.temperature(U, nw), T = T0 < V{} ? V{} : T0; // max(T, 0)
         S[dim + 1] -= 1.5 * n * T * desc.model.zeta0(n, T, 1., 1.); // doc/physics.md 3.5
       }
   }
 
   template <int dim>
-  void DiffusionOperator<dim>::residual(const double *W, double *f) const
+  void DiffusionOperator<dim>::source(const State<dim> &U, State<dim> &S) const
+  {
+    source_lanes<double>(U, S);
+  }
+
+  template <int dim>
+  template <class V>
+  __attribute__((always_inline)) inline void
+  DiffusionOperator<dim>::cell_residuals(const double *W, const unsigned int s0, double *f) const
+  {
+    namespace lanes        = physics::lanes;
+    constexpr unsigned int L = lanes::width<V>;
+    using SV                 = std::array<V, NC>;
+    SV U, S;
+    for (unsigned int i = 0; i < L; ++i)
+      for (unsigned int c = 0; c < NC; ++c)
+        lanes::ref(U[c], i) = W[std::size_t(s0 + i) * NC + c];
+    source_lanes<V>(U, S);
+    SV div_tf{}; // div of (frictional work flux, frictional momentum flux)
+    for (unsigned int d = 0; d < dim; ++d) // d_i F_i^v, fixed order: partition independent
+      {
+        SV fw, fe, gw, ge;
+        V  ih;
+        for (unsigned int i = 0; i < L; ++i)
+          {
+            double a[NC] = {}, b[NC] = {};
+            patch.sum_face_fluxes(d, s0 + i, Fp[d].data(), a, b);
+            for (unsigned int c = 0; c < NC; ++c)
+              {
+                lanes::ref(fw[c], i) = a[c];
+                lanes::ref(fe[c], i) = b[c];
+              }
+            if (friction_active)
+              {
+                double ag[NC] = {}, bg[NC] = {};
+                patch.sum_face_fluxes(d, s0 + i, Ff[d].data(), ag, bg);
+                for (unsigned int c = 0; c < NC; ++c)
+                  {
+                    lanes::ref(gw[c], i) = ag[c];
+                    lanes::ref(ge[c], i) = bg[c];
+                  }
+              }
+            lanes::ref(ih, i) = inv_h[d][s0 + i];
+          }
+        for (unsigned int c = 0; c < NC; ++c)
+          S[c] += ih * (fe[c] - fw[c]);
+        if (friction_active)
+          for (unsigned int c = 0; c < NC; ++c)
+            div_tf[c] += ih * (ge[c] - gw[c]);
+      }
+    if (friction_active)
+      {
+        // the energy gets the kinetic-energy change of the frictional force, u . div tau_f,
+        // and not the work flux div(tau_f . u): the difference, ~ mu_f Phi_f >= 0, is the
+        // frictional dissipation, lost to heat (doc/physics.md 4.5)
+        V uw{};
+        for (unsigned int k = 0; k < dim; ++k)
+          uw += U[1 + k] / U[0] * div_tf[1 + k];
+        S[dim + 1] += uw;
+        const V power = div_tf[0] - uw;
+        for (unsigned int i = 0; i < L; ++i) // summed cell by cell: the same on any lane width
+          friction_power_ += lanes::get(power, i) * cell_volume[s0 + i];
+      }
+    for (unsigned int i = 0; i < L; ++i)
+      for (unsigned int c = 0; c < NC; ++c)
+        f[std::size_t(s0 + i) * NC + c] = lanes::get(S[c], i);
+  }
+
+  template <int dim>
+  template <class V>
+  __attribute__((always_inline)) inline void DiffusionOperator<dim>::residual_lanes(const double *W, double *f) const
   {
     const unsigned int n_owned = patch.n_owned();
     for (unsigned int d = 0; d < dim; ++d)
       {
-        const auto &faces = patch.faces(d);
-        Fp[d].resize(faces.size() * NC);
+        const std::size_t nf = patch.faces(d).size();
+        Fp[d].resize(nf * NC);
         if (friction_active)
-          Ff[d].resize(faces.size() * NC);
-        for (std::size_t k = 0; k < faces.size(); ++k)
-          {
-            const unsigned int l = faces[k].l, r = faces[k].r;
-            State<dim> UL, UR, F, G;
-            std::copy(W + std::size_t(l) * NC, W + std::size_t(l + 1) * NC, UL.begin());
-            std::copy(W + std::size_t(r) * NC, W + std::size_t(r + 1) * NC, UR.begin());
-            face_flux(W, d, inv_dist[d][k], l, r, UL, UR, walls[d][k], F, friction_active ? &G : nullptr);
-            std::copy(F.begin(), F.end(), &Fp[d][k * NC]);
-            if (friction_active)
-              std::copy(G.begin(), G.end(), &Ff[d][k * NC]);
-          }
+          Ff[d].resize(nf * NC);
+        face_fluxes<V>(W, d);
       }
     friction_power_ = 0;
-    for (unsigned int s = 0; s < n_owned; ++s)
-      {
-        State<dim> U, S;
-        std::copy(W + std::size_t(s) * NC, W + std::size_t(s + 1) * NC, U.begin());
-        source(U, S);
-        for (unsigned int c = 0; c < NC; ++c)
-          f[std::size_t(s) * NC + c] = S[c];
-        double div_tf[NC] = {}; // div of (frictional work flux, frictional momentum flux)
-        for (unsigned int d = 0; d < dim; ++d) // d_i F_i^v, fixed order: partition independent
-          {
-            double fw[NC] = {}, fe[NC] = {};
-            patch.sum_face_fluxes(d, s, Fp[d].data(), fw, fe);
-            for (unsigned int c = 0; c < NC; ++c)
-              f[std::size_t(s) * NC + c] += inv_h[d][s] * (fe[c] - fw[c]);
-            if (friction_active)
-              {
-                double gw[NC] = {}, ge[NC] = {};
-                patch.sum_face_fluxes(d, s, Ff[d].data(), gw, ge);
-                for (unsigned int c = 0; c < NC; ++c)
-                  div_tf[c] += inv_h[d][s] * (ge[c] - gw[c]);
-              }
-          }
-        if (friction_active)
-          {
-            // the energy gets the kinetic-energy change of the frictional force, u . div tau_f,
-            // and not the work flux div(tau_f . u): the difference, ~ mu_f Phi_f >= 0, is the
-            // frictional dissipation, lost to heat (doc/physics.md 4.5)
-            double uw = 0, vol = 1;
-            for (unsigned int k = 0; k < dim; ++k)
-              uw += U[1 + k] / U[0] * div_tf[1 + k];
-            for (unsigned int d = 0; d < dim; ++d)
-              vol /= inv_h[d][s];
-            f[std::size_t(s) * NC + dim + 1] += uw;
-            friction_power_ += (div_tf[0] - uw) * vol;
-          }
-      }
+    unsigned int s  = 0;
+    for (; s + physics::lanes::width<V> <= n_owned; s += physics::lanes::width<V>)
+      cell_residuals<V>(W, s, f);
+    for (; s < n_owned; ++s)
+      cell_residuals<double>(W, s, f);
+  }
+
+  // flatten: every formula inlines into the loops (no vector crosses a call boundary)
+  template <int dim>
+  __attribute__((flatten)) void DiffusionOperator<dim>::residual_default(const double *W, double *f) const
+  {
+    residual_lanes<v4d>(W, f);
+  }
+
+#if defined(__x86_64__) || defined(__i386__)
+  // the same operations compiled for AVX2 (4 doubles per instruction, 16 vector registers
+  // of 4: fewer spills); no FMA, so every lane is still the scalar IEEE result
+  template <int dim>
+  __attribute__((target("avx2"), flatten)) void DiffusionOperator<dim>::residual_avx2(const double *W, double *f) const
+  {
+    residual_lanes<v4d>(W, f);
+  }
+#endif
+
+  template <int dim>
+  void DiffusionOperator<dim>::residual(const double *W, double *f) const
+  {
+#if defined(__x86_64__) || defined(__i386__)
+    if (physics::lanes::use_avx2())
+      return residual_avx2(W, f);
+#endif
+    residual_default(W, f);
   }
 
   template <int dim>

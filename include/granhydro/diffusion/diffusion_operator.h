@@ -140,8 +140,38 @@ namespace granhydro::diffusion
                    const physics::State<dim> &UR, const WallFace &wall,
                    physics::State<dim> &F, physics::State<dim> *friction = nullptr) const;
     void source(const physics::State<dim> &U, physics::State<dim> &S) const;
-    /// kinetic-theory coefficients at (n, T) with the Knudsen cap and the switches
-    physics::TransportCoefficients coefficients(const double n, const double T) const;
+    /// kinetic-theory coefficients at (n, T) with the Knudsen cap and the switches; V is
+    /// double or a GCC vector of doubles (lanes: states side by side, each lane bit for
+    /// bit the double result)
+    template <class V>
+    physics::TransportCoefficientsT<V> coefficients(const V n, const V T) const;
+
+    /// face_flux() for the faces whose slots are l[i], r[i] in the lanes i of V (double:
+    /// one face), without the dissipative-wall heat flux: the one flux formula of this
+    /// operator, which residual() runs on vectors and the Jacobian on single faces
+    template <class V>
+    void face_flux_lanes(const double *W, const unsigned int d, const V ihn, const unsigned int *l,
+                         const unsigned int *r, const std::array<V, dim + 2> &UL,
+                         const std::array<V, dim + 2> &UR, std::array<V, dim + 2> &F,
+                         std::array<V, dim + 2> *friction) const;
+
+    /// residual() with V-wide lanes, compiled for the default target and for AVX2
+    template <class V>
+    void residual_lanes(const double *W, double *f) const;
+    void residual_default(const double *W, double *f) const;
+    void residual_avx2(const double *W, double *f) const;
+
+    /// source() for the cells in the lanes of V
+    template <class V>
+    void source_lanes(const std::array<V, dim + 2> &U, std::array<V, dim + 2> &S) const;
+
+    /// residual() for the owned cells [s0, s0 + lanes of V) from the face fluxes
+    template <class V>
+    void cell_residuals(const double *W, const unsigned int s0, double *f) const;
+
+    /// the fluxes of all faces normal to d into Fp[d] (and Ff[d]), V-wide lanes of faces
+    template <class V>
+    void face_fluxes(const double *W, const unsigned int d) const;
 
     const CartesianPatch<dim>       &patch;
     const physics::GranularGas<dim> &desc;
@@ -157,6 +187,7 @@ namespace granhydro::diffusion
     mutable double              time = 0;
     mutable std::array<double, 3> force{{0, 0, 0}}; ///< settings.body.at(time)
     mutable double              friction_power_ = 0;
+    std::vector<double>         cell_volume; ///< scaled volume of each owned cell
     bool                        friction_active = false;
   };
 } // namespace granhydro::diffusion

@@ -37,8 +37,8 @@ namespace granhydro::physics
     }
 
     /// adds S(U) = (0, n g, n u . g) for the force g = at(t) to S (U, S: dim + 2 values)
-    template <int dim>
-    static void add_source(const std::array<double, 3> &g, const double *U, double *S)
+    template <int dim, class T = double>
+    static void add_source(const std::array<double, 3> &g, const T *U, T *S)
     {
       for (unsigned int d = 0; d < dim; ++d)
         {

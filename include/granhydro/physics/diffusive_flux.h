@@ -65,30 +65,30 @@ namespace granhydro::physics
   using DiffusionMatrix = std::array<std::array<double, dim + 2>, dim + 2>;
 
   /// Conservative gradient, dU[j] = d U / d x_j.
-  template <int dim>
-  using StateGradient = std::array<State<dim>, dim>;
+  template <int dim, typename Number = double>
+  using StateGradient = std::array<std::array<Number, dim + 2>, dim>;
 
   /// Velocity gradient, grad_u[j][l] = d u_l / d x_j.
-  template <int dim>
-  using VelocityGradient = std::array<std::array<double, dim>, dim>;
+  template <int dim, typename Number = double>
+  using VelocityGradient = std::array<std::array<Number, dim>, dim>;
 
   /// Primitive gradients (grad u, grad T, grad n).
-  template <int dim>
+  template <int dim, typename Number = double>
   struct PrimitiveGradients
   {
-    VelocityGradient<dim>   grad_u; ///< [j][l] = d u_l / d x_j
-    std::array<double, dim> grad_T; ///< d T / d x_j
-    std::array<double, dim> grad_n; ///< d n / d x_j
+    VelocityGradient<dim, Number> grad_u; ///< [j][l] = d u_l / d x_j
+    std::array<Number, dim>       grad_T; ///< d T / d x_j
+    std::array<Number, dim>       grad_n; ///< d n / d x_j
   };
 
   namespace internal
   {
     /// u_l = (n u_l)/n for the resolved components; returns |u|^2.
-    template <int dim>
-    inline double velocity(const State<dim> &U, std::array<double, dim> &u)
+    template <int dim, typename Number = double>
+    inline Number velocity(const std::array<Number, dim + 2> &U, std::array<Number, dim> &u)
     {
-      const double inv_n = 1. / U[0];
-      double       u2    = 0.;
+      const Number inv_n = 1. / U[0];
+      Number       u2{};
       for (int l = 0; l < dim; ++l)
         {
           u[l] = U[1 + l] * inv_n;
@@ -98,9 +98,9 @@ namespace granhydro::physics
     }
 
     /// d_j u_l = (d_j(n u_l) - u_l d_j n)/n, doc/physics.md 4.1.
-    template <int dim>
-    inline double
-    velocity_derivative(const State<dim> &dUj, const std::array<double, dim> &u, double inv_n, int l)
+    template <int dim, typename Number = double>
+    inline Number velocity_derivative(const std::array<Number, dim + 2> &dUj, const std::array<Number, dim> &u,
+                                      const Number inv_n, int l)
     {
       return (dUj[1 + l] - u[l] * dUj[0]) * inv_n;
     }
@@ -116,25 +116,25 @@ namespace granhydro::physics
    * thermal, and forgetting it conducts heat along grad(T + 2w/3) instead of grad T.
    * dw_dn = dw/dn = p_f/n^2 (ContactPressure::dw_dn), 0 without a closure.
    */
-  template <int dim>
-  inline PrimitiveGradients<dim> primitive_gradients(const State<dim>         &U,
-                                                     const StateGradient<dim> &dU,
-                                                     const double              m,
-                                                     const double              dw_dn = 0.)
+  template <int dim, typename Number = double>
+  inline PrimitiveGradients<dim, Number> primitive_gradients(const std::array<Number, dim + 2> &U,
+                                                             const StateGradient<dim, Number>  &dU,
+                                                             const double                       m,
+                                                             const double                       dw_dn = 0.)
   {
-    std::array<double, dim> u;
-    const double            u2    = internal::velocity<dim>(U, u);
-    const double            inv_n = 1. / U[0];
-    const double            E     = U[dim + 1] * inv_n;
-    const double            cn    = m * u2 - E;
-    PrimitiveGradients<dim> g;
+    std::array<Number, dim>         u;
+    const Number                    u2    = internal::velocity<dim, Number>(U, u);
+    const Number                    inv_n = 1. / U[0];
+    const Number                    E     = U[dim + 1] * inv_n;
+    const Number                    cn    = m * u2 - E;
+    PrimitiveGradients<dim, Number> g;
     for (int j = 0; j < dim; ++j)
       {
-        const State<dim> &d = dU[j];
-        double            s = d[dim + 1] + cn * d[0];
+        const std::array<Number, dim + 2> &d = dU[j];
+        Number                             s = d[dim + 1] + cn * d[0];
         for (int l = 0; l < dim; ++l)
           {
-            g.grad_u[j][l] = internal::velocity_derivative<dim>(d, u, inv_n, l);
+            g.grad_u[j][l] = internal::velocity_derivative<dim, Number>(d, u, inv_n, l);
             s -= m * u[l] * d[1 + l];
           }
         g.grad_T[j] = (2. / 3.) * (inv_n * s - dw_dn * d[0]);
@@ -148,28 +148,28 @@ namespace granhydro::physics
    * 4.1; paper 2.2, 2.3, 2.5): (0, tau_{ki}/m, tau_ij u_j + kappa d_i T + mu d_i n).
    * Only the velocity is taken from U.
    */
-  template <int dim, typename Coefficients>
-  inline State<dim> viscous_flux_primitive(const State<dim>             &U,
-                                           const VelocityGradient<dim>  &grad_u,
-                                           const std::array<double, dim> &grad_T,
-                                           const std::array<double, dim> &grad_n,
-                                           const Coefficients           &c,
-                                           const double                  m,
-                                           const unsigned int            i)
+  template <int dim, typename Coefficients, typename Number = double>
+  inline std::array<Number, dim + 2> viscous_flux_primitive(const std::array<Number, dim + 2> &U,
+                                                            const VelocityGradient<dim, Number> &grad_u,
+                                                            const std::array<Number, dim>       &grad_T,
+                                                            const std::array<Number, dim>       &grad_n,
+                                                            const Coefficients                  &c,
+                                                            const double                         m,
+                                                            const unsigned int                   i)
   {
-    std::array<double, dim> u;
-    internal::velocity<dim>(U, u);
-    double div = 0.;
+    std::array<Number, dim> u;
+    internal::velocity<dim, Number>(U, u);
+    Number div{};
     for (int k = 0; k < dim; ++k)
       div += grad_u[k][k];
-    const double lambda = c.gamma - (2. / 3.) * c.eta; // coefficient of delta_ij div u
-    State<dim>   F;
-    F[0]          = 0.;
-    double energy = c.kappa * grad_T[i] + c.mu * grad_n[i];
+    const Number lambda = c.gamma - (2. / 3.) * c.eta; // coefficient of delta_ij div u
+    std::array<Number, dim + 2> F;
+    F[0]          = Number{};
+    Number energy = c.kappa * grad_T[i] + c.mu * grad_n[i];
     for (int k = 0; k < dim; ++k)
       {
         // tau_ki = tau_ik = eta (d_k u_i + d_i u_k) + lambda delta_ki div u   (2.2)
-        const double tau = c.eta * (grad_u[k][i] + grad_u[i][k]) + (k == int(i) ? lambda * div : 0.);
+        const Number tau = c.eta * (grad_u[k][i] + grad_u[i][k]) + (k == int(i) ? lambda * div : Number{});
         F[1 + k]         = tau / m;
         energy += tau * u[k];
       }
@@ -178,14 +178,14 @@ namespace granhydro::physics
   }
 
   /// Same, taking a PrimitiveGradients bundle.
-  template <int dim, typename Coefficients>
-  inline State<dim> viscous_flux_primitive(const State<dim>              &U,
-                                           const PrimitiveGradients<dim> &g,
-                                           const Coefficients            &c,
-                                           const double                   m,
-                                           const unsigned int             i)
+  template <int dim, typename Coefficients, typename Number = double>
+  inline std::array<Number, dim + 2> viscous_flux_primitive(const std::array<Number, dim + 2>     &U,
+                                                            const PrimitiveGradients<dim, Number> &g,
+                                                            const Coefficients                    &c,
+                                                            const double                           m,
+                                                            const unsigned int                     i)
   {
-    return viscous_flux_primitive<dim>(U, g.grad_u, g.grad_T, g.grad_n, c, m, i);
+    return viscous_flux_primitive<dim, Coefficients, Number>(U, g.grad_u, g.grad_T, g.grad_n, c, m, i);
   }
 
   /**

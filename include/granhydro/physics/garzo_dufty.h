@@ -192,28 +192,28 @@ namespace granhydro::physics
     {
       Number c, dc;
       chi_.chi_and_derivative(phi, c, dc);
-      return Number(two_1pa_) * (c + phi * dc);
+      return lanes::constant<Number>(two_1pa_) * (c + phi * dc);
     }
 
     /// zeta* = (5/12) chi (1 - a^2)(1 + 3c*/32), doc/physics.md 3.3 (GD99 zeroth-order cooling rate / nu0).
     template <typename Number>
     Number zeta_star(const Number phi) const
     {
-      return Number(zeta_fac_) * chi_.chi(phi);
+      return lanes::constant<Number>(zeta_fac_) * chi_.chi(phi);
     }
 
     /// nu_eta* = chi (1 - (1 - a)^2/4)(1 - c*/64), doc/physics.md 3.3.
     template <typename Number>
     Number nu_eta_star(const Number phi) const
     {
-      return Number(nu_eta_fac_) * chi_.chi(phi);
+      return lanes::constant<Number>(nu_eta_fac_) * chi_.chi(phi);
     }
 
     /// nu_kappa* = nu_mu* = (chi/3)(1 + a)[1 + (33/16)(1 - a) + (19 - 3a)c*/1024], doc/physics.md 3.3.
     template <typename Number>
     Number nu_kappa_star(const Number phi) const
     {
-      return Number(nu_kap_fac_) * chi_.chi(phi);
+      return lanes::constant<Number>(nu_kap_fac_) * chi_.chi(phi);
     }
 
     /// gamma* = (128/(5 pi)) phi^2 chi (1 + a)(1 - c*/32), doc/physics.md 3.4 (GD99 bulk viscosity / eta0).
@@ -280,7 +280,7 @@ namespace granhydro::physics
     Number zeta_U(const Number phi, const ZetaUMode mode) const
     {
       if (mode == ZetaUMode::off)
-        return Number(0.);
+        return lanes::constant<Number>(0.);
       return zeta_U_(phi, chi_.chi(phi), mode);
     }
 
@@ -298,12 +298,12 @@ namespace granhydro::physics
       r.chi           = c;
       r.dchi_dphi     = dc;
       r.g             = phi * dc / c;
-      r.c_star        = Number(c_star_);
+      r.c_star        = lanes::constant<Number>(c_star_);
       r.Z             = Z_(phi, c);
-      r.dZ_dphi       = Number(two_1pa_) * (c + phi * dc);
-      r.zeta_star     = Number(zeta_fac_) * c;
-      r.nu_eta_star   = Number(nu_eta_fac_) * c;
-      r.nu_kappa_star = Number(nu_kap_fac_) * c;
+      r.dZ_dphi       = lanes::constant<Number>(two_1pa_) * (c + phi * dc);
+      r.zeta_star     = lanes::constant<Number>(zeta_fac_) * c;
+      r.nu_eta_star   = lanes::constant<Number>(nu_eta_fac_) * c;
+      r.nu_kappa_star = lanes::constant<Number>(nu_kap_fac_) * c;
       r.gamma_star    = gamma_(phi, c);
       r.eta_k_star    = eta_k_(phi, c);
       r.eta_star      = eta_(phi, c, r.eta_k_star, r.gamma_star);
@@ -311,7 +311,7 @@ namespace granhydro::physics
       r.kappa_star    = kappa_(phi, c, r.kappa_k_star);
       r.mu_k_star     = mu_k_(phi, c, dc, r.kappa_k_star);
       r.mu_star       = mu_(phi, c, r.mu_k_star);
-      r.zeta_U        = zeta_u_mode_ == ZetaUMode::off ? Number(0.) : zeta_U_(phi, c, zeta_u_mode_);
+      r.zeta_U        = zeta_u_mode_ == ZetaUMode::off ? lanes::constant<Number>(0.) : zeta_U_(phi, c, zeta_u_mode_);
       return r;
     }
 
@@ -340,14 +340,14 @@ namespace granhydro::physics
     template <typename Number>
     static Number packing_fraction(const Number n, const double sigma)
     {
-      return n * Number(pi_ / 6. * sigma * sigma * sigma);
+      return n * lanes::constant<Number>(pi_ / 6. * sigma * sigma * sigma);
     }
 
     /// n = 6 phi/(pi sigma^3), doc/physics.md 0.
     template <typename Number>
     static Number number_density(const Number phi, const double sigma)
     {
-      return phi * Number(6. / (pi_ * sigma * sigma * sigma));
+      return phi * lanes::constant<Number>(6. / (pi_ * sigma * sigma * sigma));
     }
 
     /// grain mass m = rho_s pi sigma^3/6, doc/physics.md 0.
@@ -376,32 +376,29 @@ namespace granhydro::physics
       Number       c, dc;
       chi_.chi_and_derivative(phi, c, dc);
       const Number Zv = Z_(phi, c);
-      const Number dZ = Number(two_1pa_) * (c + phi * dc);
-      return sqrt(T / Number(m) * (Zv + phi * dZ + Number(2. / 3.) * Zv * Zv));
+      const Number dZ = lanes::constant<Number>(two_1pa_) * (c + phi * dc);
+      return sqrt(T / lanes::constant<Number>(m) * (Zv + phi * dZ + lanes::constant<Number>(2. / 3.) * Zv * Zv));
     }
 
     /// eta0 = 5/(16 sigma^2) sqrt(m T/pi) [Pa s], doc/physics.md 3.1 (elastic Boltzmann viscosity). n unused.
     template <typename Number>
     Number eta0(const Number /*n*/, const Number T, const double m, const double sigma) const
     {
-      using std::sqrt;
-      return Number(5. / (16. * sigma * sigma)) * sqrt(Number(m / pi_) * floored(T));
+      return lanes::constant<Number>(5. / (16. * sigma * sigma)) * lanes::any_sqrt(lanes::constant<Number>(m / pi_) * floored(T));
     }
 
     /// kappa0 = 15/(4m) eta0 = 75/(64 sigma^2) sqrt(T/(pi m)) [1/(m s)], doc/physics.md 3.1. n unused.
     template <typename Number>
     Number kappa0(const Number /*n*/, const Number T, const double m, const double sigma) const
     {
-      using std::sqrt;
-      return Number(75. / (64. * sigma * sigma)) * sqrt(floored(T) / Number(pi_ * m));
+      return lanes::constant<Number>(75. / (64. * sigma * sigma)) * lanes::any_sqrt(floored(T) / lanes::constant<Number>(pi_ * m));
     }
 
     /// nu0 = n T/eta0 = (16/5) n sigma^2 sqrt(pi T/m) [1/s], doc/physics.md 3.1.
     template <typename Number>
     Number nu0(const Number n, const Number T, const double m, const double sigma) const
     {
-      using std::sqrt;
-      return Number(16. / 5. * sigma * sigma) * n * sqrt(Number(pi_ / m) * floored(T));
+      return lanes::constant<Number>(16. / 5. * sigma * sigma) * n * lanes::any_sqrt(lanes::constant<Number>(pi_ / m) * floored(T));
     }
 
     /// Shear viscosity eta = eta0 eta*(phi) [Pa s], doc/physics.md 3.4.
@@ -447,8 +444,8 @@ namespace granhydro::physics
     template <typename Number>
     Number mean_free_path(const Number n, const double sigma) const
     {
-      return Number(1.) /
-             (Number(std::sqrt(2.) * pi_ * sigma * sigma) * n * chi_.chi(packing_fraction(n, sigma)));
+      return lanes::constant<Number>(1.) /
+             (lanes::constant<Number>(std::sqrt(2.) * pi_ * sigma * sigma) * n * chi_.chi(packing_fraction(n, sigma)));
     }
 
     /**
@@ -460,15 +457,14 @@ namespace granhydro::physics
     TransportCoefficientsT<Number>
     transport(const Number n, const Number T, const double m, const double sigma) const
     {
-      using std::sqrt;
       TransportCoefficientsT<Number> r;
       r.star           = dimensionless(packing_fraction(n, sigma));
       const auto &s    = r.star;
       const Number Tc  = floored(T);
-      const Number e0  = Number(5. / (16. * sigma * sigma)) * sqrt(Number(m / pi_) * Tc);
-      const Number k0  = Number(15. / (4. * m)) * e0;
+      const Number e0  = lanes::constant<Number>(5. / (16. * sigma * sigma)) * lanes::any_sqrt(lanes::constant<Number>(m / pi_) * Tc);
+      const Number k0  = lanes::constant<Number>(15. / (4. * m)) * e0;
       r.p              = n * T * s.Z;
-      r.c              = sqrt(T / Number(m) * (s.Z + s.phi * s.dZ_dphi + Number(2. / 3.) * s.Z * s.Z));
+      r.c              = lanes::any_sqrt(T / lanes::constant<Number>(m) * (s.Z + s.phi * s.dZ_dphi + lanes::constant<Number>(2. / 3.) * s.Z * s.Z));
       r.eta            = e0 * s.eta_star;
       r.gamma          = e0 * s.gamma_star;
       r.kappa          = k0 * s.kappa_star;
@@ -504,10 +500,10 @@ namespace granhydro::physics
       switch (model)
         {
           case WallHeatFluxModel::dilute:
-            return Number(1. - eps_w * eps_w) * n * T * sqrt(T / Number(2. * pi_ * m));
+            return lanes::constant<Number>(1. - eps_w * eps_w) * n * T * sqrt(T / lanes::constant<Number>(2. * pi_ * m));
           case WallHeatFluxModel::n_chi:
-            return Number(1. - eps_w * eps_w) * n * chi_.chi(packing_fraction(n, sigma)) * T *
-                   sqrt(T / Number(2. * pi_ * m));
+            return lanes::constant<Number>(1. - eps_w * eps_w) * n * chi_.chi(packing_fraction(n, sigma)) * T *
+                   sqrt(T / lanes::constant<Number>(2. * pi_ * m));
           case WallHeatFluxModel::contact_theorem:
           default:
             return wall_heat_flux_from_pressure(pressure(n, T, m, sigma), T, m, eps_w);
@@ -520,7 +516,7 @@ namespace granhydro::physics
     wall_heat_flux_from_pressure(const Number p_w, const Number T, const double m, const double eps_w)
     {
       using std::sqrt;
-      return Number(1. - eps_w) * p_w * sqrt(Number(2. / (pi_ * m)) * T);
+      return lanes::constant<Number>(1. - eps_w) * p_w * sqrt(lanes::constant<Number>(2. / (pi_ * m)) * T);
     }
 
     /**
@@ -536,9 +532,9 @@ namespace granhydro::physics
                              const double            eps_w,
                              const WallHeatFluxModel model = WallHeatFluxModel::contact_theorem) const
     {
-      if (!(T > Number(0.)))
-        return Number(0.);
-      return Number(1.5) * wall_heat_flux(n, T, m, sigma, eps_w, model) / T;
+      if (!(T > lanes::constant<Number>(0.)))
+        return lanes::constant<Number>(0.);
+      return lanes::constant<Number>(1.5) * wall_heat_flux(n, T, m, sigma, eps_w, model) / T;
     }
     ///@}
 
@@ -596,25 +592,25 @@ namespace granhydro::physics
     Number floored(const Number T) const
     {
       // NaN propagates (comparison false -> T returned)
-      return T < Number(T_floor_) ? Number(T_floor_) : T;
+      return T < lanes::constant<Number>(T_floor_) ? lanes::constant<Number>(T_floor_) : T;
     }
 
     template <typename Number>
     Number Z_(const Number phi, const Number c) const
     {
-      return Number(1.) + Number(two_1pa_) * phi * c;
+      return lanes::constant<Number>(1.) + lanes::constant<Number>(two_1pa_) * phi * c;
     }
 
     template <typename Number>
     Number gamma_(const Number phi, const Number c) const
     {
-      return Number(gamma_fac_) * phi * phi * c;
+      return lanes::constant<Number>(gamma_fac_) * phi * phi * c;
     }
 
     template <typename Number>
     Number eta_k_(const Number phi, const Number c) const
     {
-      return (Number(1.) - Number(eta_num_fac_) * phi * c) / (Number(eta_den_fac_) * c);
+      return (lanes::constant<Number>(1.) - lanes::constant<Number>(eta_num_fac_) * phi * c) / (lanes::constant<Number>(eta_den_fac_) * c);
     }
 
     template <typename Number>
@@ -626,48 +622,48 @@ namespace granhydro::physics
     template <typename Number>
     Number eta_(const Number phi, const Number c, const Number eta_k, const Number gamma_s) const
     {
-      return eta_k * (Number(1.) + Number(eta_tr_fac_) * phi * c) + Number(0.6) * gamma_s;
+      return eta_k * (lanes::constant<Number>(1.) + lanes::constant<Number>(eta_tr_fac_) * phi * c) + lanes::constant<Number>(0.6) * gamma_s;
     }
 
     template <typename Number>
     Number kappa_k_(const Number phi, const Number c) const
     {
-      return Number(2. / 3.) * (Number(kap_num0_) + Number(kap_num1_) * phi * c) /
-             (Number(kap_den_fac_) * c);
+      return lanes::constant<Number>(2. / 3.) * (lanes::constant<Number>(kap_num0_) + lanes::constant<Number>(kap_num1_) * phi * c) /
+             (lanes::constant<Number>(kap_den_fac_) * c);
     }
 
     template <typename Number>
     Number kappa_(const Number phi, const Number c, const Number kappa_k) const
     {
-      return kappa_k * (Number(1.) + Number(kap_tr_fac_) * phi * c) +
-             Number(kap_coll_fac_) * phi * phi * c;
+      return kappa_k * (lanes::constant<Number>(1.) + lanes::constant<Number>(kap_tr_fac_) * phi * c) +
+             lanes::constant<Number>(kap_coll_fac_) * phi * phi * c;
     }
 
     template <typename Number>
     Number mu_k_(const Number phi, const Number c, const Number dc, const Number kappa_k) const
     {
       const Number g = phi * dc / c; // phi d ln chi / d phi (doc/physics.md 3.9, D1)
-      return ((Number(1.) + g) * Number(zeta_fac_) * c * kappa_k + Number(mu_c_fac_) -
-              Number(mu_tr_num_fac_) * phi * c * (Number(1.) + Number(0.5) * g)) /
-             (Number(mu_den_fac_) * c);
+      return ((lanes::constant<Number>(1.) + g) * lanes::constant<Number>(zeta_fac_) * c * kappa_k + lanes::constant<Number>(mu_c_fac_) -
+              lanes::constant<Number>(mu_tr_num_fac_) * phi * c * (lanes::constant<Number>(1.) + lanes::constant<Number>(0.5) * g)) /
+             (lanes::constant<Number>(mu_den_fac_) * c);
     }
 
     template <typename Number>
     Number mu_(const Number phi, const Number c, const Number mu_k) const
     {
-      return mu_k * (Number(1.) + Number(kap_tr_fac_) * phi * c);
+      return mu_k * (lanes::constant<Number>(1.) + lanes::constant<Number>(kap_tr_fac_) * phi * c);
     }
 
     template <typename Number>
     Number zeta_U_(const Number phi, const Number c, const ZetaUMode mode) const
     {
-      const Number lead = Number(zu_lead_fac_) * phi * c; // -(1 - a)(Z - 1)
+      const Number lead = lanes::constant<Number>(zu_lead_fac_) * phi * c; // -(1 - a)(Z - 1)
       if (mode != ZetaUMode::full)
         return lead;
-      const Number Zm1 = Number(two_1pa_) * phi * c;       // Z - 1
-      const Number c_D = (Number(zu_cd_num1_) * phi * c + Zm1 * Number(zu_cd_num2_)) /
-                         (Number(zu_cd_den_) * c);
-      return lead + Number(zu_corr_fac_) * c * c_D;
+      const Number Zm1 = lanes::constant<Number>(two_1pa_) * phi * c;       // Z - 1
+      const Number c_D = (lanes::constant<Number>(zu_cd_num1_) * phi * c + Zm1 * lanes::constant<Number>(zu_cd_num2_)) /
+                         (lanes::constant<Number>(zu_cd_den_) * c);
+      return lead + lanes::constant<Number>(zu_corr_fac_) * c * c_D;
     }
 
     static std::string str(const double x)

@@ -49,10 +49,12 @@ namespace granhydro::physics
       return temperature(U, contact.energy_density(U[0]));
     }
 
-    /// the same with the contact energy density n w already evaluated
-    double temperature(const State<dim> &U, const double nw) const
+    /// the same with the contact energy density n w already evaluated (T = double, or a
+    /// GCC vector of doubles: states side by side, each lane bit for bit the double result)
+    template <class T>
+    T temperature(const std::array<T, dim + 2> &U, const T nw) const
     {
-      return (2. / 3.) * (U[energy] - kinetic_energy(U) - nw) / U[0];
+      return (2. / 3.) * (U[energy] - physics::kinetic_energy<dim>(U) - nw) / U[0];
     }
 
     /// p = n T Z(phi) (+ p_f(n) with the dense closure)

@@ -11,6 +11,7 @@
  */
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <type_traits>
 
@@ -23,6 +24,40 @@ namespace granhydro::physics::lanes
   /// the mask type of comparisons of T (bool for double)
   template <class T>
   using Mask = decltype(T() < T());
+
+  /// AVX2 paths (target("avx2") clones of the vector kernels, no FMA: the same IEEE
+  /// operations) on x86 CPUs that have it; GRANHYDRO_NO_AVX2 (set, any value) forces the
+  /// default-target vectors (testing: both paths give the same results bit for bit)
+  inline bool use_avx2()
+  {
+#if defined(__x86_64__) || defined(__i386__)
+    static const bool avx2 = __builtin_cpu_supports("avx2") && std::getenv("GRANHYDRO_NO_AVX2") == nullptr;
+    return avx2;
+#else
+    return false;
+#endif
+  }
+
+  /// true for GCC vectors of doubles (neither a class nor an arithmetic type); false for
+  /// double and for class number types (autodiff), which keep their own operators
+  template <class T>
+  constexpr bool is_vector = !std::is_class_v<T> && !std::is_arithmetic_v<T>;
+
+  /// the constant x in every lane; T(x) for scalar and class number types (a GCC vector
+  /// cannot be constructed from a scalar, so formulas write constant<Number>(x))
+  template <class T>
+  __attribute__((always_inline)) inline T constant(const double x)
+  {
+    if constexpr (is_vector<T>)
+      {
+        T r;
+        for (unsigned int i = 0; i < sizeof(T) / sizeof(double); ++i)
+          reinterpret_cast<double *>(&r)[i] = x;
+        return r;
+      }
+    else
+      return T(x);
+  }
 
   __attribute__((always_inline)) inline double sqrt(const double x) { return std::sqrt(x); }
   __attribute__((always_inline)) inline double abs(const double x) { return std::abs(x); }
@@ -49,6 +84,20 @@ namespace granhydro::physics::lanes
       r[i] = std::sqrt(x[i]);
     return r;
 #endif
+  }
+
+  /// sqrt for any number type of a formula: the lane-wise sqrt for GCC vectors, std::sqrt
+  /// for double, and the type's own sqrt (found by argument-dependent lookup) otherwise
+  template <class T>
+  __attribute__((always_inline)) inline T any_sqrt(const T x)
+  {
+    if constexpr (is_vector<T>)
+      return lanes::sqrt(x);
+    else
+      {
+        using std::sqrt;
+        return sqrt(x);
+      }
   }
 
   /// |x| per lane (clears the sign bit, as std::abs)

@@ -9,6 +9,8 @@
  * templated on the number type (double, float, long double, or any scalar type
  * with the usual arithmetic, comparison and std::log overloads).
  */
+#include <granhydro/physics/lanes.h>
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -81,17 +83,17 @@ namespace granhydro::physics
     template <typename Number>
     static Number carnahan_starling(const Number phi)
     {
-      const Number w = Number(1.) - phi;
-      return (Number(1.) - Number(0.5) * phi) / (w * w * w);
+      const Number w = lanes::constant<Number>(1.) - phi;
+      return (lanes::constant<Number>(1.) - lanes::constant<Number>(0.5) * phi) / (w * w * w);
     }
 
     /// d chi_CS/d phi = (5/2 - phi)/(1 - phi)^4 (doc/physics.md section 2).
     template <typename Number>
     static Number carnahan_starling_derivative(const Number phi)
     {
-      const Number w  = Number(1.) - phi;
+      const Number w  = lanes::constant<Number>(1.) - phi;
       const Number w2 = w * w;
-      return (Number(2.5) - phi) / (w2 * w2);
+      return (lanes::constant<Number>(2.5) - phi) / (w2 * w2);
     }
 
     /**
@@ -102,11 +104,23 @@ namespace granhydro::physics
     template <typename Number>
     Number chi(const Number phi) const
     {
-      if (phi <= Number(phi_f_))
-        return carnahan_starling(phi);
-      if (phi <= Number(phi_max_))
-        return Number(A_) / (Number(phi_c_) - phi);
-      return Number(chi_max_) + Number(dchi_max_) * (phi - Number(phi_max_));
+      using lanes::constant;
+      if constexpr (lanes::is_vector<Number>)
+        {
+          // every branch in every lane, then the lane's own: each lane is the scalar result
+          const Number tq  = constant<Number>(A_) / (constant<Number>(phi_c_) - phi);
+          const Number lin = constant<Number>(chi_max_) + constant<Number>(dchi_max_) * (phi - constant<Number>(phi_max_));
+          return phi <= constant<Number>(phi_f_) ? carnahan_starling(phi) :
+                                                   (phi <= constant<Number>(phi_max_) ? tq : lin);
+        }
+      else
+        {
+          if (phi <= lanes::constant<Number>(phi_f_))
+            return carnahan_starling(phi);
+          if (phi <= lanes::constant<Number>(phi_max_))
+            return lanes::constant<Number>(A_) / (lanes::constant<Number>(phi_c_) - phi);
+          return lanes::constant<Number>(chi_max_) + lanes::constant<Number>(dchi_max_) * (phi - lanes::constant<Number>(phi_max_));
+        }
     }
 
     /**
@@ -117,37 +131,56 @@ namespace granhydro::physics
     template <typename Number>
     Number dchi_dphi(const Number phi) const
     {
-      if (phi <= Number(phi_f_))
+      if (phi <= lanes::constant<Number>(phi_f_))
         return carnahan_starling_derivative(phi);
-      if (phi <= Number(phi_max_))
+      if (phi <= lanes::constant<Number>(phi_max_))
         {
-          const Number w = Number(phi_c_) - phi;
-          return Number(A_) / (w * w);
+          const Number w = lanes::constant<Number>(phi_c_) - phi;
+          return lanes::constant<Number>(A_) / (w * w);
         }
-      return Number(dchi_max_);
+      return lanes::constant<Number>(dchi_max_);
     }
 
     /// chi and dchi/dphi together (one branch decision), doc/physics.md section 2.
     template <typename Number>
     void chi_and_derivative(const Number phi, Number &chi_value, Number &dchi_value) const
     {
-      if (phi <= Number(phi_f_))
+      if constexpr (lanes::is_vector<Number>)
         {
-          const Number w  = Number(1.) - phi;
-          const Number w3 = w * w * w;
-          chi_value  = (Number(1.) - Number(0.5) * phi) / w3;
-          dchi_value = (Number(2.5) - phi) / (w3 * w);
-        }
-      else if (phi <= Number(phi_max_))
-        {
-          const Number w = Number(phi_c_) - phi;
-          chi_value  = Number(A_) / w;
-          dchi_value = chi_value / w;
+          // the three branches below in every lane, then each lane's own (bit for bit)
+          using lanes::constant;
+          const Number w   = constant<Number>(1.) - phi;
+          const Number w3  = w * w * w;
+          const Number c1  = (constant<Number>(1.) - constant<Number>(0.5) * phi) / w3;
+          const Number d1  = (constant<Number>(2.5) - phi) / (w3 * w);
+          const Number wt  = constant<Number>(phi_c_) - phi;
+          const Number c2  = constant<Number>(A_) / wt;
+          const Number d2  = c2 / wt;
+          const Number c3  = constant<Number>(chi_max_) + constant<Number>(dchi_max_) * (phi - constant<Number>(phi_max_));
+          const auto   lo  = phi <= constant<Number>(phi_f_), mid = phi <= constant<Number>(phi_max_);
+          chi_value        = lo ? c1 : (mid ? c2 : c3);
+          dchi_value       = lo ? d1 : (mid ? d2 : constant<Number>(dchi_max_));
         }
       else
         {
-          chi_value  = Number(chi_max_) + Number(dchi_max_) * (phi - Number(phi_max_));
-          dchi_value = Number(dchi_max_);
+          if (phi <= lanes::constant<Number>(phi_f_))
+            {
+              const Number w  = lanes::constant<Number>(1.) - phi;
+              const Number w3 = w * w * w;
+              chi_value  = (lanes::constant<Number>(1.) - lanes::constant<Number>(0.5) * phi) / w3;
+              dchi_value = (lanes::constant<Number>(2.5) - phi) / (w3 * w);
+            }
+          else if (phi <= lanes::constant<Number>(phi_max_))
+            {
+              const Number w = lanes::constant<Number>(phi_c_) - phi;
+              chi_value  = lanes::constant<Number>(A_) / w;
+              dchi_value = chi_value / w;
+            }
+          else
+            {
+              chi_value  = lanes::constant<Number>(chi_max_) + lanes::constant<Number>(dchi_max_) * (phi - lanes::constant<Number>(phi_max_));
+              dchi_value = lanes::constant<Number>(dchi_max_);
+            }
         }
     }
 
@@ -167,20 +200,20 @@ namespace granhydro::physics
     Number integral(const Number phi) const
     {
       using std::log;
-      if (phi <= Number(phi_f_))
+      if (phi <= lanes::constant<Number>(phi_f_))
         return integral_cs(phi);
-      if (phi <= Number(phi_max_))
-        return Number(X_f_) + Number(A_) * log(Number(phi_c_ - phi_f_) / (Number(phi_c_) - phi));
-      const Number s = phi - Number(phi_max_);
-      return Number(X_max_) + s * (Number(chi_max_) + Number(0.5) * Number(dchi_max_) * s);
+      if (phi <= lanes::constant<Number>(phi_max_))
+        return lanes::constant<Number>(X_f_) + lanes::constant<Number>(A_) * log(lanes::constant<Number>(phi_c_ - phi_f_) / (lanes::constant<Number>(phi_c_) - phi));
+      const Number s = phi - lanes::constant<Number>(phi_max_);
+      return lanes::constant<Number>(X_max_) + s * (lanes::constant<Number>(chi_max_) + lanes::constant<Number>(0.5) * lanes::constant<Number>(dchi_max_) * s);
     }
 
   private:
     template <typename Number>
     static Number integral_cs(const Number phi)
     {
-      const Number w = Number(1.) - phi;
-      return phi * (Number(4.) - Number(3.) * phi) / (Number(4.) * w * w);
+      const Number w = lanes::constant<Number>(1.) - phi;
+      return phi * (lanes::constant<Number>(4.) - lanes::constant<Number>(3.) * phi) / (lanes::constant<Number>(4.) * w * w);
     }
 
     static std::string str(const double x)
