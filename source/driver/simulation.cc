@@ -126,7 +126,7 @@ namespace granhydro
     const unsigned int r =
       convection::ConvectionOperator<dim, Description>::stencil_half_width(scene.reconstruction);
     patch_ = std::make_unique<CartesianPatch<dim>>(comm);
-    patch_->build(scene, r + 1);
+    patch_->build(scene.mesh_settings(), r + 1);
     conv = std::make_unique<convection::ConvectionOperator<dim, Description>>(*patch_, desc,
                                                                               scene.convection_settings());
     conv->setup();
@@ -166,7 +166,7 @@ namespace granhydro
 
     if (!scene.initial_checkpoint.empty())
       {
-        output = std::make_unique<io::Output<dim, Description>>(scene, *patch_, desc);
+        output = std::make_unique<io::Output<dim, Description>>(scene.output_settings(), *patch_, desc);
         read_checkpoint(scene.initial_checkpoint);
         return;
       }
@@ -231,7 +231,7 @@ namespace granhydro
     if (Utilities::MPI::logical_or(bad_T, comm))
       throw SceneError("in " + scene.source + ": parameter 'Initial state/Temperature' must be "
                        "positive everywhere in the domain");
-    output = std::make_unique<io::Output<dim, Description>>(scene, *patch_, desc);
+    output = std::make_unique<io::Output<dim, Description>>(scene.output_settings(), *patch_, desc);
   }
 
   template <int dim, class Description>

@@ -132,32 +132,32 @@ namespace granhydro::io
   } // namespace
 
   template <int dim, class Description>
-  Output<dim, Description>::Output(const Scene &scene, const CartesianPatch<dim> &patch,
+  Output<dim, Description>::Output(const OutputSettings &settings, const CartesianPatch<dim> &patch,
                                    const Description &desc)
-    : scene(scene)
+    : settings(settings)
     , patch(patch)
     , desc(desc)
-    , units(scene.units())
+    , units(settings.units)
   {
     std::string err;
     if (Utilities::MPI::this_mpi_process(patch.communicator()) == 0 &&
-        (scene.write_vtu || scene.write_profiles || scene.write_checkpoint ||
-         scene.section_direction >= 0))
+        (settings.write_vtu || settings.write_profiles || settings.write_checkpoint ||
+         settings.section_direction >= 0))
       {
         std::error_code ec;
-        std::filesystem::create_directories(scene.output_directory, ec);
-        if (ec || !std::filesystem::is_directory(scene.output_directory))
+        std::filesystem::create_directories(settings.directory, ec);
+        if (ec || !std::filesystem::is_directory(settings.directory))
           err = "parameter 'Output/Directory': cannot create directory '" +
-                scene.output_directory + "'" + (ec ? ": " + ec.message() : std::string());
+                settings.directory + "'" + (ec ? ": " + ec.message() : std::string());
         else
           {
             // a folder we cannot write into (read-only file system): refuse now, not at the
             // first VTU write
-            const std::string probe = scene.output_directory + "/.granhydro_write_test";
+            const std::string probe = settings.directory + "/.granhydro_write_test";
             bool              ok    = bool(std::ofstream(probe) << "x");
             std::filesystem::remove(probe, ec);
             if (!ok)
-              err = "parameter 'Output/Directory': cannot write into '" + scene.output_directory + "'";
+              err = "parameter 'Output/Directory': cannot write into '" + settings.directory + "'";
           }
       }
     err = Utilities::MPI::broadcast(patch.communicator(), err, 0);
@@ -170,10 +170,10 @@ namespace granhydro::io
   {
     // vibrated container (doc/physics.md 5.3): s(t) = A sin(w t) e_s, ds/dt = A w cos(w t) e_s
     std::array<double, 3> v{{0, 0, 0}};
-    if (scene.vibration_amplitude > 0)
+    if (settings.vibration_amplitude > 0)
       {
-        const double w = 2 * M_PI * scene.vibration_frequency;
-        v[scene.vibration_direction] = scene.vibration_amplitude * w * std::cos(w * time_si);
+        const double w = 2 * M_PI * settings.vibration_frequency;
+        v[settings.vibration_direction] = settings.vibration_amplitude * w * std::cos(w * time_si);
       }
     return v;
   }
@@ -185,11 +185,11 @@ namespace granhydro::io
     std::string error;
     try
       {
-        if (scene.write_vtu)
+        if (settings.write_vtu)
           write_vtu(U, time_si, step);
-        if (scene.write_profiles)
+        if (settings.write_profiles)
           write_profiles(U, time_si);
-        if (scene.section_direction >= 0)
+        if (settings.section_direction >= 0)
           write_cross_section(U, time_si);
       }
     catch (const std::exception &e)
@@ -199,7 +199,7 @@ namespace granhydro::io
     for (const auto &e : Utilities::MPI::all_gather(patch.communicator(), error))
       if (!e.empty())
         throw OutputError("cannot write the output at t = " + std::to_string(time_si) + " s to '" +
-                          scene.output_directory + "' (disk full or no permission?): " + e);
+                          settings.directory + "' (disk full or no permission?): " + e);
     ++counter;
   }
 
@@ -211,7 +211,7 @@ namespace granhydro::io
     pvd_records.clear();
     unsigned int dropped = 0;
     // the PVD of the interrupted run: <DataSet timestep="t" group="" part="0" file="name"/>
-    std::ifstream in(scene.output_file(".pvd"));
+    std::ifstream in(settings.file(".pvd"));
     std::string   line;
     while (std::getline(in, line))
       {
@@ -232,7 +232,7 @@ namespace granhydro::io
           pvd_records.emplace_back(t, line.substr(f0 + 6, f1 - f0 - 6));
       }
     if (dropped > 0 && Utilities::MPI::this_mpi_process(patch.communicator()) == 0)
-      std::cout << "  warning: " << dropped << " damaged record(s) in " << scene.output_file(".pvd")
+      std::cout << "  warning: " << dropped << " damaged record(s) in " << settings.file(".pvd")
                 << " dropped; it is rewritten at the next output\n";
   }
 
@@ -282,20 +282,20 @@ namespace granhydro::io
     flags.physical_units = physical_units();
     data_out.set_flags(flags);
     const std::string name = data_out.write_vtu_with_pvtu_record(
-      scene.output_directory + "/", scene.base_name, counter, patch.communicator(), 4, 0);
+      settings.directory + "/", settings.base_name, counter, patch.communicator(), 4, 0);
     if (Utilities::MPI::this_mpi_process(patch.communicator()) == 0)
       {
         pvd_records.emplace_back(time_si, name);
-        std::ofstream pvd(scene.output_file(".pvd"));
+        std::ofstream pvd(settings.file(".pvd"));
         DataOutBase::write_pvd_record(pvd, pvd_records);
-        check_written(pvd, scene.output_file(".pvd"));
+        check_written(pvd, settings.file(".pvd"));
       }
   }
 
   template <int dim, class Description>
   void Output<dim, Description>::write_profiles(const Vector &U, const double time_si)
   {
-    const unsigned int pd   = scene.profile_direction < 0 ? dim - 1 : scene.profile_direction;
+    const unsigned int pd   = settings.profile_direction < 0 ? dim - 1 : settings.profile_direction;
     // layers of the finest lattice; a cell adds to each layer it spans with the weight
     // of its volume there (on a uniform mesh: one layer, weight 1)
     const unsigned int nl   = patch.cells(pd) << patch.max_level();
@@ -329,7 +329,7 @@ namespace granhydro::io
     Utilities::MPI::sum(count, patch.communicator(), count);
     if (Utilities::MPI::this_mpi_process(patch.communicator()) != 0)
       return;
-    const std::string fname = scene.output_file("_profiles.csv");
+    const std::string fname = settings.file("_profiles.csv");
     std::ofstream out(fname, profiles_started ? std::ios::app : std::ios::trunc);
     const char *ax = "xyz";
     if (!profiles_started)
@@ -378,7 +378,7 @@ namespace granhydro::io
   {
     if constexpr (dim == 3)
       {
-        const unsigned int sd = scene.section_direction, a = (sd + 1) % 3, b = (sd + 2) % 3;
+        const unsigned int sd = settings.section_direction, a = (sd + 1) % 3, b = (sd + 2) % 3;
         const unsigned int ia = std::min(a, b), ib = std::max(a, b);
         const unsigned int ml = patch.max_level();
         const unsigned int na = patch.cells(ia) << ml, nb = patch.cells(ib) << ml;
@@ -415,7 +415,7 @@ namespace granhydro::io
         Utilities::MPI::sum(sum, patch.communicator(), sum);
         if (Utilities::MPI::this_mpi_process(patch.communicator()) != 0)
           return;
-        std::ofstream out(scene.output_file("_cross_section.csv"),
+        std::ofstream out(settings.file("_cross_section.csv"),
                           section_started ? std::ios::app : std::ios::trunc);
         const char *ax = "xyz";
         if (!section_started)
@@ -452,7 +452,7 @@ namespace granhydro::io
               energy(v[10] / k);
               out << '\n';
             }
-        check_written(out, scene.output_file("_cross_section.csv"));
+        check_written(out, settings.file("_cross_section.csv"));
       }
     else
       {

@@ -94,38 +94,38 @@ namespace granhydro
   }
 
   template <int dim>
-  void CartesianPatch<dim>::build(const Scene &scene, const unsigned int ghost_width)
+  void CartesianPatch<dim>::build(const MeshSettings &settings, const unsigned int ghost_width)
   {
     G = ghost_width;
     for (unsigned int i = 0; i < 6; ++i)
-      btype_[i] = scene.boundary[i];
-    scene_boundary_      = scene.boundary;
-    scene_wall_velocity_ = scene.wall_velocity;
-    velocity_unit_       = scene.units().velocity;
-    max_level_           = scene.mesh_file.empty() ? scene.max_level : 0;
+      btype_[i] = settings.boundary[i];
+    scene_boundary_      = settings.boundary;
+    scene_wall_velocity_ = settings.wall_velocity;
+    velocity_unit_       = settings.velocity_unit;
+    max_level_           = settings.mesh_file.empty() ? settings.max_level : 0;
     dofh.reset();
     tria = make_triangulation<dim>(comm);
     fe   = std::make_unique<FESystem<dim>>(FE_DGQ<dim>(0), n_components);
-    if (scene.mesh_file.empty())
+    if (settings.mesh_file.empty())
       {
-        make_box_mesh(scene);
+        make_box_mesh(settings);
         rebuild_box();
       }
     else
-      build_lattice_subset(scene);
+      build_lattice_subset(settings);
   }
 
   template <int dim>
-  void CartesianPatch<dim>::make_box_mesh(const Scene &scene)
+  void CartesianPatch<dim>::make_box_mesh(const MeshSettings &settings)
   {
 
         // ---- mesh: coarse box refined globally L times (p4est) -----------------
         for (unsigned int d = 0; d < 3; ++d)
           {
-            N_[d]        = d < dim ? scene.cells[d] : 1;
-            lo_[d]       = d < dim ? scene.lower[d] : 0;
-            h_[d]        = d < dim ? (scene.upper[d] - scene.lower[d]) / N_[d] : 1;
-            periodic_[d] = d < dim ? scene.boundary[2 * d] == BoundaryType::periodic : true;
+            N_[d]        = d < dim ? settings.cells[d] : 1;
+            lo_[d]       = d < dim ? settings.lower[d] : 0;
+            h_[d]        = d < dim ? (settings.upper[d] - settings.lower[d]) / N_[d] : 1;
+            periodic_[d] = d < dim ? settings.boundary[2 * d] == BoundaryType::periodic : true;
           }
         unsigned int L = 0;
         if (dim > 1)
@@ -143,8 +143,8 @@ namespace granhydro
         for (unsigned int d = 0; d < dim; ++d)
           {
             rep[d] = N_[d] >> L;
-            p1[d]  = scene.lower[d];
-            p2[d]  = scene.upper[d];
+            p1[d]  = settings.lower[d];
+            p2[d]  = settings.upper[d];
           }
         GridGenerator::subdivided_hyper_rectangle(*tria, rep, p1, p2, /*colorize=*/true);
         if constexpr (dim > 1)
@@ -162,7 +162,7 @@ namespace granhydro
   }
 
   template <int dim>
-  void CartesianPatch<dim>::build_lattice_subset(const Scene &scene)
+  void CartesianPatch<dim>::build_lattice_subset(const MeshSettings &settings)
   {
       {
         // ---- mesh file: the lattice is the bounding box at the fine cell size ----
@@ -173,11 +173,11 @@ namespace granhydro
         else
           {
             Triangulation<dim> coarse;
-            read_mesh_file(scene.mesh_file, coarse);
+            read_mesh_file(settings.mesh_file, coarse);
             const MeshFileInfo info = inspect_mesh(coarse);
             for (unsigned int d = 0; d < 3; ++d)
               {
-                N_[d]  = d < dim ? info.lattice[d] << scene.mesh_refinements : 1;
+                N_[d]  = d < dim ? info.lattice[d] << settings.mesh_refinements : 1;
                 lo_[d] = d < dim ? info.lower[d] : 0;
                 // the same expression as for the box: a box read from a file gets bitwise
                 // the same cell size and centres as the generated one
@@ -185,7 +185,7 @@ namespace granhydro
                 periodic_[d] = d >= dim;
               }
             tria->copy_triangulation(coarse);
-            tria->refine_global(scene.mesh_refinements);
+            tria->refine_global(settings.mesh_refinements);
           }
       }
     const long long n_lattice = 1ll * N_[0] * N_[1] * N_[2];
@@ -416,7 +416,7 @@ namespace granhydro
             const int sgn = delta > 0 ? 1 : -1;
             const int id  = face_id(best_key, 2 * d + (delta > 0 ? 0 : 1));
             AssertThrow(id >= 0, ExcMessage("a boundary ghost faces a cell face without boundary id"));
-            const BoundaryType t = scene.boundary[id];
+            const BoundaryType t = settings.boundary[id];
             if (t == BoundaryType::slip_wall || t == BoundaryType::no_slip_wall)
               {
                 src[d] = 2 * f[d] - sgn - e[d];
@@ -429,7 +429,7 @@ namespace granhydro
                   {
                     bg.no_slip = true;
                     for (unsigned int k = 0; k < 3; ++k)
-                      bg.wall_velocity[w][k] = scene.wall_velocity[id][k] / scene.units().velocity;
+                      bg.wall_velocity[w][k] = settings.wall_velocity[id][k] / settings.velocity_unit;
                   }
               }
             else

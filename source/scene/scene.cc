@@ -222,6 +222,38 @@ namespace granhydro
     return c;
   }
 
+  MeshSettings Scene::mesh_settings() const
+  {
+    MeshSettings m;
+    m.mesh_file        = mesh_file;
+    m.mesh_refinements = mesh_refinements;
+    m.lower            = lower;
+    m.upper            = upper;
+    m.cells            = cells;
+    m.max_level        = max_level;
+    m.boundary         = boundary;
+    m.wall_velocity    = wall_velocity;
+    m.velocity_unit    = units().velocity;
+    return m;
+  }
+
+  io::OutputSettings Scene::output_settings() const
+  {
+    io::OutputSettings o;
+    o.directory           = output_directory;
+    o.base_name           = base_name;
+    o.write_vtu           = write_vtu;
+    o.write_profiles      = write_profiles;
+    o.write_checkpoint    = write_checkpoint;
+    o.profile_direction   = profile_direction;
+    o.section_direction   = section_direction;
+    o.units               = units();
+    o.vibration_amplitude = vibration_amplitude;
+    o.vibration_frequency = vibration_frequency;
+    o.vibration_direction = vibration_direction;
+    return o;
+  }
+
   Units Scene::units() const
   {
     Units u;
@@ -577,34 +609,6 @@ namespace granhydro
       prm.declare_entry("Verbose", "true", Patterns::Bool(), "Print the run log.");
     }
     prm.leave_subsection();
-  }
-
-  std::string human_message(const std::string &what)
-  {
-    std::string       msg = what;
-    const std::string key = "Additional information:";
-    const auto        pos = msg.find(key);
-    if (pos != std::string::npos)
-      msg = msg.substr(pos + key.size());
-    const auto st = msg.find("Stacktrace:");
-    if (st != std::string::npos)
-      msg = msg.substr(0, st);
-    // collapse whitespace runs
-    std::string out;
-    bool        space = false;
-    for (const char c : msg)
-      {
-        if (c == ' ' || c == '\n' || c == '\t')
-          space = true;
-        else
-          {
-            if (space && !out.empty())
-              out += ' ';
-            out += c;
-            space = false;
-          }
-      }
-    return out;
   }
 
   std::string default_scene_text()

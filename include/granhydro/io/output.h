@@ -9,7 +9,8 @@
 #include <granhydro/mesh/cartesian_patch.h>
 #include <granhydro/physics/granular_gas.h>
 #include <granhydro/physics/ideal_gas.h>
-#include <granhydro/scene/scene.h>
+#include <granhydro/base/errors.h>
+#include <granhydro/io/settings.h>
 
 #include <deal.II/lac/la_parallel_vector.h>
 
@@ -34,7 +35,7 @@ namespace granhydro::io
   {
   public:
     using Vector = dealii::LinearAlgebra::distributed::Vector<double>;
-    Output(const Scene &scene, const CartesianPatch<dim> &patch, const Description &desc);
+    Output(const OutputSettings &settings, const CartesianPatch<dim> &patch, const Description &desc);
 
     /// write VTU/PVTU/PVD and/or a block of profiles.csv, as the scene asks
     void write(const Vector &U, const double time_si, const unsigned int step);
@@ -54,7 +55,7 @@ namespace granhydro::io
     void write_profiles(const Vector &U, const double time_si);
     void write_cross_section(const Vector &U, const double time_si);
 
-    const Scene                   &scene;
+    const OutputSettings           settings;
     const CartesianPatch<dim>     &patch;
     const Description             &desc;
     Units                          units;

@@ -49,7 +49,7 @@
  * boundary face); adaptive meshes need a box domain (no mesh file) and 2 or
  * 3 dimensions.
  */
-#include <granhydro/scene/scene.h>
+#include <granhydro/mesh/settings.h>
 
 #include <deal.II/base/partitioner.h>
 #include <deal.II/base/point.h>
@@ -94,7 +94,7 @@ namespace granhydro
     ~CartesianPatch();
 
     /// build mesh, DoFs and tables; ghost_width = r + 1 for a stencil half width r
-    void build(const Scene &scene, const unsigned int ghost_width);
+    void build(const MeshSettings &settings, const unsigned int ghost_width);
 
     /// a face normal to direction d between slots l (low side) and r; frac_l/frac_r: the
     /// share of l's/r's whole face this face is (1, or 1/2^(dim-1) on the coarse side of
@@ -256,8 +256,8 @@ namespace granhydro
     const std::vector<unsigned int> &owned_active_cell_index() const { return active_index_; }
 
   private:
-    void build_lattice_subset(const Scene &scene);
-    void make_box_mesh(const Scene &scene);
+    void build_lattice_subset(const MeshSettings &settings);
+    void make_box_mesh(const MeshSettings &settings);
     /// DoFs, slots, tables of the current box mesh (uniform or adaptive)
     void rebuild_box();
     /// faces_, cell faces from each owned cell's neighbour lists per direction and side

@@ -7,8 +7,12 @@
  */
 #include <deal.II/base/parameter_handler.h>
 
+#include <granhydro/base/errors.h>
+#include <granhydro/base/units.h>
 #include <granhydro/boundary/boundary_conditions.h>
 #include <granhydro/convection/settings.h>
+#include <granhydro/io/settings.h>
+#include <granhydro/mesh/settings.h>
 
 #include <array>
 #include <map>
@@ -19,26 +23,6 @@
 
 namespace granhydro
 {
-  /// A bad scene: names the parameter (subsection/key) and what is allowed.
-  class SceneError : public std::runtime_error
-  {
-  public:
-    using std::runtime_error::runtime_error;
-  };
-
-  /// Scaled units: length sigma, mass m (grain mass), velocity V0.
-  struct Units
-  {
-    double length   = 1; // [m]
-    double mass     = 1; // [kg]
-    double velocity = 1; // [m/s]
-    double time() const { return length / velocity; }
-    double energy() const { return mass * velocity * velocity; }
-    double number_density() const { return 1. / (length * length * length); }
-    /// energy density and pressure [J/m^3 = Pa]
-    double pressure() const { return energy() * number_density(); }
-  };
-
   struct Scene
   {
     std::string source = "<default scene>";
@@ -170,6 +154,10 @@ namespace granhydro
     Units units() const;
     /// what the convective step needs (convection/settings.h)
     convection::ConvectionSettings convection_settings() const;
+    /// what the mesh needs (mesh/settings.h)
+    MeshSettings mesh_settings() const;
+    /// what the output needs (io/settings.h)
+    io::OutputSettings output_settings() const;
     double grain_mass() const;
   };
 
@@ -178,10 +166,6 @@ namespace granhydro
 
   /// the embedded default scene (a 2D cylindrical blast in the ideal-gas limit)
   std::string default_scene_text();
-
-  /// the human part of a deal.II exception text (after "Additional information:", before
-  /// the stack trace, whitespace runs collapsed), for messages to users
-  std::string human_message(const std::string &what);
 
   /**
    * Read a scene from a file ("" = embedded default), validate it and

@@ -1,0 +1,33 @@
+#pragma once
+/**
+ * @file settings.h
+ * What the mesh needs to know: the box or the mesh file, the refinement levels and the
+ * boundary kinds with their wall velocities. scene/ fills it (Scene::mesh_settings());
+ * the mesh never sees the scene.
+ */
+#include <granhydro/boundary/boundary_conditions.h>
+
+#include <array>
+#include <string>
+
+namespace granhydro
+{
+  struct MeshSettings
+  {
+    /// coarse mesh file (gmsh .msh or ucd .inp, resolved path; empty: the box below)
+    std::string  mesh_file;
+    unsigned int mesh_refinements = 0; ///< global refinements of the file's coarse mesh
+    /// the box [m] and its level-0 cells (the first dim entries are used)
+    std::array<double, 3>       lower{{0, 0, 0}}, upper{{1, 1, 1}};
+    std::array<unsigned int, 3> cells{{1, 1, 1}};
+    /// refinement levels above `cells` (adaptive boxes; 0 = uniform)
+    unsigned int max_level = 0;
+    /// boundary[2 d] lower side, boundary[2 d + 1] upper side of direction d; with a mesh
+    /// file, boundary[i] applies to the faces with boundary id i
+    std::array<BoundaryType, 6> boundary{};
+    /// wall velocity per boundary [m/s] (no-slip walls)
+    std::array<std::array<double, 3>, 6> wall_velocity{};
+    /// the velocity unit [m/s] (wall velocities are stored scaled)
+    double velocity_unit = 1;
+  };
+} // namespace granhydro
