@@ -14,7 +14,7 @@ namespace granhydro::diffusion
   namespace
   {
     // GCC vector of 4 doubles (element-wise IEEE arithmetic, no contraction on the default
-    // target): 4 faces side by side, each lane bit for bit the scalar face flux
+    // target): 4 faces or 4 cells side by side, each lane bit for bit the scalar result
     typedef double v4d __attribute__((vector_size(32), aligned(8)));
 
     template <int dim>
