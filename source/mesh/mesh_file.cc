@@ -1,3 +1,4 @@
+#include <granhydro/base/errors.h>
 #include <granhydro/mesh/mesh_file.h>
 
 #include <deal.II/base/exceptions.h>
@@ -16,31 +17,6 @@ namespace granhydro
 
   namespace
   {
-    /// deal.II's exception text without the stack trace, on one line
-    std::string short_message(const std::string &what)
-    {
-      std::string msg = what;
-      const auto  pos = msg.find("Additional information:");
-      if (pos != std::string::npos)
-        msg = msg.substr(pos + 23);
-      const auto st = msg.find("Stacktrace:");
-      if (st != std::string::npos)
-        msg = msg.substr(0, st);
-      std::string out;
-      bool        space = false;
-      for (const char c : msg)
-        if (c == ' ' || c == '\n' || c == '\t')
-          space = true;
-        else
-          {
-            if (space && !out.empty())
-              out += ' ';
-            space = false;
-            out += c;
-          }
-      return out;
-    }
-
     bool ends_with(const std::string &s, const std::string &suffix)
     {
       return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
@@ -143,7 +119,7 @@ namespace granhydro
     catch (const std::exception &e)
       {
         throw std::runtime_error("cannot read '" + filename + "' as " +
-                                 (msh ? "a gmsh" : "a ucd") + " mesh: " + short_message(e.what()));
+                                 (msh ? "a gmsh" : "a ucd") + " mesh: " + human_message(e.what()));
       }
     if (tria.n_active_cells() == 0)
       throw std::runtime_error("'" + filename + "' has no cells");
