@@ -97,10 +97,8 @@ namespace granhydro
   void CartesianPatch<dim>::build(const MeshSettings &settings, const unsigned int ghost_width)
   {
     G = ghost_width;
-    for (unsigned int i = 0; i < 6; ++i)
-      btype_[i] = settings.boundary[i];
-    scene_boundary_      = settings.boundary;
-    scene_wall_velocity_ = settings.wall_velocity;
+    btype_               = settings.boundary;
+    wall_velocity_       = settings.wall_velocity;
     velocity_unit_       = settings.velocity_unit;
     max_level_           = settings.mesh_file.empty() ? settings.max_level : 0;
     dofh.reset();
@@ -715,7 +713,7 @@ namespace granhydro
           if (periodic_[d] || (p[d] >= 0 && p[d] < n))
             continue;
           const unsigned int id = 2 * d + (p[d] >= n ? 1 : 0);
-          const BoundaryType t  = scene_boundary_[id];
+          const BoundaryType t  = btype_[id];
           if (t == BoundaryType::slip_wall || t == BoundaryType::no_slip_wall)
             {
               q[d] = p[d] < 0 ? -1 - p[d] : 2 * n - 1 - p[d];
@@ -729,7 +727,7 @@ namespace granhydro
                 {
                   bg.no_slip = true;
                   for (unsigned int c = 0; c < 3; ++c)
-                    bg.wall_velocity[w][c] = scene_wall_velocity_[id][c] / velocity_unit_;
+                    bg.wall_velocity[w][c] = wall_velocity_[id][c] / velocity_unit_;
                 }
             }
           else

@@ -282,8 +282,7 @@ namespace granhydro
     std::array<BoundaryType, 6> btype_{};
     std::vector<unsigned int> active_index_;
 
-    std::array<BoundaryType, 6> scene_boundary_{};
-    std::array<std::array<double, 3>, 6> scene_wall_velocity_{};
+    std::array<std::array<double, 3>, 6> wall_velocity_{}; ///< [m/s], per boundary id
     double velocity_unit_ = 1;
     unsigned int max_level_ = 0, base_tria_level_ = 0;
     std::vector<unsigned char> level_, uniform_;
