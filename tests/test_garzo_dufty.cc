@@ -717,6 +717,86 @@ namespace
         std::cout << "  refusal message: " << e.what() << '\n';
       }
   }
+  // ---------------------------------------------------------------------------
+  // 6. frictional grains (doc/physics.md 3.10): Chialvo & Sundaresan's effective
+  //    restitution e_eff = e - (3/2) mu exp(-3 mu) in the cooling rate only
+  // ---------------------------------------------------------------------------
+  void test_friction()
+  {
+    // the closed form at values worked out independently (Python, math.exp): the
+    // bouncing bed's DEM grains (e 0.9, mu 0.7), and the largest reduction, at mu = 1/3,
+    // of (1/2) e^-1 = 0.18393972058572117; tolerance: a few ulp of exp
+    const double ref[][3] = {{0.9, 0.7, 0.771420750334369}, {0.9, 0.5, 0.7326523798886777},
+                             {0.7, 1. / 3., 0.5160602794142788}, {1.0, 0.5, 0.8326523798886776}};
+    for (const auto &r : ref)
+      {
+        const double v = GarzoDufty1999::effective_restitution(r[0], r[1]);
+        check(std::abs(v - r[2]) <= 4e-16, "e_eff(" + fmt(r[0]) + ", " + fmt(r[1]) + ") = " + fmt(v) +
+                                               ", expected " + fmt(r[2]));
+        max_rel_dev["friction e_eff"] = std::max(max_rel_dev["friction e_eff"], rel_dev(v, r[2]));
+      }
+    for (double mu = 0.; mu <= 1.; mu += 0.01)
+      check(GarzoDufty1999::effective_restitution(0.8, mu) >= 0.8 - 0.18393972058572117 - 1e-15,
+            "e_eff must not fall below e - exp(-1)/2 (mu = " + fmt(mu) + ")");
+
+    for (const double eps : {0.5, 0.7, 0.9, 1.0})
+      {
+        const GarzoDufty1999 smooth(eps);
+        GarzoDufty1999       zero(eps), rough(eps);
+        zero.set_friction(0.);
+        rough.set_friction(0.4);
+        const double ee = GarzoDufty1999::effective_restitution(eps, 0.4);
+        check(zero.effective_restitution() == eps && rough.effective_restitution() == ee &&
+                rough.friction() == 0.4,
+              "friction parameters at eps " + fmt(eps));
+        unsigned int same0 = 0, same_other = 0, n = 0;
+        double       worst = 0;
+        for (const double phi : {1e-3, 0.1, 0.3, 0.49, 0.55, 0.62, 0.639, 0.65})
+          for (const double T : {1e-8, 1e-3, 1.})
+            {
+              const double nn = phi / (pi / 6.);
+              const auto   a = smooth.transport(nn, T, 1., 1.), b = zero.transport(nn, T, 1., 1.),
+                         c = rough.transport(nn, T, 1., 1.);
+              // mu = 0: every coefficient bit for bit the smooth model's
+              same0 += a.p == b.p && a.c == b.c && a.eta == b.eta && a.gamma == b.gamma &&
+                       a.kappa == b.kappa && a.mu == b.mu && a.zeta0 == b.zeta0 && a.zeta_U == b.zeta_U &&
+                       smooth.zeta0(nn, T, 1., 1.) == zero.zeta0(nn, T, 1., 1.);
+              // mu > 0: only the cooling rate changes ...
+              same_other += a.p == c.p && a.c == c.c && a.eta == c.eta && a.gamma == c.gamma &&
+                            a.kappa == c.kappa && a.mu == c.mu && a.zeta_U == c.zeta_U;
+              // ... by (1 - e_eff^2)/(1 - e^2) (for e = 1: zeta0 = nu0 (5/12)(1 - e_eff^2) chi)
+              const double expect =
+                eps < 1 ? a.zeta0 * (1 - ee * ee) / (1 - eps * eps) :
+                          smooth.nu0(nn, T, 1., 1.) * 5. / 12. * (1 - ee * ee) * smooth.chi(phi);
+              worst = std::max(worst, rel_dev(c.zeta0, expect));
+              // the two entry points associate the same product differently: round-off
+              check(rel_dev(c.zeta0, rough.zeta0(nn, T, 1., 1.)) <= 1e-15,
+                    "transport().zeta0 = zeta0() with friction");
+              ++n;
+            }
+        check(same0 == n, "mu = 0 must equal the smooth model bit for bit (eps " + fmt(eps) + ")");
+        check(same_other == n, "mu > 0 must change only zeta0 (eps " + fmt(eps) + ")");
+        // a handful of roundings in the factors (1 - e^2), the ratio and nu0 chi
+        check(worst <= 1e-14, "zeta0(mu) / zeta0(0) = (1 - e_eff^2)/(1 - e^2) at eps " + fmt(eps) +
+                                ": worst relative deviation " + fmt(worst));
+        max_rel_dev["friction zeta0 ratio"] = std::max(max_rel_dev["friction zeta0 ratio"], worst);
+      }
+    for (const double mu : {-0.1, 1.5, std::nan("")})
+      {
+        bool refused = false;
+        try
+          {
+            GarzoDufty1999 gd(0.9);
+            gd.set_friction(mu);
+          }
+        catch (const std::invalid_argument &e)
+          {
+            refused = std::string(e.what()).find("mu") != std::string::npos &&
+                      std::string(e.what()).find("[0, 1]") != std::string::npos;
+          }
+        check(refused, "friction mu = " + fmt(mu) + " must be refused naming mu and [0, 1]");
+      }
+  }
 } // namespace
 
 int main(int argc, char **argv)
@@ -735,6 +815,7 @@ int main(int argc, char **argv)
       test_pair_correlation();
       test_examples();
       test_interface();
+      test_friction();
     }
   catch (const std::exception &e)
     {

@@ -181,8 +181,11 @@ namespace granhydro::convection
     using physics::lanes::use_avx2;
 
 #if defined(__x86_64__) || defined(__i386__)
+    /// flatten: every physics formula the flux calls is inlined into this AVX2 clone (a
+    /// formula instantiated on vectors of 4 doubles outside it would be compiled for the
+    /// default target, with another calling convention for such vectors)
     template <int dim, class Description>
-    __attribute__((target("avx2"))) void
+    __attribute__((target("avx2"), flatten)) void
     face_fluxes_avx2(const NumericalFlux<dim, Description> &numflux, const CartesianPatch<dim> &patch,
                      const unsigned int d, const double *fin, const unsigned int npts,
                      const double wq, double *F, FluxStatistics &stats)

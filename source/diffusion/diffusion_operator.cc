@@ -310,7 +310,7 @@ namespace granhydro::diffusion
     S.fill(V{});
     if (settings.body.active())
       physics::BodyForce::add_source<dim, V>(body_force(), U.data(), S.data());
-    if (settings.cooling && desc.model.eps() < 1)
+    if (settings.cooling && desc.model.effective_restitution() < 1)
       {
         V nw{}; // contact energy density, lane by lane (branches and pow)
         if (desc.contact.active)

@@ -40,6 +40,8 @@ namespace granhydro
       {
         desc = Description(physics::GarzoDufty1999(scene.restitution, scene.phi_freezing,
                                                    scene.phi_close_packing, scene.guard_delta));
+        if (scene.friction > 0) // mu = 0 leaves the smooth model untouched
+          desc.model.set_friction(scene.friction);
         if (scene.dense_closure != "none") // scaled units: pressure p0, time t0
           desc.contact = physics::ContactPressure(
             scene.closure_F / units_.pressure(), scene.closure_phi_min, scene.phi_close_packing,
@@ -67,7 +69,13 @@ namespace granhydro
     if constexpr (std::is_same_v<Description, physics::IdealGas<dim>>)
       pcout << " (gamma_a = " << desc.gamma << "; no transport, cooling or body force)\n";
     else
-      pcout << " (eps = " << scene.restitution << ", Torquato chi with phi_f = "
+      pcout << " (eps = " << scene.restitution
+            << (scene.friction > 0 ? ", friction mu = " + std::to_string(scene.friction) +
+                                       " (effective restitution " +
+                                       std::to_string(desc.model.effective_restitution()) +
+                                       " in the cooling rate)" :
+                                     std::string())
+            << ", Torquato chi with phi_f = "
             << scene.phi_freezing << ", phi_c = " << scene.phi_close_packing
             << (scene.max_free_path > 0 ?
                   "; Knudsen cap: transport coefficients scaled where the mean free path exceeds " +

@@ -1,6 +1,7 @@
 #include <granhydro/scene/scene.h>
 #include <granhydro/mesh/mesh_file.h>
 #include <granhydro/io/checkpoint.h>
+#include <granhydro/physics/garzo_dufty.h>
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/function_parser.h>
@@ -132,8 +133,14 @@ namespace granhydro
       e.emplace_back("viscous stress", "granular model, Effects/Viscosity = true");
     if (s.heat_conduction)
       e.emplace_back("heat conduction", "granular model, Effects/Heat conduction = true");
-    if (s.cooling && s.restitution < 1)
+    if (s.cooling && s.restitution < 1 && s.friction == 0)
       e.emplace_back("inelastic cooling", "restitution " + num(s.restitution) + " < 1");
+    if (s.cooling && s.friction > 0)
+      e.emplace_back("inelastic cooling, frictional grains",
+                     "restitution " + num(s.restitution) + ", Material/Friction coefficient = " +
+                       num(s.friction) + ": effective restitution " +
+                       num(physics::GarzoDufty1999::effective_restitution(s.restitution, s.friction)) +
+                       " in the cooling rate");
     if (s.dense_closure != "none")
       e.emplace_back("dense closure: contact pressure" +
                        std::string(s.closure_time > 0 && s.viscosity ? " and frictional viscosity" : ""),
@@ -203,7 +210,7 @@ namespace granhydro
     for (unsigned int d = 0; d < dimension; ++d)
       g = g || gravity[d] != 0 || wall_restitution[2 * d] < 1 || wall_restitution[2 * d + 1] < 1;
     g = g || (vibration_amplitude > 0 && vibration_frequency > 0);
-    return viscosity || heat_conduction || (cooling && restitution < 1) || g;
+    return viscosity || heat_conduction || (cooling && (restitution < 1 || friction > 0)) || g;
   }
 
   convection::ConvectionSettings Scene::convection_settings() const
@@ -353,6 +360,11 @@ namespace granhydro
       prm.declare_entry("Restitution coefficient", "1", Patterns::Double(0, 1),
                         "Normal coefficient of restitution eps of grain-grain collisions "
                         "(granular model; 0.5 <= eps <= 1).");
+      prm.declare_entry("Friction coefficient", "0", Patterns::Double(0, 1),
+                        "Coulomb friction coefficient mu between grains (granular model; 0 = "
+                        "smooth spheres). The cooling rate uses Chialvo & Sundaresan's (2013) "
+                        "effective restitution e_eff = eps - (3/2) mu exp(-3 mu); pressure and "
+                        "transport keep eps (README, 'Frictional grains').");
       prm.declare_entry("Freezing packing fraction", "0.49", Patterns::Double(0, 1),
                         "phi_f of Torquato's pair correlation (granular model).");
       prm.declare_entry("Close packing fraction", "0.64", Patterns::Double(0, 1),
@@ -861,6 +873,7 @@ end
     s.material_density = prm.get_double("Material density");
     s.adiabatic_index  = prm.get_double("Adiabatic index");
     s.restitution       = prm.get_double("Restitution coefficient");
+    s.friction          = prm.get_double("Friction coefficient");
     s.phi_freezing      = prm.get_double("Freezing packing fraction");
     s.phi_close_packing = prm.get_double("Close packing fraction");
     s.guard_delta       = prm.get_double("Close packing guard");
@@ -1274,6 +1287,8 @@ end
         if (s.restitution < 0.5 || s.restitution > 1)
           fail("Material/Restitution coefficient",
                "must lie in [0.5, 1] (Garzo-Dufty coefficients are verified positive there)");
+        if (!(s.friction >= 0 && s.friction <= 1))
+          fail("Material/Friction coefficient", "must lie in [0, 1] (0: smooth spheres)");
         // the densest packing of equal spheres is pi / (3 sqrt 2) = 0.7405
         if (!(s.phi_close_packing <= M_PI / (3 * std::sqrt(2.))))
           fail("Material/Close packing fraction", "must not exceed 0.7405, the densest packing of "
@@ -1300,6 +1315,9 @@ end
         if (s.restitution != 1)
           fail("Material/Restitution coefficient",
                "the ideal-gas model is elastic; use 'Model = granular' for eps < 1");
+        if (s.friction != 0)
+          fail("Material/Friction coefficient",
+               "the ideal-gas model has smooth grains; use 'Model = granular' for mu > 0");
         for (unsigned int d = 0; d < dim; ++d)
           if (s.gravity[d] != 0)
             fail("Effects/Gravity", "the ideal-gas verification model has no body force; use "

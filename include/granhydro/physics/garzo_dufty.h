@@ -153,6 +153,34 @@ namespace granhydro::physics
       T_floor_ = T_floor;
     }
     void set_zeta_u_mode(const ZetaUMode mode) { zeta_u_mode_ = mode; }
+
+    /**
+     * Frictional grains (Coulomb friction coefficient mu >= 0 between grains), after
+     * Chialvo & Sundaresan, "A modified kinetic theory for frictional granular flows in
+     * dense and dilute regimes", Phys. Fluids 25, 070603 (2013): the collisional
+     * dissipation of rough, frictional spheres is that of smooth spheres with the
+     * effective restitution e_eff = e - (3/2) mu exp(-3 mu) (their fit to DEM of sheared
+     * frictional spheres). Only the cooling rate zeta0 (the energy sink) uses e_eff; the
+     * pressure, the transport coefficients and zeta_U keep e, as in their model. mu = 0 is
+     * the smooth model bit for bit (e_eff = e exactly). doc/physics.md 3.10.
+     */
+    void set_friction(const double mu)
+    {
+      if (!(mu >= 0. && mu <= 1.))
+        fail("mu (friction coefficient)", mu, "[0, 1]");
+      friction_mu_ = mu;
+      e_eff_     = effective_restitution(a_, mu);
+      cooling_fac_ = cooling_factor(e_eff_, c_star_);
+    }
+    /// the friction coefficient mu (0: smooth spheres)
+    double friction() const { return friction_mu_; }
+    /// e_eff of the cooling rate (= eps() for mu = 0)
+    double effective_restitution() const { return e_eff_; }
+    /// Chialvo & Sundaresan (2013): e_eff = e - (3/2) mu exp(-3 mu)
+    static double effective_restitution(const double e, const double mu)
+    {
+      return e - 1.5 * mu * std::exp(-3. * mu);
+    }
     ///@}
 
     // ------------------------------------------------------------------------
@@ -174,21 +202,21 @@ namespace granhydro::physics
 
     /// chi(phi), doc/physics.md 2 (forwarded to the pair correlation).
     template <typename Number>
-    Number chi(const Number phi) const
+    __attribute__((always_inline)) inline Number chi(const Number phi) const
     {
       return chi_.chi(phi);
     }
 
     /// Z = p/(n T) = 1 + 2(1 + a) phi chi, doc/physics.md 2 (GD99 pressure, d = 3).
     template <typename Number>
-    Number Z(const Number phi) const
+    __attribute__((always_inline)) inline Number Z(const Number phi) const
     {
       return Z_(phi, chi_.chi(phi));
     }
 
     /// dZ/dphi = 2(1 + a)(chi + phi dchi/dphi), doc/physics.md 1.1.
     template <typename Number>
-    Number dZ_dphi(const Number phi) const
+    __attribute__((always_inline)) inline Number dZ_dphi(const Number phi) const
     {
       Number c, dc;
       chi_.chi_and_derivative(phi, c, dc);
@@ -437,7 +465,15 @@ namespace granhydro::physics
     template <typename Number>
     Number zeta0(const Number n, const Number T, const double m, const double sigma) const
     {
-      return nu0(n, T, m, sigma) * zeta_star(packing_fraction(n, sigma));
+      return nu0(n, T, m, sigma) * cooling_star(packing_fraction(n, sigma));
+    }
+
+    /// zeta* of the cooling rate: zeta*(phi) with e_eff for frictional grains (set_friction),
+    /// (5/12) chi (1 - e_eff^2)(1 + 3c*/32); zeta*(phi) itself for smooth ones
+    template <typename Number>
+    Number cooling_star(const Number phi) const
+    {
+      return lanes::constant<Number>(cooling_fac_) * chi_.chi(phi);
     }
 
     /// Mean free path lambda = 1/(sqrt(2) pi n sigma^2 chi) = sigma/(6 sqrt(2) phi chi), doc/physics.md 3.8.
@@ -469,7 +505,7 @@ namespace granhydro::physics
       r.gamma          = e0 * s.gamma_star;
       r.kappa          = k0 * s.kappa_star;
       r.mu             = Tc * k0 / n * s.mu_star;
-      r.zeta0          = n * Tc / e0 * s.zeta_star;
+      r.zeta0          = n * Tc / e0 * (lanes::constant<Number>(cooling_fac_) * s.chi); // = s.zeta_star when smooth
       r.zeta_U         = s.zeta_U;
       return r;
     }
@@ -556,7 +592,10 @@ namespace granhydro::physics
       const double cs = c_star_;
       two_1pa_       = 2. * (1. + a);
       // doc/physics.md 3.3
-      zeta_fac_   = 5. / 12. * (1. - a * a) * (1. + 3. * cs / 32.);
+      zeta_fac_   = cooling_factor(a, cs);
+      friction_mu_ = 0.;
+      e_eff_       = a;
+      cooling_fac_ = zeta_fac_;
       nu_eta_fac_ = (1. - 0.25 * (1. - a) * (1. - a)) * (1. - cs / 64.);
       nu_kap_fac_ = (1. + a) / 3. * (1. + 33. / 16. * (1. - a) + (19. - 3. * a) / 1024. * cs);
       // doc/physics.md 3.4
@@ -588,6 +627,12 @@ namespace granhydro::physics
       zu_corr_fac_ = 5. / 32. * (1. - a * a) * (1. + 3. * cs / 64.);
     }
 
+    /// zeta*/chi = (5/12)(1 - e^2)(1 + 3c*/32), doc/physics.md 3.3
+    static double cooling_factor(const double e, const double cs)
+    {
+      return 5. / 12. * (1. - e * e) * (1. + 3. * cs / 32.);
+    }
+
     template <typename Number>
     Number floored(const Number T) const
     {
@@ -596,7 +641,7 @@ namespace granhydro::physics
     }
 
     template <typename Number>
-    Number Z_(const Number phi, const Number c) const
+    __attribute__((always_inline)) inline Number Z_(const Number phi, const Number c) const
     {
       return lanes::constant<Number>(1.) + lanes::constant<Number>(two_1pa_) * phi * c;
     }
@@ -688,6 +733,7 @@ namespace granhydro::physics
     // eps-only constants, set in initialize()
     double c_star_ = 0., two_1pa_ = 0.;
     double zeta_fac_ = 0., nu_eta_fac_ = 0., nu_kap_fac_ = 0.;
+    double friction_mu_ = 0., e_eff_ = 1., cooling_fac_ = 0.; ///< friction (set_friction)
     double gamma_fac_ = 0., eta_num_fac_ = 0., eta_den_fac_ = 0., eta_tr_fac_ = 0.;
     double kap_num0_ = 0., kap_num1_ = 0., kap_den_fac_ = 0., kap_tr_fac_ = 0., kap_coll_fac_ = 0.;
     double mu_c_fac_ = 0., mu_tr_num_fac_ = 0., mu_den_fac_ = 0.;

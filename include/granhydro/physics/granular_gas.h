@@ -24,8 +24,13 @@ namespace granhydro::physics
     static constexpr unsigned int n_components = dim + 2;
     static constexpr unsigned int energy       = dim + 1;
     static constexpr double       phi_per_n    = M_PI / 6.; // sigma = 1
-    /// the formulas are for double only (IdealGas also takes vectors of states)
-    static constexpr bool vector_lanes = false;
+    /// the convective formulas (pressure, sound and wave speeds, flux, admissible set)
+    /// are templates on the value type: double, or a GCC vector of doubles whose lanes
+    /// are independent states, each lane bit for bit the double result (physics/lanes.h;
+    /// the MUSTA flux runs 4 Gauss points at once)
+    static constexpr bool vector_lanes = true;
+    template <class Number>
+    using StateT = std::array<Number, dim + 2>;
 
     GarzoDufty1999  model;
     double          phi_c = 0.64;
@@ -52,30 +57,51 @@ namespace granhydro::physics
     /// the same with the contact energy density n w already evaluated (T = double, or a
     /// GCC vector of doubles: states side by side, each lane bit for bit the double result)
     template <class T>
-    T temperature(const std::array<T, dim + 2> &U, const T nw) const
+    __attribute__((always_inline)) inline T temperature(const std::array<T, dim + 2> &U, const T nw) const
     {
       return (2. / 3.) * (U[energy] - physics::kinetic_energy<dim>(U) - nw) / U[0];
     }
 
-    /// p = n T Z(phi) (+ p_f(n) with the dense closure)
-    double pressure(const State<dim> &U) const
+    /// n w, p_f and dp_f/dn of the dense closure (ContactPressure::evaluate) for each
+    /// lane of n (its branches and pow calls lane by lane; zeros without the closure)
+    template <class Number>
+    __attribute__((always_inline)) inline void contact_lanes(const Number n, Number &W, Number &pf, Number &dpf) const
     {
-      const double n = U[0];
+      if constexpr (lanes::is_vector<Number>)
+        {
+          W = pf = dpf = Number{};
+          if (contact.active)
+            for (unsigned int i = 0; i < lanes::width<Number>; ++i)
+              contact.evaluate(lanes::get(n, i), lanes::ref(W, i), lanes::ref(pf, i),
+                               lanes::ref(dpf, i));
+        }
+      else
+        contact.evaluate(n, W, pf, dpf);
+    }
+
+    /// p = n T Z(phi) (+ p_f(n) with the dense closure)
+    template <class Number>
+    __attribute__((always_inline)) inline Number pressure(const StateT<Number> &U) const
+    {
+      const Number n = U[0];
       if (!contact.active)
-        return n * temperature(U) * model.Z(n * phi_per_n);
-      double W, pf, dpf;
-      contact.evaluate(n, W, pf, dpf);
+        return n * temperature(U, Number{}) * model.Z(n * phi_per_n);
+      Number W, pf, dpf;
+      contact_lanes(n, W, pf, dpf);
       return n * temperature(U, W) * model.Z(n * phi_per_n) + pf;
     }
 
     /// c^2 = T [Z + phi dZ/dphi + (2/3) Z^2] (doc/physics.md 1.1) (+ dp_f/dn), from n and p
-    double sound_speed(const double n, const double p) const
+    template <class Number>
+    __attribute__((always_inline)) inline Number sound_speed(const Number n, const Number p) const
     {
-      const double phi = n * phi_per_n, Z = model.Z(phi);
-      double       W, pf, dpf; // one evaluation of the contact potential
-      contact.evaluate(n, W, pf, dpf);
-      const double T = (p - pf) / (n * Z);
-      return std::sqrt(std::max(T, 0.) * (Z + phi * model.dZ_dphi(phi) + (2. / 3.) * Z * Z) + dpf);
+      const Number phi = n * phi_per_n, Z = model.Z(phi);
+      Number       W, pf, dpf; // one evaluation of the contact potential
+      contact_lanes(n, W, pf, dpf);
+      const Number T = (p - pf) / (n * Z);
+      return lanes::any_sqrt((T < Number{} ? Number{} : T) *
+                               (Z + phi * model.dZ_dphi(phi) + (2. / 3.) * Z * Z) +
+                             dpf);
     }
 
     /// Energy flux into a dissipative wall [scaled W/m^2] from the state of the cell at
@@ -97,28 +123,31 @@ namespace granhydro::physics
 
     /// the same with the state's pressure p = pressure(U) already evaluated (Riemann
     /// solvers that need p for the flux too; with the dense closure p is not used)
-    double max_wave_speed(const State<dim> &U, const unsigned int d, const double p) const
+    template <class Number>
+    __attribute__((always_inline)) inline Number max_wave_speed(const StateT<Number> &U, const unsigned int d, const Number p) const
     {
       if (!contact.active)
-        return std::abs(U[1 + d] / U[0]) + sound_speed(U[0], p > 0 ? p : 0.);
+        return lanes::abs(U[1 + d] / U[0]) + sound_speed(U[0], p > Number{} ? p : Number{});
       // with the closure: one evaluation of the contact potential for p_f, n w and dp_f/dn
-      const double n = U[0], phi = n * phi_per_n, Z = model.Z(phi);
-      double       W, pf, dpf;
-      contact.evaluate(n, W, pf, dpf);
-      const double T = std::max(temperature(U, W), 0.);
-      return std::abs(U[1 + d] / n) +
-             std::sqrt(T * (Z + phi * model.dZ_dphi(phi) + (2. / 3.) * Z * Z) + dpf);
+      const Number n = U[0], phi = n * phi_per_n, Z = model.Z(phi);
+      Number       W, pf, dpf;
+      contact_lanes(n, W, pf, dpf);
+      const Number Tn = temperature(U, W), T = Tn < Number{} ? Number{} : Tn;
+      return lanes::abs(U[1 + d] / n) +
+             lanes::any_sqrt(T * (Z + phi * model.dZ_dphi(phi) + (2. / 3.) * Z * Z) + dpf);
     }
 
-    double flux(const State<dim> &U, const unsigned int d, State<dim> &F) const
+    template <class Number>
+    __attribute__((always_inline)) inline Number flux(const StateT<Number> &U, const unsigned int d, StateT<Number> &F) const
     {
-      const double p = pressure(U);
+      const Number p = pressure(U);
       flux(U, p, d, F);
       return p;
     }
 
     /// the same with the state's pressure p = pressure(U) already evaluated
-    void flux(const State<dim> &U, const double p, const unsigned int d, State<dim> &F) const
+    template <class Number>
+    __attribute__((always_inline)) inline void flux(const StateT<Number> &U, const Number p, const unsigned int d, StateT<Number> &F) const
     {
       euler_flux<dim>(U, p, d, F);
     }
@@ -158,6 +187,26 @@ namespace granhydro::physics
         return e > 0. && std::isfinite(e);
       const double w = contact.energy_density(U[0]);
       return e - w > -repair_allowance(U[0], w) && std::isfinite(e);
+    }
+
+    /// the same for the lanes of a vector of states (a mask; MUSTA's test of its
+    /// predictor states): the closure's terms lane by lane, the rest as vectors
+    template <class Number, std::enable_if_t<lanes::is_vector<Number>, int> = 0>
+    __attribute__((always_inline)) inline lanes::Mask<Number> admissible(const StateT<Number> &U) const
+    {
+      const Number n = U[0];
+      const auto   base = (n > Number{}) & lanes::isfinite(U[energy]) & (n * phi_per_n < phi_c);
+      const Number e    = U[energy] - physics::kinetic_energy<dim>(U);
+      if (!contact.active)
+        return base & (e > Number{}) & lanes::isfinite(e);
+      Number w, allowance;
+      for (unsigned int i = 0; i < lanes::width<Number>; ++i)
+        {
+          const double ni      = lanes::get(n, i);
+          lanes::ref(w, i)     = contact.energy_density(ni);
+          lanes::ref(allowance, i) = repair_allowance(ni, lanes::get(w, i));
+        }
+      return base & (e - w > -allowance) & lanes::isfinite(e);
     }
 
     /// the test inside the convective step (reconstructed face states, a-posteriori

@@ -102,7 +102,7 @@ namespace granhydro::physics
      * phi > phi_f above (linear beyond phi_max; no clamping).
      */
     template <typename Number>
-    Number chi(const Number phi) const
+    __attribute__((always_inline)) inline Number chi(const Number phi) const
     {
       using lanes::constant;
       if constexpr (lanes::is_vector<Number>)
@@ -110,7 +110,12 @@ namespace granhydro::physics
           // every branch in every lane, then the lane's own: each lane is the scalar result
           const Number tq  = constant<Number>(A_) / (constant<Number>(phi_c_) - phi);
           const Number lin = constant<Number>(chi_max_) + constant<Number>(dchi_max_) * (phi - constant<Number>(phi_max_));
-          return phi <= constant<Number>(phi_f_) ? carnahan_starling(phi) :
+          // carnahan_starling(phi), written out: the vector path calls nothing that could
+          // be left out of line (a 4-wide vector function compiled for the default target
+          // has another calling convention than the AVX2 kernels that inline this one)
+          const Number w  = constant<Number>(1.) - phi;
+          const Number cs = (constant<Number>(1.) - constant<Number>(0.5) * phi) / (w * w * w);
+          return phi <= constant<Number>(phi_f_) ? cs :
                                                    (phi <= constant<Number>(phi_max_) ? tq : lin);
         }
       else
@@ -143,7 +148,7 @@ namespace granhydro::physics
 
     /// chi and dchi/dphi together (one branch decision), doc/physics.md section 2.
     template <typename Number>
-    void chi_and_derivative(const Number phi, Number &chi_value, Number &dchi_value) const
+    __attribute__((always_inline)) inline void chi_and_derivative(const Number phi, Number &chi_value, Number &dchi_value) const
     {
       if constexpr (lanes::is_vector<Number>)
         {

@@ -49,6 +49,7 @@ namespace granhydro
     double material_density = 2600;
     double adiabatic_index  = 5. / 3.;
     double restitution      = 1.;    // eps (granular model)
+    double friction         = 0.;    // mu, grain-grain Coulomb friction (granular model)
     double phi_freezing     = 0.49;  // phi_f of Torquato's chi
     double phi_close_packing = 0.64; // phi_c
     double guard_delta      = 1e-3;  // C1 continuation of chi beyond phi_c - delta
