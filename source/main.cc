@@ -139,7 +139,7 @@ int main(int argc, char **argv)
               const auto &h = d.header;
               if (root)
                 {
-                  std::printf("checkpoint %s: valid (format v3, checksum verified)\n", cp.c_str());
+                  std::printf("checkpoint %s: valid (format v4, checksum verified)\n", cp.c_str());
                   std::printf("  dimension %d, model %s, %llu cells, step %llu, outputs %llu\n", h.dim,
                               h.model, (unsigned long long)h.n_cells, (unsigned long long)h.step,
                               (unsigned long long)h.outputs);
