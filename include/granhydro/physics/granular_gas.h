@@ -178,23 +178,13 @@ namespace granhydro::physics
       return temperature_repair_tolerance * (nw + contact.pressure(n)) + n * repair_energy;
     }
 
-    bool admissible(const State<dim> &U) const
-    {
-      if (!(U[0] > 0.) || !std::isfinite(U[energy]) || !(U[0] * phi_per_n < phi_c))
-        return false;
-      const double e = U[energy] - kinetic_energy(U);
-      if (!contact.active)
-        return e > 0. && std::isfinite(e);
-      const double w = contact.energy_density(U[0]);
-      return e - w > -repair_allowance(U[0], w) && std::isfinite(e);
-    }
-
-    /// the same for the lanes of a vector of states (a mask; MUSTA's test of its
-    /// predictor states): the closure's terms lane by lane, the rest as vectors
-    template <class Number, std::enable_if_t<lanes::is_vector<Number>, int> = 0>
+    /// n > 0, phi < phi_c, finite energy and positive thermal energy (with the closure:
+    /// a deficit up to repair_allowance() is admissible). For a vector of states, a mask
+    /// per lane (MUSTA's test of its predictor states), the closure's terms lane by lane.
+    template <class Number>
     __attribute__((always_inline)) inline lanes::Mask<Number> admissible(const StateT<Number> &U) const
     {
-      const Number n = U[0];
+      const Number n    = U[0];
       const auto   base = (n > Number{}) & lanes::isfinite(U[energy]) & (n * phi_per_n < phi_c);
       const Number e    = U[energy] - physics::kinetic_energy<dim>(U);
       if (!contact.active)
@@ -202,8 +192,8 @@ namespace granhydro::physics
       Number w, allowance;
       for (unsigned int i = 0; i < lanes::width<Number>; ++i)
         {
-          const double ni      = lanes::get(n, i);
-          lanes::ref(w, i)     = contact.energy_density(ni);
+          const double ni          = lanes::get(n, i);
+          lanes::ref(w, i)         = contact.energy_density(ni);
           lanes::ref(allowance, i) = repair_allowance(ni, lanes::get(w, i));
         }
       return base & (e - w > -allowance) & lanes::isfinite(e);
