@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <iostream>
 #include <iterator>
 #include <sstream>
 
@@ -53,6 +54,26 @@ namespace granhydro::io
       }();
       static long calls = 0;
       return k > 0 && ++calls == k;
+    }
+
+    /// test hook (README, "Checkpoints"): GRANHYDRO_HOLD_AFTER_CHECKPOINT=K makes the
+    /// process stop after its K-th checkpoint is in place and wait until it is killed, so
+    /// a test can kill a run at a known checkpoint however fast the run is; unset in
+    /// normal runs
+    void hold_if_asked()
+    {
+      static const long k = [] {
+        const char *v = std::getenv("GRANHYDRO_HOLD_AFTER_CHECKPOINT");
+        return v ? std::strtol(v, nullptr, 10) : 0L;
+      }();
+      static long calls = 0;
+      if (k > 0 && ++calls == k)
+        {
+          std::cerr << "granhydro: test hook: holding after checkpoint " << k << " until killed"
+                    << std::endl;
+          for (;;)
+            ::sleep(1);
+        }
     }
 
     /// write all of buf to path, fsync'ed; false and errno on failure
@@ -172,6 +193,7 @@ namespace granhydro::io
         throw CheckpointError("cannot rename '" + tmp + "' to '" + file + "': " + why);
       }
     fsync_directory_of(file);
+    hold_if_asked();
   }
 
   CheckpointData read_checkpoint_file(const std::string &file)
