@@ -3,7 +3,7 @@
 // Reference values: Toro, "Riemann Solvers and Numerical Methods for Fluid
 // Dynamics", Tables 4.2/4.3 (gamma = 1.4); gamma = 5/3 Sod values as given.
 // Returns 0 on success; prints every failed check to stderr and returns 1.
-#include "exact_riemann.h"
+#include "common/exact_riemann.h"
 
 #include <algorithm>
 #include <cmath>

@@ -17,8 +17,8 @@
 //                           GRANHYDRO_SOD_FINEST=N sets the finest lattice (default 256^2,
 //                           32^3); GRANHYDRO_SOD_UNIFORM=... reuses a uniform run's numbers
 //                           (printed by an earlier run) for parameter scans.
-#include "exact_riemann.h"
-#include "test_common.h"
+#include "common/exact_riemann.h"
+#include "common/test_common.h"
 
 #include <iomanip>
 #include <map>
@@ -29,29 +29,6 @@ using namespace granhydro::testing;
 
 namespace
 {
-  template <int dim, class Description>
-  std::map<long long, physics::State<dim>> gather_state(const Simulation<dim, Description> &sim,
-                                                        const MPI_Comm comm)
-  {
-    std::vector<double> mine;
-    for (unsigned int c = 0; c < sim.patch().n_owned(); ++c)
-      {
-        mine.push_back(double(sim.patch().leaf_key(c)));
-        const auto S = sim.state_si(c);
-        mine.insert(mine.end(), S.begin(), S.end());
-      }
-    const auto all = dealii::Utilities::MPI::gather(comm, mine, 0);
-    std::map<long long, physics::State<dim>> out;
-    for (const auto &v : all)
-      for (std::size_t i = 0; i < v.size(); i += dim + 3)
-        {
-          physics::State<dim> S;
-          std::copy(v.begin() + i + 1, v.begin() + i + dim + 3, S.begin());
-          out[static_cast<long long>(v[i])] = S;
-        }
-    return out;
-  }
-
   std::string blast_3d(const unsigned int steps)
   {
     // a dense hot sphere off centre in a periodic box, moving diagonally: its shock
@@ -295,19 +272,7 @@ end
     ser.setup();
     const auto ss = ser.run();
     const auto B  = gather_state(ser, MPI_COMM_SELF);
-    double     diff = 0;
-    bool       same = A.size() == B.size();
-    for (const auto &[key, S] : B)
-      {
-        const auto it = A.find(key);
-        if (it == A.end())
-          {
-            same = false;
-            continue;
-          }
-        for (unsigned int c = 0; c < dim + 2; ++c)
-          diff = std::max(diff, std::abs(it->second[c] - S[c]) / (std::abs(S[c]) + std::abs(S[0]) * 1e-3));
-      }
+    const auto [same, diff] = compare_states<dim>(A, B);
     std::ostringstream os;
     os << name << ": " << dealii::Utilities::MPI::n_mpi_processes(world) << " ranks vs 1 rank, "
        << B.size() << " vs " << A.size() << " cells at the end, " << ss.adaptations << " / "

@@ -20,7 +20,7 @@
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/solver_gmres.h>
 
-#include "test_common.h"
+#include "common/test_common.h"
 
 #include <cmath>
 #include <iomanip>

@@ -11,7 +11,7 @@
 // sums over the directions), and the same output times (the merged Strang splitting
 // synchronises its convective halves there).
 //   test_column_1d3d <parameters directory>
-#include "test_common.h"
+#include "common/test_common.h"
 
 #include <fstream>
 #include <iomanip>

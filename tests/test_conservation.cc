@@ -5,7 +5,7 @@
 // added to one cell and subtracted from the other), so only round-off remains:
 // about 1e-16 per cell update, random in sign, i.e. ~1e-16 * sqrt(steps*stages/cells)
 // of the total, far below 1e-13.
-#include "test_common.h"
+#include "common/test_common.h"
 
 using namespace granhydro;
 using namespace granhydro::testing;

@@ -6,7 +6,7 @@
 // Checks the transient at 0.05 s and the steady state to 1 % (phi = 0.3, eps = 0.9,
 // gdot = 10/s: T_s = 1.683131e-10 J, T(0.05 s) = 1.896610e-9 J from T0 = 1e-8 J),
 // and that with slip walls (no wall shear stress) the gas just cools (Haff).
-#include "test_common.h"
+#include "common/test_common.h"
 
 #include <iomanip>
 

@@ -14,7 +14,7 @@
 //                       T0 = 3.4e-7 J, closure defaults) to 200 ms: no rejected step, mass to
 //                       round-off, a floor that packs like grains (0.62 <= phi <= 0.645) at
 //                       150 and 200 ms, T > 0, and few temperature repairs.
-#include "test_common.h"
+#include "common/test_common.h"
 
 #include <iomanip>
 

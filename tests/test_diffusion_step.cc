@@ -15,7 +15,7 @@
 //     keeps it (R -> 1), implicit midpoint flips it (R -> -1).
 //  The order rows include SDIRK2 and RKL2 super-time-stepping (both order 2) beside
 //  Gauss-Legendre and midpoint.
-#include "test_common.h"
+#include "common/test_common.h"
 
 #include <iomanip>
 

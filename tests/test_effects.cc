@@ -7,7 +7,7 @@
 //     effects on a smooth 2D state; f(all) equals the sum of the single-effect
 //     operators to round-off, and the source-only operators equal hand-made references
 //     (-(3/2) n T zeta0 from GarzoDufty1999 directly; n g and n u.g).
-#include "test_common.h"
+#include "common/test_common.h"
 
 #include <granhydro/diffusion/diffusion_operator.h>
 
@@ -31,7 +31,7 @@ namespace
        << "  set Velocity = 0.02*cos(2*pi*y/0.012); 0.01*sin(2*pi*x/0.016)\n"
        << "  set Temperature = 1e-7*(1 + 0.2*cos(2*pi*x/0.016))\nend\n"
        << "subsection Time\n  set End time = " << t_end << "\n  set Maximum steps = 20\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n  set Verbose = false\nend\n";
+       << quiet_output;
     return os.str();
   }
 } // namespace

@@ -13,7 +13,7 @@
 //  - the ideal gas (parameters/sod_1d.prm): contact 0, thermal = total - kinetic.
 // The VTU files carry the four energy fields.
 //   test_energy_output <parameters directory>
-#include "test_common.h"
+#include "common/test_common.h"
 
 #include <filesystem>
 #include <iomanip>

@@ -7,7 +7,7 @@
 //  - |T - T_Haff| / T_Haff <= 1e-6 at the end, and
 //  - the temporal order on this nonlinear ODE from two step sizes:
 //    Gauss-Legendre >= 3.8, implicit midpoint and SDIRK2 >= 1.9 .
-#include "test_common.h"
+#include "common/test_common.h"
 
 #include <iomanip>
 

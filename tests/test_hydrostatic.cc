@@ -7,7 +7,7 @@
 // relative and the spurious velocities below 1e-3 sqrt(g sigma), shrinking under
 // refinement; one column is dense (phi0 = 0.5), one over-dense (bottom phi0 = 0.62,
 // above 0.6, where chi is on Torquato's branch towards close packing).
-#include "test_common.h"
+#include "common/test_common.h"
 
 #include <deal.II/base/quadrature_lib.h>
 

@@ -14,7 +14,7 @@
 //    stage count is the fewest that is stable.
 #include <granhydro/diffusion/implicit_integrator.h>
 
-#include "test_common.h"
+#include "common/test_common.h"
 
 #include <complex>
 #include <iomanip>

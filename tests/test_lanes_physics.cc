@@ -17,7 +17,7 @@
 #include <granhydro/physics/granular_gas.h>
 #include <granhydro/physics/lanes.h>
 
-#include "test_common.h"
+#include "common/test_common.h"
 
 #include <algorithm>
 #include <iostream>

@@ -9,7 +9,7 @@
 //       the orifice, where the ghost is the nearest fluid cell rather than an exact mirror
 //   test_mesh_files discharge <silo-ci.prm> the silo discharges: mass leaves through the
 //       outlet, by a plausible amount below the free-fall bound, and the state stays admissible
-#include "test_common.h"
+#include "common/test_common.h"
 
 #include <fstream>
 #include <map>

@@ -2,11 +2,11 @@
 // state as on 1 rank (here: bit for bit; the assertion allows 1e-12 relative).
 // Run under mpirun -np N: the N-rank run uses MPI_COMM_WORLD, then rank 0
 // repeats the scene alone on MPI_COMM_SELF and compares cell by cell (cells
-// matched by their lattice index, since the numbering differs).
+// matched by their octree leaf key, since the numbering differs).
 // The cases are shock problems with walls and periodic directions, so the
 // wide WENO5 ghost layers, mirror ghosts across rank boundaries and the
 // a-posteriori fallback (flags exchanged between ranks) are all exercised.
-#include "test_common.h"
+#include "common/test_common.h"
 
 #include <map>
 
@@ -31,25 +31,7 @@ std::map<long long, physics::State<dim>> run(const Scene &scene, const MPI_Comm 
       2);
   const auto sum = sim.run();
   fallbacks      = sum.convection.fallback_cells + sum.convection.limited_cells;
-  // gather (key, state) on rank 0
-  std::vector<double> mine;
-  for (unsigned int c = 0; c < sim.patch().n_owned(); ++c)
-    {
-      const auto &l = sim.patch().lattice(c);
-      mine.push_back(l[0] + 1000. * (l[1] + 1000. * l[2]));
-      const auto S = sim.state_si(c);
-      mine.insert(mine.end(), S.begin(), S.end());
-    }
-  const auto all = dealii::Utilities::MPI::gather(comm, mine, 0);
-  std::map<long long, physics::State<dim>> out;
-  for (const auto &v : all)
-    for (std::size_t i = 0; i < v.size(); i += dim + 3)
-      {
-        physics::State<dim> S;
-        std::copy(v.begin() + i + 1, v.begin() + i + dim + 3, S.begin());
-        out[static_cast<long long>(v[i])] = S;
-      }
-  return out;
+  return gather_state(sim, comm);
 }
 
 template <int dim, class Description = physics::IdealGas<dim>>
@@ -62,19 +44,7 @@ void compare(const std::string &name, const Scene &s, Checker &chk, const double
   if (me == 0)
     {
       const auto ser  = run<dim, Description>(s, MPI_COMM_SELF, f1);
-      double     diff = 0;
-      bool       same = par.size() == ser.size();
-      for (const auto &[key, S] : ser)
-        {
-          const auto it = par.find(key);
-          if (it == par.end())
-            {
-              same = false;
-              continue;
-            }
-          for (unsigned int c = 0; c < dim + 2; ++c)
-            diff = std::max(diff, std::abs(it->second[c] - S[c]) / (std::abs(S[c]) + std::abs(S[0]) * 1e-3));
-        }
+      const auto [same, diff] = compare_states<dim>(par, ser);
       std::ostringstream os;
       os << name << ": " << dealii::Utilities::MPI::n_mpi_processes(world) << " ranks vs 1 rank, "
          << ser.size() << " cells, limiter/fallback events " << f1 << " (1 rank) / " << fN

@@ -13,7 +13,7 @@
 #include <granhydro/convection/numerical_flux.h>
 #include <granhydro/physics/ideal_gas.h>
 
-#include "test_common.h"
+#include "common/test_common.h"
 
 #include <cmath>
 #include <random>

@@ -9,7 +9,7 @@
 // The 3D vortex has its axis along (1,1,1)/sqrt(3), so all three directions and
 // both transverse reconstruction stages carry the solution.
 //   test_order [1d|2d|3d|all] [--study]   (--study: longer ladders, no assertions)
-#include "test_common.h"
+#include "common/test_common.h"
 
 #include <deal.II/base/quadrature_lib.h>
 

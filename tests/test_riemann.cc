@@ -5,8 +5,8 @@
 //
 //   test_riemann            the ctest: WENO5 + Gauss + MUSTA, bounds below
 //   test_riemann --study    L1 errors and wall times of every reconstruction/flux variant (1D)
-#include "exact_riemann.h"
-#include "test_common.h"
+#include "common/exact_riemann.h"
+#include "common/test_common.h"
 
 #include <chrono>
 #include <iomanip>

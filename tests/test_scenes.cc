@@ -8,7 +8,7 @@
 //    floor (a dilute gap below a dense bed); chute: the flow starts down the slope,
 //    fastest at the free surface on the centreline, slowed by the rough walls.
 //   test_scenes <scene.prm> sedimentation|bouncing_bed|inclined_chute
-#include "test_common.h"
+#include "common/test_common.h"
 
 #include <fstream>
 

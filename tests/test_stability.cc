@@ -14,7 +14,7 @@
 //    implicit step exceeds the explicit diffusive limit where that limit is binding,
 //  - and show the case's own feature (see each case).
 //   test_stability <scene.prm> dense_collapse|overpacking|shock_into_bed|vacuum_expansion|harsh_vibration|cooling_3d|chute_from_rest
-#include "test_common.h"
+#include "common/test_common.h"
 
 using namespace dealii;
 using namespace granhydro;

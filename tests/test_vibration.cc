@@ -8,7 +8,7 @@
 //     83 ms): the gas stays at rest in the container frame apart from the quasi-static
 //     hydrostatic response to g_eff(t): after a full period max |u| is below 2 % of the
 //     box speed A w, and mass is conserved to round-off.
-#include "test_common.h"
+#include "common/test_common.h"
 
 #include <iomanip>
 
@@ -33,7 +33,7 @@ namespace
        << "subsection Numerics\n  set Fixed time step = " << dt << "\nend\n"
        << "subsection Diffusion step\n  set Integrator = gauss-legendre\n  set Newton tolerance = 1e-13\nend\n"
        << "subsection Time\n  set End time = " << t_end << "\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n  set Verbose = false\nend\n";
+       << quiet_output;
     return os.str();
   }
 } // namespace

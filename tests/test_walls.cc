@@ -7,7 +7,7 @@
 //     no-slip walls at rest (no work, no heat through the walls);
 //  3. a dissipative wall drains energy at the rate of doc/physics.md 5.2:
 //     dE/dt = -(1 - eps_w) p sqrt(2 T/(pi m)) per unit wall area for a uniform gas at rest.
-#include "test_common.h"
+#include "common/test_common.h"
 
 #include <iomanip>
 
@@ -31,7 +31,7 @@ namespace
        << "subsection Numerics\n  set Fixed time step = " << dt << "\nend\n"
        << "subsection Diffusion step\n  set Newton tolerance = 1e-13\nend\n"
        << "subsection Time\n  set End time = 10\n  set Maximum steps = " << steps << "\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n  set Verbose = false\nend\n";
+       << quiet_output;
     return os.str();
   }
 } // namespace

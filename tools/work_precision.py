@@ -15,7 +15,7 @@ Problems (references in brackets):
   sod     1D Sod shock tube, ideal-gas (elastic dilute) limit, the physical data of
           parameters/sod_1d.prm with the end time at which it is Toro's nondimensional
           Sod problem at t = 0.2 (the problem of tests/test_riemann.cc)
-          [exact Riemann solution: cell averages of a Python port of tests/exact_riemann.h].
+          [exact Riemann solution: cell averages of a Python port of tests/common/exact_riemann.h].
           L1 error of rho/rho_L per unit length.  Families: reconstruction x flux.
   vortex  2D isentropic vortex (Shu), periodic 10 x 10 box, advected by (1, 1) to t = 1
           (the 2D problem of tests/test_order.cc, nonlinear flux, so the face quadrature
@@ -38,7 +38,7 @@ includes the start-up (~0.3 s: MPI, scene, mesh), which is not subtracted (it va
 by as much as the coarsest runs' work); runs below --repeat-below seconds are repeated
 and the smallest CPU time is kept.
 
-Cross-checks: the Python exact Riemann solver reproduces tests/exact_riemann.h bit for
+Cross-checks: the Python exact Riemann solver reproduces tests/common/exact_riemann.h bit for
 bit (p*, u*, cell averages of Sod, Lax, 123); the vortex error at 40^2 and 80^2 with
 tests/test_order.cc's time step reproduces its L1 errors to 4 digits; the Sod L1
 errors at 200 cells reproduce `tests/test_riemann --study` for first order and MUSCL;
@@ -62,14 +62,14 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from granhydro_output import find_output_file  # noqa: E402
 
 # ---------------------------------------------------------------------------
-# exact Riemann solver (port of tests/exact_riemann.h, Toro ch. 4)
+# exact Riemann solver (port of tests/common/exact_riemann.h, Toro ch. 4)
 # ---------------------------------------------------------------------------
 
 
 class ExactRiemann:
     """Exact solution of the 1D Euler Riemann problem for an ideal gas.
 
-    States are (rho, u, p).  Same algorithm as tests/exact_riemann.h: pressure
+    States are (rho, u, p).  Same algorithm as tests/common/exact_riemann.h: pressure
     functions, two-rarefaction formula or Newton from the PVRS / two-shock
     guess, sampling, vacuum generation, cell averages split at every wave.
     """

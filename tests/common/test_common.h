@@ -9,7 +9,11 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <algorithm>
 #include <fstream>
+#include <map>
+#include <utility>
+#include <vector>
 #include <iostream>
 #include <stdexcept>
 #include <sstream>
@@ -17,6 +21,12 @@
 
 namespace granhydro::testing
 {
+  /// an Output section that writes nothing and logs nothing (tests that only assert
+  /// on the state in memory)
+  inline const char *const quiet_output =
+    "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
+    "  set Write checkpoint = false\n  set Verbose = false\nend\n";
+
   /// the whole text of a file (scene files read by tests)
   inline std::string read_text_file(const std::string &f)
   {
@@ -115,4 +125,53 @@ namespace granhydro::testing
         (ok ? std::cout : std::cerr) << (ok ? "  ok    " : "  FAIL  ") << what << std::endl;
     }
   };
+
+  /// Every cell's SI state gathered on rank 0 of comm, keyed by its octree leaf key
+  /// (the key names the same cell whatever the partition, so runs on different rank
+  /// counts compare cell by cell); empty on the other ranks.
+  template <int dim, class Description>
+  std::map<long long, physics::State<dim>> gather_state(const Simulation<dim, Description> &sim,
+                                                        const MPI_Comm comm)
+  {
+    std::vector<double> mine;
+    for (unsigned int c = 0; c < sim.patch().n_owned(); ++c)
+      {
+        mine.push_back(double(sim.patch().leaf_key(c)));
+        const auto S = sim.state_si(c);
+        mine.insert(mine.end(), S.begin(), S.end());
+      }
+    const auto all = dealii::Utilities::MPI::gather(comm, mine, 0);
+    std::map<long long, physics::State<dim>> out;
+    for (const auto &v : all)
+      for (std::size_t i = 0; i < v.size(); i += dim + 3)
+        {
+          physics::State<dim> S;
+          std::copy(v.begin() + i + 1, v.begin() + i + dim + 3, S.begin());
+          out[static_cast<long long>(v[i])] = S;
+        }
+    return out;
+  }
+
+  /// Two gathered states compared cell by cell: whether they hold the same cells, and
+  /// the largest relative difference of a component (relative to the component, with a
+  /// floor of 1e-3 of the density so that near-zero momenta do not divide by zero).
+  template <int dim>
+  std::pair<bool, double> compare_states(const std::map<long long, physics::State<dim>> &a,
+                                         const std::map<long long, physics::State<dim>> &b)
+  {
+    double diff = 0;
+    bool   same = a.size() == b.size();
+    for (const auto &[key, S] : b)
+      {
+        const auto it = a.find(key);
+        if (it == a.end())
+          {
+            same = false;
+            continue;
+          }
+        for (unsigned int c = 0; c < dim + 2; ++c)
+          diff = std::max(diff, std::abs(it->second[c] - S[c]) / (std::abs(S[c]) + std::abs(S[0]) * 1e-3));
+      }
+    return {same, diff};
+  }
 } // namespace granhydro::testing
