@@ -77,6 +77,49 @@ namespace
         throw granhydro::SceneError(os.str());
       }
   }
+
+  void print_usage()
+  {
+    std::cout << "usage: granhydro [-p \"Section/Name=value\" ...] [scene.prm]\n"
+                 "       granhydro --print-parameters   (documented default scene)\n"
+                 "       granhydro --check [-p ...] scene.prm   (validate the scene, run nothing)\n"
+                 "       granhydro --checkpoint-info FILE   (verify a checkpoint, print its contents)\n"
+                 "       granhydro --version\n"
+                 "Without a scene file the embedded default scene runs. -p overrides a\n"
+                 "parameter of the scene (nested sections joined by '/'), e.g.\n"
+                 "  granhydro -p \"Time/End time=0.1\" -p \"Output/Directory=run2\" scene.prm\n"
+                 "Exit codes: 0 done, 2 bad input, 3 run failure, 130/143 stopped by SIGINT/SIGTERM\n"
+                 "(final output, checkpoint and summary written; restart from the checkpoint).\n";
+  }
+
+  /// --checkpoint-info: verify the checkpoint cp and print what it holds; the exit code
+  int checkpoint_info(const std::string &cp, const bool root)
+  {
+    try
+      {
+        const auto  d = granhydro::io::read_checkpoint_file(cp);
+        const auto &h = d.header;
+        if (root)
+          {
+            std::printf("checkpoint %s: valid (format v4, checksum verified)\n", cp.c_str());
+            std::printf("  dimension %d, model %s, %llu cells, step %llu, outputs %llu\n", h.dim,
+                        h.model, (unsigned long long)h.n_cells, (unsigned long long)h.step,
+                        (unsigned long long)h.outputs);
+            std::printf("  time %.17g s\n", h.time * h.length / h.velocity);
+            std::printf("  implicit-step history: %s\n",
+                        h.history.matrix_valid ? "kept Newton matrix (interrupted run)" : "none");
+            std::printf("  state digest %016llx\n",
+                        (unsigned long long)granhydro::io::state_digest(d));
+          }
+        return 0;
+      }
+    catch (const granhydro::io::CheckpointError &e)
+      {
+        if (root)
+          std::cerr << "granhydro: error: checkpoint '" << cp << "' " << e.what() << "\n";
+        return 2;
+      }
+  }
 } // namespace
 
 int main(int argc, char **argv)
@@ -93,16 +136,7 @@ int main(int argc, char **argv)
       if (a == "--help" || a == "-h")
         {
           if (root)
-            std::cout << "usage: granhydro [-p \"Section/Name=value\" ...] [scene.prm]\n"
-                         "       granhydro --print-parameters   (documented default scene)\n"
-                         "       granhydro --check [-p ...] scene.prm   (validate the scene, run nothing)\n"
-                         "       granhydro --checkpoint-info FILE   (verify a checkpoint, print its contents)\n"
-                         "       granhydro --version\n"
-                         "Without a scene file the embedded default scene runs. -p overrides a\n"
-                         "parameter of the scene (nested sections joined by '/'), e.g.\n"
-                         "  granhydro -p \"Time/End time=0.1\" -p \"Output/Directory=run2\" scene.prm\n"
-                         "Exit codes: 0 done, 2 bad input, 3 run failure, 130/143 stopped by SIGINT/SIGTERM\n"
-                         "(final output, checkpoint and summary written; restart from the checkpoint).\n";
+            print_usage();
           return 0;
         }
       if (a == "--version")
@@ -132,31 +166,7 @@ int main(int argc, char **argv)
                 std::cerr << "granhydro: error: --checkpoint-info needs a checkpoint file\n";
               return 2;
             }
-          const std::string cp = argv[++i];
-          try
-            {
-              const auto  d = granhydro::io::read_checkpoint_file(cp);
-              const auto &h = d.header;
-              if (root)
-                {
-                  std::printf("checkpoint %s: valid (format v4, checksum verified)\n", cp.c_str());
-                  std::printf("  dimension %d, model %s, %llu cells, step %llu, outputs %llu\n", h.dim,
-                              h.model, (unsigned long long)h.n_cells, (unsigned long long)h.step,
-                              (unsigned long long)h.outputs);
-                  std::printf("  time %.17g s\n", h.time * h.length / h.velocity);
-                  std::printf("  implicit-step history: %s\n",
-                              h.history.matrix_valid ? "kept Newton matrix (interrupted run)" : "none");
-                  std::printf("  state digest %016llx\n",
-                              (unsigned long long)granhydro::io::state_digest(d));
-                }
-              return 0;
-            }
-          catch (const granhydro::io::CheckpointError &e)
-            {
-              if (root)
-                std::cerr << "granhydro: error: checkpoint '" << cp << "' " << e.what() << "\n";
-              return 2;
-            }
+          return checkpoint_info(argv[++i], root);
         }
       if (a == "--print-parameters")
         {

@@ -9,6 +9,8 @@
  */
 #include <granhydro/convection/convection_operator.h>
 #include <granhydro/diffusion/implicit_integrator.h>
+#include <granhydro/driver/run_summary.h>
+#include <granhydro/driver/time_loop.h>
 #include <granhydro/io/output.h>
 #include <granhydro/mesh/cartesian_patch.h>
 #include <granhydro/physics/granular_gas.h>
@@ -31,42 +33,6 @@ namespace granhydro
   {
   public:
     using std::runtime_error::runtime_error;
-  };
-
-  struct RunSummary
-  {
-    unsigned int steps = 0, rejected_steps = 0;
-    double       time_si = 0, wall_seconds = 0, convection_seconds = 0;
-    double       adaptation_seconds = 0; ///< indicator, p4est, transfer, tables (max over ranks)
-    convection::ConvectionStatistics convection;
-    diffusion::IntegratorStatistics  diffusion;
-    double                           diffusion_seconds = 0;
-    bool                             diffusion_active  = false;
-    bool                             steady            = false; ///< stopped at a steady state
-    int                              interrupted_by    = 0;     ///< SIGTERM/SIGINT that stopped the run
-    /// smallest and largest step taken [s] (the last step before an output time or the
-    /// end time is cut short and is left out, unless it is the only one)
-    double min_dt_si = 0, max_dt_si = 0;
-    /// smallest convective CFL step [s] and the time it occurred [s]
-    double min_cfl_dt_si = 0, min_cfl_dt_time_si = 0;
-    /// relative change of the total mass over the run (|M_end - M_0| / M_0)
-    double       mass_drift = 0;
-    unsigned int cells = 0, ranks = 1;
-    /// adaptive meshes: the most cells the mesh had, and how often it was adapted
-    unsigned long long max_cells = 0;
-    unsigned int       adaptations = 0;
-    /// cells flagged for refinement and coarsening over the run
-    unsigned long long refined_cells = 0, coarsened_cells = 0;
-    /// cell updates of a cooling dense pile set to the temperature floor, and the largest
-    /// thermal-energy deficit repaired per grain (scaled)
-    unsigned long long temperature_repairs = 0;
-    double             max_temperature_repair = 0;
-    /// SSP-RK3 steps of the convective part (with the diffusion step: 2 per step with
-    /// symmetric Strang splitting, about 1 with merged; retried steps included)
-    unsigned long long convective_steps = 0;
-    /// peak resident memory of the process [bytes]: the largest over the ranks, and the
-    /// sum over the ranks (at the end of the run; getrusage's ru_maxrss)
-    double peak_memory_max = 0, peak_memory_total = 0;
   };
 
   /// the time loop of a scene with the constitutive description Description
@@ -159,6 +125,40 @@ namespace granhydro
     /// rebuild the operators' tables after the patch changed
     void mesh_changed();
     void print_header() const;
+
+    // the time loop (time_loop.cc)
+    /// the schedule, the counters, the owed half-step of a merged checkpoint restarted
+    /// with symmetric steps, the running summary and the initial output
+    void start_run(TimeLoopState &L);
+    /// the step size (scaled) from the CFL limit (dt_cfl, 0 without convection), the
+    /// fixed step and the merged splitting's owed time, before the cut to the next
+    /// output or end time
+    double step_size(TimeLoopState &L, double &dt_cfl);
+    /// one step of at most dt from L.t: retried with half the step while inadmissible
+    /// (tries counts the retries); returns the step taken. After all retries the run
+    /// ends with the last admissible state and throws RunError
+    double take_step(TimeLoopState &L, double dt, const double dt_cfl, unsigned int &tries);
+    /// at an output time: output and checkpoint (not at the end time), the next output
+    /// time, the steady-state test; true if the run is steady
+    bool output_time(TimeLoopState &L);
+    /// total kinetic energy and centre of mass changed by less than the tolerance over
+    /// one output interval (the first call only takes the reference)
+    bool steady_state(TimeLoopState &L);
+    /// SIGTERM/SIGINT or the wall time limit: true if the run stops after this step
+    bool stop_requested(TimeLoopState &L);
+    /// the progress line, at most every Output/Progress interval
+    void progress_line(TimeLoopState &L, const double dt);
+    /// a checkpoint (a restart starts here: the integrator forgets its history too,
+    /// unless the run was interrupted)
+    void checkpoint_now(const TimeLoopState &L);
+    /// final output and checkpoint, the run summary lines and summary.csv: at the end
+    /// time, at a steady state, or (status failed/overpacking) with the last admissible
+    /// state
+    void finish(TimeLoopState &L, const std::string &status);
+
+    // the run summary (run_summary.cc)
+    /// the run summary lines of the log
+    void print_run_summary(const RunSummary &sum) const;
     /// summary.csv in the output directory (rank 0; written to .tmp, then renamed)
     void write_summary(const RunSummary &sum, const std::string &status) const;
     /// the frictional dissipation of the run in J (per m^(3 - dim) of the unresolved extent)

@@ -1,0 +1,47 @@
+#pragma once
+/**
+ * @file run_summary.h
+ * What a run reports at its end: steps, times, the operators' statistics, the mesh and
+ * the memory, for the summary lines of the log and for <base>_summary.csv.
+ */
+#include <granhydro/convection/convection_operator.h>
+#include <granhydro/diffusion/implicit_integrator.h>
+
+namespace granhydro
+{
+  struct RunSummary
+  {
+    unsigned int steps = 0, rejected_steps = 0;
+    double       time_si = 0, wall_seconds = 0, convection_seconds = 0;
+    double       adaptation_seconds = 0; ///< indicator, p4est, transfer, tables (max over ranks)
+    convection::ConvectionStatistics convection;
+    diffusion::IntegratorStatistics  diffusion;
+    double                           diffusion_seconds = 0;
+    bool                             diffusion_active  = false;
+    bool                             steady            = false; ///< stopped at a steady state
+    int                              interrupted_by    = 0;     ///< SIGTERM/SIGINT that stopped the run
+    /// smallest and largest step taken [s] (the last step before an output time or the
+    /// end time is cut short and is left out, unless it is the only one)
+    double min_dt_si = 0, max_dt_si = 0;
+    /// smallest convective CFL step [s] and the time it occurred [s]
+    double min_cfl_dt_si = 0, min_cfl_dt_time_si = 0;
+    /// relative change of the total mass over the run (|M_end - M_0| / M_0)
+    double       mass_drift = 0;
+    unsigned int cells = 0, ranks = 1;
+    /// adaptive meshes: the most cells the mesh had, and how often it was adapted
+    unsigned long long max_cells = 0;
+    unsigned int       adaptations = 0;
+    /// cells flagged for refinement and coarsening over the run
+    unsigned long long refined_cells = 0, coarsened_cells = 0;
+    /// cell updates of a cooling dense pile set to the temperature floor, and the largest
+    /// thermal-energy deficit repaired per grain (scaled)
+    unsigned long long temperature_repairs = 0;
+    double             max_temperature_repair = 0;
+    /// SSP-RK3 steps of the convective part (with the diffusion step: 2 per step with
+    /// symmetric Strang splitting, about 1 with merged; retried steps included)
+    unsigned long long convective_steps = 0;
+    /// peak resident memory of the process [bytes]: the largest over the ranks, and the
+    /// sum over the ranks (at the end of the run; getrusage's ru_maxrss)
+    double peak_memory_max = 0, peak_memory_total = 0;
+  };
+} // namespace granhydro

@@ -1,0 +1,168 @@
+/**
+ * @file run_summary.cc
+ * What Simulation reports at the end of a run: the run summary lines of the log and
+ * the entries of summary.csv (written by io/summary_csv.h).
+ */
+#include <granhydro/driver/simulation_instances.h>
+#include <granhydro/io/summary_csv.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace granhydro
+{
+  using namespace dealii;
+
+  template <int dim, class Description>
+  void Simulation<dim, Description>::print_run_summary(const RunSummary &sum) const
+  {
+    const double t0 = units_.time();
+    const auto  &cs = sum.convection;
+    const double nr = Utilities::MPI::n_mpi_processes(comm);
+    pcout << "run summary: " << sum.steps << " steps to t = " << sum.time_si << " s, "
+          << sum.rejected_steps << " rejected (retried with half dt)\n"
+          << "  wall " << sum.wall_seconds << " s, convection " << sum.convection_seconds << " s, "
+          << cs.cell_updates / std::max(sum.convection_seconds, 1e-30) / nr
+          << " cell-updates/s per RK stage per core";
+    if (integrator && scene.convection)
+      pcout << ", " << sum.convective_steps << " SSP-RK3 steps ("
+            << (scene.merge_strang ? "merged" : "symmetric") << " Strang splitting)";
+    pcout << "\n"
+          << "  flux points " << cs.flux.points;
+    if (scene.flux == FluxType::musta)
+      pcout << ", MUSTA stages/point " << double(cs.flux.stages) / std::max<double>(cs.flux.points, 1)
+            << ", MUSTA fallbacks to Rusanov " << cs.flux.fallbacks;
+    pcout << "\n  positivity: reconstructions reset to the cell average (cell x direction x stage) "
+          << cs.limited_cells << ", cell updates redone first order (a posteriori) "
+          << cs.fallback_cells << "\n";
+    if (integrator)
+      {
+        const auto &ds = sum.diffusion;
+        pcout << "  diffusion step: " << sum.diffusion_seconds << " s, " << ds.steps << " steps, "
+              << ds.newton_iterations << " Newton iterations ("
+              << double(ds.newton_iterations) / std::max<double>(ds.steps, 1) << "/step), "
+              << ds.linear_iterations << " GMRES iterations ("
+              << double(ds.linear_iterations) / std::max<double>(ds.newton_iterations, 1)
+              << "/Newton), " << ds.newton_failures
+              << " Newton failures, " << ds.linear_failures << " GMRES failures, "
+              << ds.switches_to_midpoint << " switches to implicit midpoint, "
+              << ds.full_jacobian_retries << " retries with the fully coupled Jacobian";
+        if (ds.explicit_substeps)
+          pcout << ", " << ds.explicit_substeps << " explicit sub-steps";
+        if (ds.rkl2_steps)
+          pcout << "\n    RKL2: " << ds.rkl2_steps << " steps, " << ds.rkl2_stages << " stages ("
+                << double(ds.rkl2_stages) / ds.rkl2_steps << "/step), " << ds.rkl2_seconds << " s ("
+                << ds.rkl2_seconds / ds.rkl2_steps << " s/step); implicit: " << ds.implicit_steps
+                << " steps, " << ds.implicit_seconds << " s ("
+                << ds.implicit_seconds / std::max<double>(ds.implicit_steps, 1) << " s/step); "
+                << ds.rkl2_fallbacks << " failed RKL2 steps redone implicitly";
+        if (ds.jacobians)
+          pcout << "\n    of which: " << ds.jacobian_seconds << " s in " << ds.jacobians
+                << " Jacobians (finite differences + Newton matrix; kept for " << ds.matrix_reuses
+                << " further steps, " << ds.stale_matrix_retries << " steps redone with a fresh one), "
+                << ds.preconditioner_seconds
+                << " s in preconditioner set-ups, " << ds.linear_seconds << " s in GMRES (rank 0)";
+        pcout << "\n";
+      }
+    if (sum.diffusion_active && std::isfinite(sum.diffusion.min_explicit_dt))
+      pcout << "  time step: " << sum.min_dt_si << " .. " << sum.max_dt_si
+            << " s; explicit diffusive limit down to " << sum.diffusion.min_explicit_dt * t0
+            << " s (at t = " << sum.diffusion.min_explicit_dt_time * t0 << " s); steps up to "
+            << sum.diffusion.max_dt_over_explicit << " x that limit\n";
+    pcout << "  mass drift " << sum.mass_drift << " (relative)\n";
+    pcout << "  memory: peak resident " << sum.peak_memory_max / 1048576. << " MiB (largest rank), "
+          << sum.peak_memory_total / 1024. / std::max<double>(sum.max_cells, 1)
+          << " KiB per cell (all ranks, at the most cells)\n";
+    if (sum.diffusion.friction_dissipation > 0)
+      pcout << "  frictional dissipation (dense closure, work of mu_f lost to heat): "
+            << friction_dissipation_si(sum) << (dim == 3 ? " J" : dim == 2 ? " J/m" : " J/m^2")
+            << "\n";
+    if (scene.max_level > 0)
+      pcout << "  adaptive mesh: " << sum.adaptations << " adaptations, " << sum.refined_cells
+            << " cells refined, " << sum.coarsened_cells << " coarsened; " << sum.cells
+            << " cells at the end, at most " << sum.max_cells << "; adaptation " << sum.adaptation_seconds
+            << " s\n";
+    if (sum.temperature_repairs > 0)
+      pcout << "  temperature floor: " << sum.temperature_repairs
+            << " cell updates of a cooling dense pile ended with T < " << physics::GranularGas<dim>::temperature_floor
+            << " (scaled) and were set to it; largest thermal-energy deficit "
+            << sum.max_temperature_repair * units_.energy() << " J per grain (README, 'Dense closure')\n";
+  }
+
+  template <int dim, class Description>
+  void Simulation<dim, Description>::write_summary(const RunSummary &sum, const std::string &status) const
+  {
+    if (Utilities::MPI::this_mpi_process(comm) != 0)
+      return;
+    const double t0 = units_.time();
+    const auto  &cs = sum.convection;
+    const auto  &ds = sum.diffusion;
+    using N         = unsigned long long;
+    const std::vector<io::SummaryEntry> entries = {
+      {"status", status},
+      {"dimension", N(dim)},
+      {"cells", N(sum.cells)},
+      {"max_cells", sum.max_cells},
+      {"adaptations", N(sum.adaptations)},
+      {"refined_cells", sum.refined_cells},
+      {"coarsened_cells", sum.coarsened_cells},
+      {"ranks", N(sum.ranks)},
+      {"time", sum.time_si},
+      {"steps", N(sum.steps)},
+      {"rejected_steps", N(sum.rejected_steps)},
+      {"steady", N(sum.steady ? 1 : 0)},
+      {"wall_seconds", sum.wall_seconds},
+      {"convection_seconds", sum.convection_seconds},
+      {"convective_steps", sum.convective_steps},
+      {"diffusion_seconds", sum.diffusion_seconds},
+      {"min_dt", sum.min_dt_si},
+      {"max_dt", sum.max_dt_si},
+      {"min_cfl_dt", sum.min_cfl_dt_si},
+      {"min_cfl_dt_time", sum.min_cfl_dt_time_si},
+      {"mass_drift", sum.mass_drift},
+      {"peak_memory_bytes_max_rank", sum.peak_memory_max},
+      {"peak_memory_bytes_all_ranks", sum.peak_memory_total},
+      {"temperature_repairs", sum.temperature_repairs},
+      {"max_temperature_repair_J", sum.max_temperature_repair * units_.energy()},
+      {"flux_points", cs.flux.points},
+      {"musta_stages", cs.flux.stages},
+      {"limited_reconstructions", cs.limited_cells},
+      {"first_order_fallbacks", cs.fallback_cells},
+      {"diffusion_steps", ds.steps},
+      {"newton_iterations", ds.newton_iterations},
+      {"gmres_iterations", ds.linear_iterations},
+      {"jacobians", ds.jacobians},
+      {"matrix_reuses", ds.matrix_reuses},
+      {"rkl2_steps", ds.rkl2_steps},
+      {"rkl2_stages", ds.rkl2_stages},
+      {"rkl2_fallbacks", ds.rkl2_fallbacks},
+      {"rkl2_seconds", ds.rkl2_seconds},
+      {"implicit_steps", ds.implicit_steps},
+      {"implicit_seconds", ds.implicit_seconds},
+      {"stale_matrix_retries", ds.stale_matrix_retries},
+      {"jacobian_seconds", ds.jacobian_seconds},
+      {"preconditioner_seconds", ds.preconditioner_seconds},
+      {"gmres_seconds", ds.linear_seconds},
+      {"newton_failures", ds.newton_failures},
+      {"gmres_failures", ds.linear_failures},
+      {"switches_to_midpoint", ds.switches_to_midpoint},
+      {"full_jacobian_retries", ds.full_jacobian_retries},
+      {"explicit_substeps", ds.explicit_substeps},
+      {"min_explicit_dt", std::isfinite(ds.min_explicit_dt) ? ds.min_explicit_dt * t0 : 0},
+      {"min_explicit_dt_time", ds.min_explicit_dt_time * t0},
+      {"max_dt_over_explicit", ds.max_dt_over_explicit},
+      {"friction_dissipation_J", friction_dissipation_si(sum)}};
+    try
+      {
+        io::write_summary_csv(scene.output_directory, scene.output_file("_summary.csv"), entries);
+      }
+    catch (const io::OutputError &e)
+      {
+        throw RunError(e.what());
+      }
+  }
+
+  GRANHYDRO_SIMULATION_INSTANCES
+} // namespace granhydro

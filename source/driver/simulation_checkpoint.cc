@@ -1,0 +1,144 @@
+/**
+ * @file simulation_checkpoint.cc
+ * Simulation's checkpoints: what of the run goes into one (state, time, step, owed
+ * convective time, output count, the implicit step's history) and the checks of a
+ * checkpoint against the scene on restart. The file itself: io/state_checkpoint.h.
+ */
+#include <granhydro/driver/simulation_instances.h>
+#include <granhydro/io/state_checkpoint.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <cmath>
+#include <cstdio>
+
+namespace granhydro
+{
+  using namespace dealii;
+
+  template <int dim, class Description>
+  std::int64_t Simulation<dim, Description>::lattice_key(const unsigned int s) const
+  {
+    return patch_->leaf_key(s);
+  }
+
+  template <int dim, class Description>
+  void Simulation<dim, Description>::write_checkpoint(const std::string &file, const double t,
+                                                      const unsigned int step, const bool with_history) const
+  {
+    constexpr unsigned int NC = dim + 2;
+    typename diffusion::ImplicitIntegrator<dim>::History history;
+    if (with_history && integrator)
+      history = integrator->history();
+    std::vector<std::int64_t> keys(patch_->n_owned());
+    for (unsigned int s = 0; s < keys.size(); ++s)
+      keys[s] = lattice_key(s);
+    io::CheckpointHeader h;
+    h.dim          = dim;
+    h.n_components = NC;
+    for (unsigned int d = 0; d < 3; ++d)
+      {
+        h.cells[d] = d < dim ? scene.cells[d] : 1;
+        h.lower[d] = d < dim ? scene.lower[d] : 0;
+        h.upper[d] = d < dim ? scene.upper[d] : 0;
+      }
+    h.length          = units_.length;
+    h.mass            = units_.mass;
+    h.velocity        = units_.velocity;
+    h.time            = t;
+    h.step            = step;
+    h.convection_owed = owed_;
+    h.outputs         = output ? output->count() : 0;
+    std::snprintf(h.model, sizeof(h.model), "%s", scene.model.c_str());
+    auto &hh        = h.history;
+    hh.rkl2_blocked = history.rkl2_blocked;
+    hh.matrix_valid = history.matrix_valid;
+    if (history.matrix_valid)
+      {
+        hh.matrix_age     = history.matrix_age;
+        hh.matrix_coupled = history.matrix_coupled;
+        hh.matrix_stages  = history.matrix_N.size();
+        hh.matrix_t       = history.matrix_t;
+        hh.matrix_dt      = history.matrix_dt;
+        for (unsigned int i = 0; i < history.matrix_N.size(); ++i)
+          for (unsigned int j = 0; j < history.matrix_N.size(); ++j)
+            hh.matrix_N[i * history.matrix_N.size() + j] = history.matrix_N[i][j];
+      }
+    io::write_state_checkpoint(file, h, keys, U.begin(),
+                               history.matrix_valid ? history.state.data() : nullptr, comm);
+  }
+
+  template <int dim, class Description>
+  void Simulation<dim, Description>::read_checkpoint(const std::string &file)
+  {
+    constexpr unsigned int NC   = dim + 2;
+    const std::string      what = "in " + scene.source + ": parameter 'Initial state/Checkpoint': '" +
+                             file + "' ";
+    io::CheckpointData data;
+    try
+      {
+        data = io::read_checkpoint_file(file);
+      }
+    catch (const io::CheckpointError &e)
+      {
+        throw SceneError(what + e.what());
+      }
+    const io::CheckpointHeader &h = data.header;
+    if (scene.max_level > 0 && h.dim == dim)
+      {
+        patch_->refine_to(std::vector<long long>(data.keys.begin(), data.keys.end()));
+        mesh_changed();
+        U.reinit(patch_->partitioner());
+      }
+    bool same_mesh = h.dim == dim && h.n_components == int(NC) && h.n_cells == patch_->n_global_cells();
+    for (unsigned int d = 0; d < dim; ++d)
+      same_mesh = same_mesh && h.cells[d] == scene.cells[d] &&
+                  std::abs(h.lower[d] - scene.lower[d]) <= 1e-12 * std::abs(scene.upper[d] - scene.lower[d]) &&
+                  std::abs(h.upper[d] - scene.upper[d]) <= 1e-12 * std::abs(scene.upper[d] - scene.lower[d]);
+    if (!same_mesh)
+      throw SceneError(what + "was written for another mesh (dimension, Domain/Cells, corners or "
+                              "Adaptivity/Maximum level differ)");
+    if (std::string(h.model) != scene.model)
+      throw SceneError(what + "was written with 'Material/Model = " + std::string(h.model) + "'");
+    const bool same_units = io::same_units(h, units_);
+    std::vector<std::int64_t> keys(patch_->n_owned());
+    for (unsigned int s = 0; s < keys.size(); ++s)
+      keys[s] = lattice_key(s);
+    // the implicit step's history (a checkpoint between output times): only with the same
+    // units and an integrator that keeps one
+    const bool with_history = h.history.matrix_valid && same_units && integrator;
+    typename diffusion::ImplicitIntegrator<dim>::History history;
+    if (with_history)
+      history.state.resize(std::size_t(patch_->n_owned()) * NC);
+    const std::size_t found =
+      io::scatter_checkpoint(data, keys, units_, U.begin(), with_history ? history.state.data() : nullptr);
+    if (Utilities::MPI::sum(found, comm) != patch_->n_global_cells() || found != patch_->n_owned())
+      throw SceneError(what + "does not hold every cell of the mesh");
+    start_time_ = same_units ? h.time : h.time * h.length / h.velocity / units_.time();
+    start_step_ = h.step;
+    owed_       = same_units ? h.convection_owed : h.convection_owed * h.length / h.velocity / units_.time();
+    if (integrator && same_units)
+      {
+        history.rkl2_blocked = h.history.rkl2_blocked;
+        if (with_history)
+          {
+            history.matrix_valid   = true;
+            history.matrix_coupled = h.history.matrix_coupled;
+            history.matrix_age     = h.history.matrix_age;
+            history.matrix_t       = h.history.matrix_t;
+            history.matrix_dt      = h.history.matrix_dt;
+            const unsigned int ns  = h.history.matrix_stages;
+            history.matrix_N.assign(ns, std::vector<double>(ns));
+            for (unsigned int a = 0; a < ns; ++a)
+              for (unsigned int b = 0; b < ns; ++b)
+                history.matrix_N[a][b] = h.history.matrix_N[a * ns + b];
+          }
+        integrator->restore(history);
+      }
+    output->resume(h.outputs, start_time());
+    pcout << "  initial state: checkpoint " << file << " (t = " << start_time() << " s, step "
+          << start_step_ << (with_history ? ", with the implicit step's history" : "") << ")\n";
+  }
+
+  GRANHYDRO_SIMULATION_INSTANCES
+} // namespace granhydro

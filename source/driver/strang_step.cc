@@ -1,0 +1,106 @@
+/**
+ * @file strang_step.cc
+ * One time step of Simulation: the convective part (SSP-RK3 in pieces, then the
+ * temperature repair), the diffusion step, and their Strang splitting, symmetric or with
+ * adjacent convective halves merged.
+ */
+#include <granhydro/driver/simulation_instances.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <type_traits>
+
+namespace granhydro
+{
+  template <int dim, class Description>
+  void Simulation<dim, Description>::repair(Vector &V)
+  {
+    // a cooling pile under the dense closure may end a part of the step with T slightly
+    // below zero (GranularGas::admissible): set T to the floor there, counted
+    if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
+      if (desc.contact.active)
+        for (unsigned int s = 0; s < patch_->n_owned(); ++s)
+          {
+            State   S;
+            double *u = &V.local_element(std::size_t(s) * (dim + 2));
+            std::copy(u, u + dim + 2, S.begin());
+            const double added = desc.repair_temperature(S);
+            if (added > 0)
+              {
+                ++temperature_repairs;
+                max_repair = std::max(max_repair, added / S[0]);
+                u[dim + 1] = S[dim + 1];
+              }
+          }
+  }
+
+  template <int dim, class Description>
+  bool Simulation<dim, Description>::convect(Vector &V, const double h, const unsigned int pieces)
+  {
+    using clock   = std::chrono::steady_clock;
+    const auto c0 = clock::now();
+    bool       ok = true;
+    for (unsigned int i = 0; i < pieces && ok; ++i)
+      {
+        ok = conv->ssp_rk3_step(V, h / pieces);
+        if (ok)
+          repair(V);
+        ok = ok && conv->admissible(V);
+      }
+    conv_seconds += std::chrono::duration<double>(clock::now() - c0).count();
+    return ok;
+  }
+
+  template <int dim, class Description>
+  bool Simulation<dim, Description>::synchronised_state(Vector &V)
+  {
+    V = U;
+    if (owed_ > 0 && !convect(V, owed_))
+      {
+        V = U;
+        return false;
+      }
+    return true;
+  }
+
+  template <int dim, class Description>
+  bool Simulation<dim, Description>::advance(const double t, const double dt, const bool sync,
+                                             const double max_convective_step)
+  {
+    using clock = std::chrono::steady_clock;
+    if (!integrator) // nothing is ever owed without the diffusion step
+      return convect(U, dt);
+    if (scene.convection)
+      {
+        // the owed half of the previous step merged with this step's first half, in
+        // pieces of at most max_convective_step (the CFL limit)
+        const double h      = owed_ + 0.5 * dt;
+        const double limit  = max_convective_step > 0 ? max_convective_step : dt;
+        const auto   pieces = static_cast<unsigned int>(std::max(1., std::ceil(h / limit * (1 - 1e-12))));
+        convective_pieces += pieces;
+        if (!convect(U, h, pieces))
+          return false;
+      }
+    const auto c0       = clock::now();
+    const auto switches = integrator->statistics().switches_to_midpoint;
+    const bool ok       = integrator->step(U, t, dt);
+    diff_seconds += std::chrono::duration<double>(clock::now() - c0).count();
+    if (integrator->statistics().switches_to_midpoint > switches)
+      pcout << "  diffusion step: Gauss-Legendre Newton iteration did not converge, step "
+            << (ok ? "done with implicit midpoint" : "failed with both methods") << " (dt = "
+            << dt * units_.time() << " s)\n";
+    if (!ok)
+      return false;
+    repair(U);
+    if (scene.convection && sync)
+      {
+        ++convective_pieces;
+        if (!convect(U, 0.5 * dt))
+          return false;
+      }
+    return true;
+  }
+
+  GRANHYDRO_SIMULATION_INSTANCES
+} // namespace granhydro

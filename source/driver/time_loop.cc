@@ -1,0 +1,450 @@
+/**
+ * @file time_loop.cc
+ * The time loop of Simulation: CFL time step, rejected steps retried with half the
+ * step, the output and checkpoint schedule, the steady-state test, the stop on a signal
+ * or the wall time limit, the progress line, and the final output and summary.
+ */
+#include <granhydro/driver/simulation_instances.h>
+#include <granhydro/io/diagnostics.h>
+#include <granhydro/io/summary_csv.h>
+
+#include <sys/resource.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdlib>
+#include <iomanip>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <type_traits>
+
+namespace granhydro
+{
+  using namespace dealii;
+
+  namespace
+  {
+    using clock = TimeLoopState::clock;
+
+    double seconds_since(const clock::time_point t)
+    {
+      return std::chrono::duration<double>(clock::now() - t).count();
+    }
+
+    std::string hms(double s)
+    {
+      const long          k = std::lround(std::max(0., s));
+      std::ostringstream os;
+      os << std::setfill('0') << std::setw(2) << k / 3600 << ':' << std::setw(2) << (k / 60) % 60
+         << ':' << std::setw(2) << k % 60;
+      return os.str();
+    }
+
+    volatile std::sig_atomic_t stop_requested = 0;
+
+    /// test hook (README, "Checkpoints"): GRANHYDRO_SIGTERM_AT_STEP=K sends SIGTERM to
+    /// every rank after step K, so that a test interrupts at a known step
+    unsigned long sigterm_at_step()
+    {
+      static const unsigned long k = [] {
+        const char *v = std::getenv("GRANHYDRO_SIGTERM_AT_STEP");
+        return v ? std::strtoul(v, nullptr, 10) : 0UL;
+      }();
+      return k;
+    }
+
+    extern "C" void on_stop_signal(const int sig)
+    {
+      stop_requested = sig;
+      std::signal(sig, SIG_DFL); // a second signal ends the process at once
+    }
+  } // namespace
+
+  void install_stop_signal_handlers()
+  {
+    std::signal(SIGTERM, on_stop_signal);
+    std::signal(SIGINT, on_stop_signal);
+  }
+
+  int stop_signal() { return stop_requested; }
+
+  template <int dim, class Description>
+  RunSummary Simulation<dim, Description>::run()
+  {
+    TimeLoopState L;
+    L.start = clock::now();
+    start_run(L);
+    while (L.t < L.t_end * (1 - 1e-12) && (scene.max_steps == 0 || L.step < scene.max_steps))
+      {
+        // adaptation on absolute step numbers: a restarted run adapts where the
+        // uninterrupted one did
+        if (scene.max_level > 0 && L.step % scene.adapt_interval == 0 && L.step > 0)
+          {
+            const auto c0 = clock::now();
+            adapt_mesh(false);
+            adapt_seconds += seconds_since(c0);
+          }
+        double       dt_cfl   = 0;
+        const double dt_uncut = step_size(L, dt_cfl);
+        double       dt       = std::min(dt_uncut, L.t_end - L.t);
+        dt                    = std::min(dt, L.next_output - L.t);
+        unsigned int tries    = 0;
+        dt                    = take_step(L, dt, dt_cfl, tries);
+        L.t += dt;
+        ++L.step;
+        // a step cut short to land on an output or end time says nothing about the
+        // scheme's step; halved (retried) steps do and are kept
+        if (tries == 0 && dt < dt_uncut)
+          L.min_cut_dt = std::min(L.min_cut_dt, dt);
+        else
+          L.min_dt = std::min(L.min_dt, dt);
+        L.max_dt = std::max(L.max_dt, dt);
+        if (L.t >= L.next_output * (1 - 1e-12) && output_time(L))
+          break;
+        if (stop_requested(L))
+          break;
+        progress_line(L, dt);
+      }
+    // Time/Maximum steps reached before the end time: say so, not "completed"
+    const bool step_limited =
+      !L.sum.steady && !L.wall_limited && !L.interrupted_by && L.t < L.t_end * (1 - 1e-12);
+    if (step_limited)
+      pcout << "  step limit (Time/Maximum steps = " << scene.max_steps << ") reached at t = " << L.t * L.t0
+            << " s of " << scene.end_time << " s\n";
+    L.sum.interrupted_by = L.interrupted_by;
+    finish(L, L.sum.steady      ? "steady" :
+              L.interrupted_by  ? (L.interrupted_by == SIGINT ? "interrupted (SIGINT)" : "interrupted (SIGTERM)") :
+              L.wall_limited    ? "wall time limit" :
+              step_limited      ? "maximum steps" :
+                                  "completed");
+    return L.sum;
+  }
+
+  template <int dim, class Description>
+  void Simulation<dim, Description>::start_run(TimeLoopState &L)
+  {
+    L.t0       = units_.time();
+    L.t_end    = scene.end_time / L.t0;
+    L.dt_fixed = scene.fixed_time_step / L.t0;
+    L.interval = scene.output_interval / L.t0;
+    L.t        = start_time_;
+    L.next_output = L.interval > 0 ? L.interval : L.t_end;
+    // the output times after a restart are the ones the uninterrupted run would have
+    // chosen (same additions), so the time steps and results are identical
+    while (L.interval > 0 && L.t >= L.next_output * (1 - 1e-12) && L.next_output < L.t_end)
+      L.next_output = std::min(L.next_output + L.interval, L.t_end);
+    conv_seconds = diff_seconds = adapt_seconds = 0;
+    temperature_repairs = 0;
+    convective_pieces   = 0;
+    max_repair          = 0;
+    L.step              = start_step_;
+    L.merge             = integrator && scene.convection && scene.merge_strang;
+    if (owed_ > 0 && !L.merge) // a checkpoint of a merged run restarted with symmetric steps
+      {
+        if (!convect(U, owed_))
+          throw RunError("the convective half-step owed by the checkpoint failed");
+        owed_ = 0;
+      }
+    L.checkpoint    = scene.output_file(".checkpoint");
+    L.last_progress = L.start;
+    std::string why;
+    if (!conv->admissible(U, &why))
+      throw RunError("initial state is inadmissible (n <= 0 or T <= 0): " + why);
+    if (scene.write_summary && Utilities::MPI::this_mpi_process(comm) == 0)
+      io::write_running_summary(scene.output_file("_summary.csv"));
+    // a run from the scene's initial state writes it; a restart (even from the t = 0
+    // checkpoint) has it already
+    if (L.step == 0 && scene.initial_checkpoint.empty())
+      {
+        output->write(U, L.t * L.t0, 0);
+        checkpoint_now(L);
+      }
+    L.backup.reinit(U.get_partitioner());
+    L.backup  = U;
+    L.mass0   = totals()[0];
+    L.g_eff   = std::sqrt(scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
+                          scene.gravity[2] * scene.gravity[2]) +
+              scene.vibration_amplitude * std::pow(2 * M_PI * scene.vibration_frequency, 2);
+  }
+
+  template <int dim, class Description>
+  double Simulation<dim, Description>::step_size(TimeLoopState &L, double &dt_cfl)
+  {
+    double dt = L.dt_fixed;
+    if (scene.convection) // the convective CFL limits the step; diffusion never does
+      {
+        const double rate = conv->max_rate(U);
+        if (!(rate > 0) || !std::isfinite(rate))
+          throw RunError("no finite wave speed at t = " + std::to_string(L.t * L.t0) + " s");
+        dt_cfl = scene.cfl / rate;
+        dt     = L.dt_fixed > 0 ? std::min(dt_cfl, L.dt_fixed) : dt_cfl;
+        if (dt_cfl < L.min_cfl)
+          {
+            L.min_cfl   = dt_cfl;
+            L.min_cfl_t = L.t;
+          }
+        // merged splitting: the step's convective part is the owed half plus dt/2;
+        // keep it within the CFL limit by shortening dt (the step after is then back
+        // at the limit). Where the limit fell by more than that allows, the
+        // convective part is split into pieces instead (advance())
+        const double room = 2 * (dt_cfl - owed_); // the longest dt with owed + dt/2 <= dt_cfl
+        if (L.merge && owed_ > 0 && room >= 0.5 * dt)
+          dt = std::min(dt, room);
+      }
+    return dt;
+  }
+
+  template <int dim, class Description>
+  double Simulation<dim, Description>::take_step(TimeLoopState &L, double dt, const double dt_cfl,
+                                                 unsigned int &tries)
+  {
+    const double t0 = L.t0;
+    // merged Strang splitting: the closing C(dt/2) is owed to the next step, except
+    // at output and end times and before the step limit (a checkpoint between output
+    // times stores the owed time, so a restart continues exactly)
+    const bool last_step = scene.max_steps > 0 && L.step + 1 >= scene.max_steps;
+    auto       sync_at   = [&](const double h) {
+      return !L.merge || last_step || L.t + h >= L.next_output * (1 - 1e-12);
+    };
+    if (L.backup.get_partitioner() != U.get_partitioner())
+      L.backup.reinit(U.get_partitioner()); // the mesh changed
+    L.backup = U;
+    std::string why;
+    while (true)
+      {
+        if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
+          {
+            // the splitting-error allowance of the temperature repair (GranularGas)
+            desc.repair_energy = 10 * std::pow(L.g_eff * dt * t0 / units_.velocity, 2);
+          }
+        // a retried step (halved dt) also halves its convective pieces
+        if (advance(L.t, dt, sync_at(dt), tries == 0 ? dt_cfl : dt) && conv->admissible(U, &why))
+          break;
+        why.clear();
+        conv->admissible(U, &why); // where and what, for the message
+        if (why.empty())
+          why = conv->failure();
+        if (why.empty() && integrator)
+          why = integrator->failure();
+        ++L.sum.rejected_steps;
+        if (++tries > scene.max_step_retries)
+          {
+            const std::string details = io::inadmissible_step_message(
+              L.step, L.t * t0, scene.max_step_retries, dt * t0, why,
+              integrator ? std::optional<unsigned long long>(integrator->statistics().newton_failures) :
+                           std::nullopt);
+            // the run ends cleanly: the last admissible state (no mass lost) is written
+            // as the final output, checkpoint and summary, then the run stops
+            U                         = L.backup;
+            const std::string packing = overpacking_report(U);
+            const std::string message =
+              packing.empty() ? details : io::overpacking_message(L.t * t0, packing, details);
+            finish(L, packing.empty() ? "failed" : "overpacking");
+            pcout << "  the last admissible state (t = " << L.t * t0 << " s) is the final output\n";
+            throw RunError(message);
+          }
+        pcout << "  step " << L.step << ": inadmissible state, retrying with dt = " << dt * t0 / 2
+              << " s" << (why.empty() ? std::string() : " (" + why + ")") << "\n";
+        U  = L.backup;
+        dt = dt / 2;
+      }
+    owed_ = sync_at(dt) ? 0 : 0.5 * dt;
+    return dt;
+  }
+
+  template <int dim, class Description>
+  bool Simulation<dim, Description>::output_time(TimeLoopState &L)
+  {
+    if (L.t < L.t_end * (1 - 1e-12))
+      {
+        output->write(U, L.t * L.t0, L.step);
+        checkpoint_now(L);
+      }
+    L.next_output = L.interval > 0 ? std::min(L.next_output + L.interval, L.t_end) : L.t_end;
+    return scene.steady_tolerance > 0 && L.interval > 0 && steady_state(L);
+  }
+
+  template <int dim, class Description>
+  bool Simulation<dim, Description>::steady_state(TimeLoopState &L)
+  {
+    // steady state: total kinetic energy and centre of mass along the profile
+    // direction both change by less than the tolerance over one output interval
+    const unsigned int pd = scene.profile_direction < 0 ? dim - 1 : scene.profile_direction;
+    double             v[3] = {0, 0, 0}; // kinetic energy, n x_pd, n
+    for (unsigned int s = 0; s < patch_->n_owned(); ++s)
+      {
+        const double *u = &U.local_element(std::size_t(s) * (dim + 2));
+        const double  vol = patch_->cell_volume(s);
+        double        m2 = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          m2 += u[1 + d] * u[1 + d];
+        v[0] += 0.5 * m2 / u[0] * vol;
+        v[1] += u[0] * patch_->center(s)[pd] * vol;
+        v[2] += u[0] * vol;
+      }
+    Utilities::MPI::sum(ArrayView<const double>(v, 3), comm, ArrayView<double>(v, 3));
+    const double ke = v[0], com = v[1] / v[2];
+    const double L_pd = patch_->cell_size(pd) * patch_->cells(pd);
+    if (L.have_steady_reference && std::abs(ke - L.steady_ke) <= scene.steady_tolerance * ke &&
+        std::abs(com - L.steady_com) <= scene.steady_tolerance * L_pd)
+      {
+        pcout << "  steady state at t = " << L.t * L.t0 << " s: kinetic energy and centre of mass "
+              << "changed by " << std::abs(ke - L.steady_ke) / ke << " and "
+              << std::abs(com - L.steady_com) / L_pd << " (relative) over the last "
+              << scene.output_interval << " s (Time/Steady state tolerance = "
+              << scene.steady_tolerance << ")\n";
+        L.sum.steady = true;
+        return true;
+      }
+    L.have_steady_reference = true;
+    L.steady_ke             = ke;
+    L.steady_com            = com;
+    return false;
+  }
+
+  template <int dim, class Description>
+  bool Simulation<dim, Description>::stop_requested(TimeLoopState &L)
+  {
+    // SIGTERM / SIGINT (every rank stops after the same step)
+    if (sigterm_at_step() > 0 && L.step == sigterm_at_step())
+      std::raise(SIGTERM);
+    L.interrupted_by = Utilities::MPI::max(int(stop_signal()), comm);
+    if (L.interrupted_by)
+      {
+        pcout << "  " << (L.interrupted_by == SIGINT ? "SIGINT" : "SIGTERM") << " received: stopping at t = "
+              << L.t * L.t0 << " s, step " << L.step << " (final output, checkpoint and summary follow)\n";
+        return true;
+      }
+    if (scene.max_wall_seconds > 0 &&
+        Utilities::MPI::max(seconds_since(L.start), comm) > scene.max_wall_seconds)
+      {
+        pcout << "  wall time limit (Time/Maximum wall time = " << scene.max_wall_seconds
+              << " s) reached at t = " << L.t * L.t0 << " s, step " << L.step << "\n";
+        L.wall_limited = true;
+        return true;
+      }
+    return false;
+  }
+
+  template <int dim, class Description>
+  void Simulation<dim, Description>::progress_line(TimeLoopState &L, const double dt)
+  {
+    const auto now = clock::now();
+    if (std::chrono::duration<double>(now - L.last_progress).count() < scene.progress_interval)
+      return;
+    L.last_progress     = now;
+    const double wall   = std::chrono::duration<double>(now - L.start).count();
+    const double frac   = L.t / L.t_end;
+    // rate and ETA from this run's own steps and time (a restart starts mid-way);
+    // with Time/Maximum steps the run ends at whichever comes first
+    const double done   = (L.t - start_time_) / std::max(L.t_end - start_time_, 1e-300);
+    const double rate   = (L.step - start_step_) / std::max(wall, 1e-12);
+    double       eta    = wall * (1 - done) / std::max(done, 1e-12);
+    if (scene.max_steps > 0 && rate > 0)
+      eta = std::min(eta, (double(scene.max_steps) - L.step) / rate);
+    pcout << "  t = " << std::scientific << std::setprecision(4) << L.t * L.t0 << " s ("
+          << std::fixed << std::setprecision(1) << 100 * frac << " %)  dt = "
+          << std::scientific << std::setprecision(3) << dt * L.t0 << " s  step " << L.step
+          << "  " << std::fixed << std::setprecision(1) << rate << " steps/s  ETA "
+          << hms(eta) << std::defaultfloat << std::setprecision(6) << "\n";
+  }
+
+  template <int dim, class Description>
+  void Simulation<dim, Description>::checkpoint_now(const TimeLoopState &L)
+  {
+    if (integrator && !L.interrupted_by) // a restart starts here: the integrator forgets its history too
+      integrator->restart_point();
+    if (scene.write_checkpoint)
+      write_checkpoint(L.checkpoint, L.t, L.step, L.interrupted_by != 0);
+  }
+
+  template <int dim, class Description>
+  void Simulation<dim, Description>::finish(TimeLoopState &L, const std::string &status)
+  {
+    const double t0 = L.t0;
+    if (!(status == "steady" && L.t < L.t_end * (1 - 1e-12))) // a steady stop has just written its output
+      {
+        // stopped between output times (signal, wall time, failure) with convective
+        // time owed: the output shows the synchronised state, the checkpoint keeps the
+        // state and the owed time, so that a restart continues exactly
+        if (owed_ > 0)
+          {
+            Vector V;
+            if (!synchronised_state(V))
+              pcout << "  the convective half-step owed at the stop failed: the final output "
+                       "shows the state before it\n";
+            output->write(V, L.t * t0, L.step);
+          }
+        else
+          output->write(U, L.t * t0, L.step);
+        checkpoint_now(L);
+      }
+    RunSummary &sum = L.sum;
+    sum.steps       = L.step;
+    sum.min_dt_si   = (std::isfinite(L.min_dt) ? L.min_dt : (std::isfinite(L.min_cut_dt) ? L.min_cut_dt : 0)) * t0;
+    sum.max_dt_si   = L.max_dt * t0;
+    sum.min_cfl_dt_si      = std::isfinite(L.min_cfl) ? L.min_cfl * t0 : 0;
+    sum.min_cfl_dt_time_si = L.min_cfl_t * t0;
+    sum.mass_drift         = std::abs(totals()[0] - L.mass0) / L.mass0;
+    sum.cells              = patch_->n_global_cells();
+    sum.max_cells          = std::max<unsigned long long>(max_cells, sum.cells);
+    sum.adaptations        = adaptations;
+    sum.refined_cells      = refined_cells;
+    sum.coarsened_cells    = coarsened_cells;
+    sum.temperature_repairs    = Utilities::MPI::sum(temperature_repairs, comm);
+    sum.convective_steps       = convective_pieces; // the same on every rank
+    sum.max_temperature_repair = Utilities::MPI::max(max_repair, comm);
+    sum.ranks                  = Utilities::MPI::n_mpi_processes(comm);
+    {
+      rusage usage{};
+      getrusage(RUSAGE_SELF, &usage);
+      const double bytes    = 1024. * usage.ru_maxrss; // Linux: kilobytes
+      sum.peak_memory_max   = Utilities::MPI::max(bytes, comm);
+      sum.peak_memory_total = Utilities::MPI::sum(bytes, comm);
+    }
+    sum.time_si            = L.t * t0;
+    sum.wall_seconds       = seconds_since(L.start);
+    sum.convection_seconds = Utilities::MPI::max(conv_seconds, comm);
+    sum.adaptation_seconds = Utilities::MPI::max(adapt_seconds, comm);
+    sum.convection         = conv->global_statistics();
+    sum.diffusion_active   = integrator != nullptr;
+    if (integrator)
+      {
+        sum.diffusion         = integrator->global_statistics();
+        sum.diffusion_seconds = Utilities::MPI::max(diff_seconds, comm);
+      }
+    print_run_summary(sum);
+    if (scene.write_summary)
+      write_summary(sum, status);
+    if (scene.write_vtu || scene.write_profiles || scene.write_summary)
+      {
+        pcout << "  output in " << scene.output_directory << "/:";
+        if (scene.write_vtu)
+          pcout << " " << scene.base_name << ".pvd (ParaView)";
+        if (scene.write_profiles)
+          pcout << " " << scene.base_name << "_profiles.csv";
+        if (scene.write_summary)
+          pcout << " " << scene.base_name << "_summary.csv";
+        pcout << "\n";
+      }
+  }
+
+  template <int dim, class Description>
+  std::string Simulation<dim, Description>::overpacking_report(const Vector &V) const
+  {
+    if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
+      return io::overpacking_report(*patch_, V, desc.phi_c, comm);
+    else
+      {
+        (void)V;
+        return {};
+      }
+  }
+
+  GRANHYDRO_SIMULATION_INSTANCES
+} // namespace granhydro
