@@ -1,0 +1,29 @@
+#pragma once
+/**
+ * @file adaptivity.h
+ * The 'Adaptivity' subsection of a scene: adaptive octree refinement of box domains in
+ * 2D and 3D.
+ */
+#include <deal.II/base/parameter_handler.h>
+
+#include <string>
+
+namespace granhydro
+{
+  struct Scene;
+
+  struct AdaptivityParameters
+  {
+    unsigned int max_level         = 0;    ///< refinement levels above Domain/Cells; 0 = uniform
+    std::string  adapt_indicator   = "jumps"; ///< jumps | second differences
+    double       refine_threshold  = 0.05; ///< refine where the indicator exceeds this
+    double       coarsen_threshold = 0.01; ///< coarsen where it stays below this
+    unsigned int adapt_interval    = 5;    ///< steps between adaptations
+    unsigned int adapt_buffer      = 2;    ///< the refine flag spreads over this many cell layers
+
+    static void declare_parameters(dealii::ParameterHandler &prm);
+    void parse_parameters(dealii::ParameterHandler &prm);
+    /// a box domain in 2D/3D, ordered thresholds, a finest lattice of at most 2e8 points
+    static void check(const Scene &s);
+  };
+} // namespace granhydro

@@ -1,0 +1,77 @@
+#include <granhydro/scene/adaptivity.h>
+#include <granhydro/scene/scene.h>
+
+#include "parameter_tools.h"
+
+#include <string>
+
+namespace granhydro
+{
+  using dealii::ParameterHandler;
+  namespace Patterns = dealii::Patterns;
+  using namespace scene_detail;
+
+  void AdaptivityParameters::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Adaptivity");
+    {
+      prm.declare_entry("Maximum level", "0", Patterns::Integer(0, 7),
+                        "Adaptive octree refinement (p4est): cells may be refined this many "
+                        "levels above Domain/Cells; 0 = uniform mesh. Box domains in 2D and 3D.");
+      prm.declare_entry("Indicator", "jumps", Patterns::Selection("jumps|second differences"),
+                        "Refinement indicator, from the number density n and the pressure p: "
+                        "'jumps' = the largest normalised jump across the cell's faces, "
+                        "|a_L - a_R| / min(a_L, a_R); 'second differences' = Loehner's "
+                        "indicator |a_R - 2 a + a_L| / (|a_R - a| + |a - a_L| + 0.05 (|a_R| + "
+                        "2 |a| + |a_L|)) per direction, in [0, 1]: high at shocks, contacts and "
+                        "kinks, low in smooth regions (a rarefaction fan stays coarse).");
+      prm.declare_entry("Refine threshold", "0.05", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Refine a cell where the indicator exceeds this.");
+      prm.declare_entry("Coarsen threshold", "0.01", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Coarsen a family of cells where the indicator of all of them stays below "
+                        "this (must be below the refine threshold).");
+      prm.declare_entry("Interval", "5", Patterns::Integer(1),
+                        "Time steps between adaptations.");
+      prm.declare_entry("Buffer", "2", Patterns::Integer(0, 8),
+                        "Layers of cells around a cell flagged for refinement that are refined too, "
+                        "so that a shock stays in the fine region until the next adaptation.");
+    }
+    prm.leave_subsection();
+  }
+
+  void AdaptivityParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Adaptivity");
+    max_level         = prm.get_integer("Maximum level");
+    adapt_indicator   = prm.get("Indicator");
+    refine_threshold  = prm.get_double("Refine threshold");
+    coarsen_threshold = prm.get_double("Coarsen threshold");
+    adapt_interval    = prm.get_integer("Interval");
+    adapt_buffer      = prm.get_integer("Buffer");
+    prm.leave_subsection();
+  }
+
+  void AdaptivityParameters::check(const Scene &s)
+  {
+    const unsigned int dim  = s.dimension;
+    const bool         mesh = !s.mesh_file.empty();
+    if (s.max_level > 0)
+      {
+        if (mesh)
+          fail(s, "Adaptivity/Maximum level", "adaptive meshes need a box domain (no 'Domain/Mesh "
+                                              "file'); set it to 0 for a mesh file");
+        if (dim == 1)
+          fail(s, "Adaptivity/Maximum level", "adaptive meshes need 'Dimension' 2 or 3; set it to 0 "
+                                              "in 1D");
+        if (!(s.coarsen_threshold < s.refine_threshold))
+          fail(s, "Adaptivity/Coarsen threshold", "must be below 'Adaptivity/Refine threshold' (" +
+                                                    std::to_string(s.refine_threshold) + ")");
+        double total = 1;
+        for (unsigned int d = 0; d < dim; ++d)
+          total *= double(s.cells[d]) * double(1u << s.max_level);
+        if (total > 2e8)
+          fail(s, "Adaptivity/Maximum level", "the finest lattice (Domain/Cells times 2^level per "
+                                              "direction) would have more than 2e8 points");
+      }
+  }
+} // namespace granhydro

@@ -1,0 +1,66 @@
+#include <granhydro/scene/dense_closure.h>
+#include <granhydro/scene/scene.h>
+
+#include "parameter_tools.h"
+
+namespace granhydro
+{
+  using dealii::ParameterHandler;
+  namespace Patterns = dealii::Patterns;
+  using namespace scene_detail;
+
+  void DenseClosureParameters::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Dense closure");
+    {
+      prm.declare_entry("Model", "none", Patterns::Selection("none|johnson-jackson"),
+                        "Contact/frictional stresses of the dense regime (granular model; the "
+                        "paper has none). 'johnson-jackson': pressure p_f ~ F (phi - phi_min)^r "
+                        "/ (phi_c - phi)^s from a contact potential in the energy (T stays "
+                        "positive on expansion) and shear viscosity mu_f = t_f sin(theta_f) p_f. "
+                        "Without it a pile cooling at rest reaches phi_c in finite time and the "
+                        "run stops with a diagnostic (README, 'Dense closure').");
+      prm.declare_entry("Coefficient", "0.05", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "F [Pa] (Johnson, Nott & Jackson 1990; MFIX/OpenFOAM default 0.05).");
+      prm.declare_entry("Minimum packing fraction", "0.62", Patterns::Double(0, 1),
+                        "phi_min: no contact stress below it. Default 0.62 for smooth "
+                        "(frictionless) spheres, whose enduring contact network only forms "
+                        "next to random close packing, so a settled pile sits at 0.62-0.64; "
+                        "0.5 is Johnson-Jackson's value for frictional grains (piles at about "
+                        "0.58). README, 'Dense closure'.");
+      prm.declare_entry("Exponent r", "2", Patterns::Double(1, 10), "r (default 2, at least 1).");
+      prm.declare_entry("Exponent s", "5", Patterns::Double(1.5, 20), "s (default 5, above 1).");
+      prm.declare_entry("Viscosity time", "0.5", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "t_f [s] of the frictional viscosity mu_f = t_f sin(theta_f) p_f "
+                        "(OpenFOAM's Johnson-Jackson choice 0.5 s; 0 switches mu_f off).");
+      prm.declare_entry("Friction angle", "28.5", Patterns::Double(0, 90),
+                        "theta_f [degrees] of the frictional viscosity.");
+    }
+    prm.leave_subsection();
+  }
+
+  void DenseClosureParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Dense closure");
+    dense_closure   = prm.get("Model");
+    closure_F       = prm.get_double("Coefficient");
+    closure_phi_min = prm.get_double("Minimum packing fraction");
+    closure_r       = prm.get_double("Exponent r");
+    closure_s       = prm.get_double("Exponent s");
+    closure_time    = prm.get_double("Viscosity time");
+    closure_angle   = prm.get_double("Friction angle");
+    prm.leave_subsection();
+  }
+
+  void DenseClosureParameters::check(const Scene &s)
+  {
+    // the ideal gas refuses a closure later, with the other needs of the granular model
+    if (s.model != "granular" || s.dense_closure == "none")
+      return;
+    if (!(s.closure_F > 0))
+      fail(s, "Dense closure/Coefficient", "must be positive");
+    if (!(s.closure_phi_min < s.phi_close_packing - s.guard_delta))
+      fail(s, "Dense closure/Minimum packing fraction",
+              "must be below phi_c - delta (Material/Close packing fraction minus guard)");
+  }
+} // namespace granhydro

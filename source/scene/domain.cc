@@ -1,0 +1,229 @@
+#include <granhydro/mesh/mesh_file.h>
+#include <granhydro/scene/domain.h>
+#include <granhydro/scene/scene.h>
+
+#include "parameter_tools.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace granhydro
+{
+  using dealii::ParameterHandler;
+  namespace Patterns = dealii::Patterns;
+  using namespace scene_detail;
+
+  void DomainParameters::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Domain");
+    {
+      prm.declare_entry("Mesh file", "", Patterns::Anything(),
+                        "Coarse mesh read with deal.II's GridIn instead of the box: gmsh "
+                        "(.msh, e.g. format 2.2 ASCII) or ucd (.inp); 2D and 3D only. A relative "
+                        "name is taken relative to the directory of the scene file. All cells "
+                        "must be congruent axis-aligned boxes with vertices on one lattice "
+                        "(axis-aligned blocks, e.g. a silo with an outlet; meshes/); the "
+                        "lattice points of the bounding box without a cell are solid. The "
+                        "boundary id of each boundary face selects the entries below: id 0 = "
+                        "'Boundary x-', 1 = 'x+', 2 = 'y-', 3 = 'y+', 4 = 'z-', 5 = 'z+' (with "
+                        "'Wall velocity' and 'Wall restitution' of the same name), whatever the "
+                        "face's direction (deal.II's colorize convention: a box read from a "
+                        "file behaves exactly like the generated box). Faces the file gives no "
+                        "id get id 0. Periodic boundaries are not available with a mesh file. "
+                        "With a mesh file 'Lower corner', 'Upper corner' and 'Cells' are ignored.");
+      prm.declare_entry("Mesh refinements", "0", Patterns::Integer(0, 8),
+                        "Global refinements of the mesh file's coarse cells (each halves the "
+                        "cell size).");
+      prm.declare_entry("Lower corner", "0, 0, 0", Patterns::Anything(),
+                        "Lower corner of the box [m], one value per dimension (extra ignored; "
+                        "ignored with a 'Mesh file').");
+      prm.declare_entry("Upper corner", "0.1, 0.1, 0.1", Patterns::Anything(),
+                        "Upper corner of the box [m] (ignored with a 'Mesh file').");
+      prm.declare_entry("Cells", "100, 100, 1", Patterns::Anything(),
+                        "Number of cells per direction (uniform Cartesian mesh; ignored with "
+                        "a 'Mesh file').");
+      for (const char *s : side_names)
+        {
+          prm.declare_entry(std::string("Boundary ") + s, "slip wall",
+                            Patterns::Selection("periodic|slip wall|no-slip wall|outflow"),
+                            std::string("Boundary condition on the ") + s +
+                              " side: periodic (both sides of a direction), slip wall "
+                              "(reflecting, no tangential stress), no-slip wall (velocity "
+                              "of the wall imposed, wall shear stress kept: doc/physics.md 5.1, "
+                              "P10), outflow (transmissive, zero-gradient ghost state).");
+          prm.declare_entry(std::string("Wall velocity ") + s, "0, 0, 0", Patterns::Anything(),
+                            std::string("Velocity of the ") + s +
+                              " wall [m/s] (no-slip walls; tangential only).");
+          prm.declare_entry(std::string("Wall restitution ") + s, "1", Patterns::Double(0, 1),
+                            std::string("Grain-wall restitution eps_w of the ") + s +
+                              " wall: 1 = elastic (adiabatic), < 1 = dissipative wall with "
+                              "the heat flux q_w = (1 - eps_w) p_w sqrt(2T/(pi m)) "
+                              "(doc/physics.md 5.2, contact theorem; granular model).");
+        }
+    }
+    prm.leave_subsection();
+  }
+
+  void DomainParameters::parse_parameters(ParameterHandler &prm, const unsigned int dim,
+                                          const std::string &source_name)
+  {
+    prm.enter_subsection("Domain");
+    mesh_file        = prm.get("Mesh file");
+    mesh_refinements = prm.get_integer("Mesh refinements");
+    if (!mesh_file.empty() && mesh_file[0] != '/' && !source_name.empty() &&
+        source_name[0] != '<')
+      {
+        // relative to the scene file, so that a scene runs from any working directory
+        const auto slash = source_name.rfind('/');
+        if (slash != std::string::npos)
+          mesh_file = source_name.substr(0, slash + 1) + mesh_file;
+      }
+    lower = parse_list<double, 3>(prm.get("Lower corner"), "Domain/Lower corner", dim, 0.);
+    upper = parse_list<double, 3>(prm.get("Upper corner"), "Domain/Upper corner", dim, 1.);
+    {
+      const auto c = parse_list<double, 3>(prm.get("Cells"), "Domain/Cells", dim, 1.);
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          if (d < dim && (c[d] < 1 || c[d] != std::floor(c[d]) || c[d] > 1e6))
+            throw SceneError("parameter 'Domain/Cells': entry " + std::to_string(d + 1) +
+                             " must be a whole number between 1 and 1e6");
+          cells[d] = d < dim ? static_cast<unsigned int>(c[d]) : 1;
+        }
+    }
+    for (unsigned int i = 0; i < 6; ++i)
+      {
+        const std::string v = prm.get(std::string("Boundary ") + side_names[i]);
+        boundary[i] = v == "periodic"     ? BoundaryType::periodic :
+                      v == "slip wall"    ? BoundaryType::slip_wall :
+                      v == "no-slip wall" ? BoundaryType::no_slip_wall :
+                                            BoundaryType::outflow;
+        wall_velocity[i] = parse_list<double, 3>(prm.get(std::string("Wall velocity ") + side_names[i]),
+                                                 std::string("Domain/Wall velocity ") + side_names[i], dim, 0.);
+        wall_restitution[i] = prm.get_double(std::string("Wall restitution ") + side_names[i]);
+      }
+    prm.leave_subsection();
+  }
+
+  MeshFileInfo DomainParameters::check_mesh(const Scene &s)
+  {
+    const unsigned int dim = s.dimension;
+    const bool mesh = !s.mesh_file.empty();
+    MeshFileInfo mesh_info;
+    if (mesh)
+      {
+        if (dim == 1)
+          fail(s, "Domain/Mesh file", "mesh files need 'Dimension' 2 or 3");
+        try
+          {
+            mesh_info = check_mesh_file(s.mesh_file, dim);
+          }
+        catch (const std::exception &e)
+          {
+            fail(s, "Domain/Mesh file", e.what());
+          }
+        for (unsigned int i = 0; i < 2 * dim; ++i)
+          if (s.boundary[i] == BoundaryType::periodic)
+            fail(s, "Domain/Mesh file", std::string("periodic boundaries are not available with a "
+                                                    "mesh file ('Boundary ") + side_names[i] +
+                                          "' = periodic); use walls or outflow");
+        // a wall moves only tangentially: check against the faces' geometric directions
+        for (const auto &[id, d] : mesh_info.id_direction)
+          if (s.wall_velocity[id][d] != 0)
+            fail(s, "Domain/Wall velocity " + std::string(side_names[id]),
+                    "a wall moves only tangentially: the mesh has faces with boundary id " +
+                      std::to_string(id) + " normal to " + std::string(1, "xyz"[d]) +
+                      ", so the " + std::string(1, "xyz"[d]) + " component must be 0");
+        double total = mesh_info.n_cells;
+        for (unsigned int r = 0; r < s.mesh_refinements; ++r)
+          total *= 1u << dim;
+        if (total > 5e7)
+          fail(s, "Domain/Mesh refinements", "more than 5e7 cells in total");
+      }
+    return mesh_info;
+  }
+
+  void DomainParameters::check_box(const Scene &s)
+  {
+    const unsigned int dim  = s.dimension;
+    const bool         mesh = !s.mesh_file.empty();
+    for (unsigned int d = 0; d < dim && !mesh; ++d)
+      {
+        // coordinates up to 1e6 m (a corner at 1e308 overflowed the cell size), cells of at
+        // least 1e-3 grain diameters (below that a run creeps at a vanishing time step)
+        if (!(std::abs(s.lower[d]) <= 1e6))
+          fail(s, "Domain/Lower corner", "coordinates must lie within +-1e6 m");
+        if (!(std::abs(s.upper[d]) <= 1e6))
+          fail(s, "Domain/Upper corner", "coordinates must lie within +-1e6 m");
+        if (!(s.upper[d] > s.lower[d]))
+          fail(s, "Domain/Upper corner", "must exceed 'Domain/Lower corner' in direction " +
+                                           std::string(1, "xyz"[d]));
+        if (!((s.upper[d] - s.lower[d]) / s.cells[d] >= 1e-3 * s.grain_diameter))
+          fail(s, "Domain/Cells", "cells along " + std::string(1, "xyz"[d]) +
+                                    " would be smaller than 1e-3 grain diameters (" +
+                                    fmt((s.upper[d] - s.lower[d]) / s.cells[d]) + " m)");
+        const bool plo = s.boundary[2 * d] == BoundaryType::periodic;
+        const bool phi = s.boundary[2 * d + 1] == BoundaryType::periodic;
+        if (plo != phi)
+          fail(s, std::string("Domain/Boundary ") + side_names[2 * d + (plo ? 1 : 0)],
+                  "periodic boundaries come in pairs: set both '" + std::string(side_names[2 * d]) +
+                    "' and '" + side_names[2 * d + 1] + "' to periodic");
+        const unsigned int need =
+          s.reconstruction == ReconstructionType::weno5 ? 3 :
+          (s.reconstruction == ReconstructionType::first_order ? 1 : 2);
+        if (!plo && s.cells[d] < need)
+          fail(s, "Domain/Cells", "direction " + std::string(1, "xyz"[d]) +
+                                    " has walls and needs at least " + std::to_string(need) +
+                                    " cells for reconstruction '" + to_string(s.reconstruction) + "'");
+      }
+  }
+
+  void DomainParameters::check_walls(const Scene &s)
+  {
+    const unsigned int dim  = s.dimension;
+    const bool         mesh = !s.mesh_file.empty();
+    for (unsigned int i = 0; i < 2 * dim; ++i)
+      {
+        const std::string side = side_names[i];
+        const unsigned    d    = i / 2;
+        double            vmax = 0;
+        for (unsigned int k = 0; k < dim; ++k)
+          vmax = std::max(vmax, std::abs(s.wall_velocity[i][k]));
+        for (unsigned int k = 0; k < 3; ++k)
+          {
+            if (!(std::abs(s.wall_velocity[i][k]) <= 1e4))
+              fail(s, "Domain/Wall velocity " + side, "|v| = " + fmt(std::abs(s.wall_velocity[i][k])) +
+                                                        " m/s; allowed up to 1e4 m/s");
+            if (k >= dim && s.wall_velocity[i][k] != 0) // it would be ignored
+              fail(s, "Domain/Wall velocity " + side, "its " + std::string(1, "xyz"[k]) +
+                                                        " component names a direction the " +
+                                                        std::to_string(dim) + "D scene does not resolve");
+          }
+        if (vmax != 0 && s.boundary[i] != BoundaryType::no_slip_wall)
+          fail(s, "Domain/Wall velocity " + side, "only no-slip walls move (the boundary is " +
+                                                    to_string(s.boundary[i]) + ")");
+        if (!(vmax <= 1e4))
+          fail(s, "Domain/Wall velocity " + side, "|v| = " + fmt(vmax) + " m/s; allowed up to 1e4 m/s");
+        if (!mesh && s.wall_velocity[i][d] != 0)
+          fail(s, "Domain/Wall velocity " + side, "a wall moves only tangentially: its component "
+                                                  "along " + std::string(1, "xyz"[d]) + " must be 0");
+        if (s.wall_restitution[i] < 1 &&
+            (s.boundary[i] == BoundaryType::periodic || s.boundary[i] == BoundaryType::outflow))
+          fail(s, "Domain/Wall restitution " + side, "only walls dissipate (the boundary is " +
+                                                       to_string(s.boundary[i]) + ")");
+        if (s.wall_restitution[i] < 1 && s.model != "granular")
+          fail(s, "Domain/Wall restitution " + side, "dissipative walls need 'Material/Model = granular'");
+      }
+  }
+
+  void DomainParameters::check_cell_count(const Scene &s)
+  {
+    const unsigned int dim  = s.dimension;
+    const bool         mesh = !s.mesh_file.empty();
+    double total = 1;
+    for (unsigned int d = 0; d < dim; ++d)
+      total *= s.cells[d];
+    if (!mesh && total > 5e7)
+      fail(s, "Domain/Cells", "more than 5e7 cells in total");
+  }
+} // namespace granhydro

@@ -1,0 +1,121 @@
+#include <granhydro/scene/material.h>
+#include <granhydro/scene/scene.h>
+
+#include "parameter_tools.h"
+
+#include <cmath>
+
+namespace granhydro
+{
+  using dealii::ParameterHandler;
+  namespace Patterns = dealii::Patterns;
+  using namespace scene_detail;
+
+  double MaterialParameters::grain_mass() const
+  {
+    return material_density * M_PI * std::pow(grain_diameter, 3) / 6.;
+  }
+
+  void MaterialParameters::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Material");
+    {
+      prm.declare_entry("Model", "ideal gas", Patterns::Selection("ideal gas|granular"),
+                        "Constitutive model. 'ideal gas': verification model (p = n T, "
+                        "no transport), the dilute elastic limit of granular gases. "
+                        "'granular': hard spheres, p = n T Z(phi) with Torquato's pair "
+                        "correlation and Garzo-Dufty (1999) transport (doc/physics.md 2, 3).");
+      prm.declare_entry("Restitution coefficient", "1", Patterns::Double(0, 1),
+                        "Normal coefficient of restitution eps of grain-grain collisions "
+                        "(granular model; 0.5 <= eps <= 1).");
+      prm.declare_entry("Friction coefficient", "0", Patterns::Double(0, 1),
+                        "Coulomb friction coefficient mu between grains (granular model; 0 = "
+                        "smooth spheres). The cooling rate uses Chialvo & Sundaresan's (2013) "
+                        "effective restitution e_eff = eps - (3/2) mu exp(-3 mu); pressure and "
+                        "transport keep eps (README, 'Frictional grains').");
+      prm.declare_entry("Freezing packing fraction", "0.49", Patterns::Double(0, 1),
+                        "phi_f of Torquato's pair correlation (granular model).");
+      prm.declare_entry("Close packing fraction", "0.64", Patterns::Double(0, 1),
+                        "phi_c, random close packing: chi has its pole here (granular model).");
+      prm.declare_entry("Close packing guard", "1e-3", Patterns::Double(0, 0.1),
+                        "delta: chi is continued linearly (C1) beyond phi_c - delta, so "
+                        "coefficients stay finite (doc/physics.md 2, guard).");
+      prm.declare_entry("Maximum mean free path", "0", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Knudsen cap L [m] (granular model; 0 = off, the paper's model): where "
+                        "the mean free path l = 1/(sqrt(2) pi n sigma^2) exceeds L, the "
+                        "transport coefficients eta, gamma, kappa, mu are scaled by L/l, so the "
+                        "diffusivities stay below ~L sqrt(T/m) instead of diverging as n -> 0 "
+                        "(doc/physics.md P14). Hydrodynamics has no meaning there anyway; use a few "
+                        "cell sizes for scenes with near-vacuum.");
+      prm.declare_entry("Grain diameter", "1e-3", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Grain diameter sigma [m].");
+      prm.declare_entry("Material density", "2600", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Material density rho_s [kg/m^3]; grain mass m = rho_s pi sigma^3 / 6.");
+      prm.declare_entry("Adiabatic index", "1.6666666666666667", Patterns::Double(1, 3),
+                        "Adiabatic index gamma_a of the ideal-gas model (5/3 = dilute "
+                        "elastic grains, internal energy 3T/2 per grain).");
+    }
+    prm.leave_subsection();
+  }
+
+  void MaterialParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Material");
+    model            = prm.get("Model");
+    grain_diameter   = prm.get_double("Grain diameter");
+    material_density = prm.get_double("Material density");
+    adiabatic_index  = prm.get_double("Adiabatic index");
+    restitution       = prm.get_double("Restitution coefficient");
+    friction          = prm.get_double("Friction coefficient");
+    phi_freezing      = prm.get_double("Freezing packing fraction");
+    phi_close_packing = prm.get_double("Close packing fraction");
+    guard_delta       = prm.get_double("Close packing guard");
+    max_free_path     = prm.get_double("Maximum mean free path");
+    prm.leave_subsection();
+  }
+
+  void MaterialParameters::check(const Scene &s)
+  {
+    const unsigned int dim = s.dimension;
+    if (!(s.grain_diameter >= 1e-9 && s.grain_diameter <= 10))
+      fail(s, "Material/Grain diameter", fmt(s.grain_diameter) + " m; allowed 1e-9 .. 10 m (the "
+                                         "internal units are built on it)");
+    if (s.material_density <= 0)
+      fail(s, "Material/Material density", "must be positive");
+    if (s.adiabatic_index <= 1)
+      fail(s, "Material/Adiabatic index", "must exceed 1");
+    if (s.model == "granular")
+      {
+        if (s.restitution < 0.5 || s.restitution > 1)
+          fail(s, "Material/Restitution coefficient",
+                  "must lie in [0.5, 1] (Garzo-Dufty coefficients are verified positive there)");
+        if (!(s.friction >= 0 && s.friction <= 1))
+          fail(s, "Material/Friction coefficient", "must lie in [0, 1] (0: smooth spheres)");
+        // the densest packing of equal spheres is pi / (3 sqrt 2) = 0.7405
+        if (!(s.phi_close_packing <= M_PI / (3 * std::sqrt(2.))))
+          fail(s, "Material/Close packing fraction", "must not exceed 0.7405, the densest packing of "
+                                                     "equal spheres (random close packing: 0.63-0.64)");
+        if (!(s.phi_freezing > 0))
+          fail(s, "Material/Freezing packing fraction", "must be positive (0.49 for hard spheres)");
+        if (!(s.phi_freezing < s.phi_close_packing))
+          fail(s, "Material/Freezing packing fraction", "must be below 'Close packing fraction'");
+        if (!(s.guard_delta > 0))
+          fail(s, "Material/Close packing guard", "must be positive (default 1e-3)");
+        if (!(s.guard_delta < s.phi_close_packing - s.phi_freezing))
+          fail(s, "Material/Close packing guard", "must be smaller than phi_c - phi_f");
+      }
+    else
+      {
+        if (s.restitution != 1)
+          fail(s, "Material/Restitution coefficient",
+                  "the ideal-gas model is elastic; use 'Model = granular' for eps < 1");
+        if (s.friction != 0)
+          fail(s, "Material/Friction coefficient",
+                  "the ideal-gas model has smooth grains; use 'Model = granular' for mu > 0");
+        for (unsigned int d = 0; d < dim; ++d)
+          if (s.gravity[d] != 0)
+            fail(s, "Effects/Gravity", "the ideal-gas verification model has no body force; use "
+                                       "'Material/Model = granular'");
+      }
+  }
+} // namespace granhydro

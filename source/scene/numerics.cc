@@ -1,0 +1,131 @@
+#include <granhydro/scene/numerics.h>
+#include <granhydro/scene/scene.h>
+
+#include "parameter_tools.h"
+
+#include <cmath>
+#include <string>
+
+namespace granhydro
+{
+  using dealii::ParameterHandler;
+  namespace Patterns = dealii::Patterns;
+  using namespace scene_detail;
+
+  void NumericsParameters::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Numerics");
+    {
+      prm.declare_entry("Reconstruction", "weno5",
+                        Patterns::Selection("first order|muscl|weno3|weno5"),
+                        "Reconstruction of the conservative variables to face points: "
+                        "weno5 (paper section 4, Jiang-Shu weights), weno3, muscl (MC "
+                        "limiter), first order.");
+      prm.declare_entry("Face quadrature", "gauss", Patterns::Selection("gauss|midpoint"),
+                        "gauss: 2 Gauss points per face direction (paper eq. 4.6, "
+                        "Titarev-Toro), midpoint: one point per face (face average used "
+                        "as point value, second order on nonlinear fluxes).");
+      prm.declare_entry("No-slip wall flux", "mirror", Patterns::Selection("mirror|pressure"),
+                        "Convective flux through no-slip walls. mirror: the numerical flux "
+                        "between the cell and its mirror ghost (velocity reflected about the "
+                        "wall velocity), mass and energy parts set to 0; its tangential "
+                        "momentum part is a numerical wall friction that shrinks with the "
+                        "mesh. pressure: the paper's eq. 6.1a, zero mass and energy flux and "
+                        "only the wall pressure (the normal momentum of the same flux) - no "
+                        "tangential momentum; the wall shear stress then comes from the "
+                        "diffusion step alone.");
+      prm.declare_entry("Flux", "musta", Patterns::Selection("musta|rusanov|hll"),
+                        "Numerical flux: musta (multi-stage FORCE, paper eqs. 4.7-4.9 with "
+                        "dx/dt in the dissipation term, doc/physics.md P12), rusanov, hll.");
+      prm.declare_entry("MUSTA maximum stages", "4", Patterns::Integer(1, 20),
+                        "Cap on the number of FORCE stages of the MUSTA flux (1 = FORCE).");
+      prm.declare_entry("MUSTA minimum stages", "2", Patterns::Integer(1, 2),
+                        "2: the stopping rule compares the fluxes of consecutive stages, so "
+                        "every face takes at least 2 stages. 1: after the first stage a face "
+                        "keeps the FORCE flux where the change of a further stage, estimated "
+                        "as S_max |U_R - U_L| for mass, momentum and energy, is below the "
+                        "tolerance (smooth regions): 35-40 % less convective time, larger "
+                        "errors (README, 'Cost of the diffusion step and of the convective "
+                        "kernel').");
+      prm.declare_entry("MUSTA tolerance", "0.01", Patterns::Double(0, 1),
+                        "Stopping rule: stop when the FORCE flux changes between stages by "
+                        "less than this in mass, momentum (as a vector) and energy, each "
+                        "relative to max(|F|, S_max (|U_L| + |U_R|)/2) (paper: 1 %).");
+      prm.declare_entry("MUSTA local CFL", "0.9", Patterns::Double(0, 1),
+                        "Local Courant number of the MUSTA predictor stages (Titarev-Toro).");
+      prm.declare_entry("CFL number", "0.4", Patterns::Double(0, 1),
+                        "Courant number: dt = CFL / max_cells sum_d (|u_d| + c)/dx_d.");
+      prm.declare_entry("Fixed time step", "0", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Fixed time step [s]; 0 = from the CFL number. A fixed step is "
+                        "still reduced if it would exceed the CFL limit.");
+      prm.declare_entry("Reference velocity", "0", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Velocity unit of the internal scaled units [m/s]; 0 = sqrt(g sigma), "
+                        "g = 9.81 m/s^2.");
+      prm.declare_entry("Strang splitting", "merged", Patterns::Selection("merged|symmetric"),
+                        "How the convective step C and the diffusion step V are composed "
+                        "(eq. 3.5). symmetric: C(dt/2) V(dt) C(dt/2) every step. merged: the "
+                        "same scheme with adjacent convective halves taken as one step, "
+                        "C(dt0/2) V(dt0) C((dt0 + dt1)/2) V(dt1) ... C(dtn/2), synchronised at "
+                        "every output time: half the convective work, second order as well.");
+      prm.declare_entry("Maximum step retries", "6", Patterns::Integer(0, 30),
+                        "A step whose result is inadmissible (n <= 0 or T <= 0) is retried "
+                        "with half the time step at most this many times, then the run stops.");
+    }
+    prm.leave_subsection();
+  }
+
+  void NumericsParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Numerics");
+    {
+      const std::string r = prm.get("Reconstruction");
+      reconstruction      = r == "first order" ? ReconstructionType::first_order :
+                            r == "muscl"       ? ReconstructionType::muscl :
+                            r == "weno3"       ? ReconstructionType::weno3 :
+                                                 ReconstructionType::weno5;
+      face_quadrature =
+        prm.get("Face quadrature") == "gauss" ? FaceQuadrature::gauss : FaceQuadrature::midpoint;
+      no_slip_pressure_flux = prm.get("No-slip wall flux") == "pressure";
+      const std::string f = prm.get("Flux");
+      flux = f == "musta" ? FluxType::musta : (f == "rusanov" ? FluxType::rusanov : FluxType::hll);
+      musta_max_stages   = prm.get_integer("MUSTA maximum stages");
+      musta_tolerance    = prm.get_double("MUSTA tolerance");
+      musta_min_stages   = prm.get_integer("MUSTA minimum stages");
+      musta_local_cfl    = prm.get_double("MUSTA local CFL");
+      cfl                = prm.get_double("CFL number");
+      fixed_time_step    = prm.get_double("Fixed time step");
+      reference_velocity = prm.get_double("Reference velocity");
+      max_step_retries   = prm.get_integer("Maximum step retries");
+      merge_strang       = prm.get("Strang splitting") == "merged";
+    }
+    prm.leave_subsection();
+  }
+
+  void NumericsParameters::check_cfl(const Scene &s)
+  {
+    if (!(s.cfl >= 1e-3 && s.cfl <= 1))
+      fail(s, "Numerics/CFL number", "must lie in [1e-3, 1] (SSP-RK3 stability; smaller steps only "
+                                     "creep: use 'Numerics/Fixed time step' for a tiny fixed step)");
+  }
+
+  void NumericsParameters::check_musta(const Scene &s)
+  {
+    if (s.musta_local_cfl <= 0 || s.musta_local_cfl > 1)
+      fail(s, "Numerics/MUSTA local CFL", "must lie in (0, 1]");
+    if (s.musta_tolerance <= 0)
+      fail(s, "Numerics/MUSTA tolerance", "must be positive");
+  }
+
+  void NumericsParameters::check_reference_velocity(const Scene &s)
+  {
+    // the scaled units keep the state's numbers near 1; a velocity unit far from the
+    // default sqrt(g sigma) moves them towards the fixed thresholds (floors, tolerances)
+    if (s.reference_velocity > 0)
+      {
+        const double v0 = std::sqrt(9.81 * s.grain_diameter);
+        if (!(s.reference_velocity >= 1e-3 * v0 && s.reference_velocity <= 1e3 * v0))
+          fail(s, "Numerics/Reference velocity", fmt(s.reference_velocity) + " m/s; allowed 0 (= sqrt(g sigma) = " +
+                                                   fmt(v0) + " m/s) or within 1e-3 .. 1e3 times that");
+      }
+  }
+} // namespace granhydro

@@ -1,0 +1,127 @@
+#include <granhydro/scene/output.h>
+#include <granhydro/scene/scene.h>
+
+#include "parameter_tools.h"
+
+#include <unistd.h>
+
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <string>
+
+namespace granhydro
+{
+  using dealii::ParameterHandler;
+  namespace Patterns = dealii::Patterns;
+  using namespace scene_detail;
+
+  void OutputParameters::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Output");
+    {
+      prm.declare_entry("Directory", "output", Patterns::Anything(),
+                        "Directory for VTU/PVTU/PVD and CSV files (created if missing).");
+      prm.declare_entry("Base name", "solution", Patterns::FileName(),
+                        "Base name of output files.");
+      prm.declare_entry("Interval", "0", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Simulated time between outputs [s]; 0 = initial and final state only.");
+      prm.declare_entry("Write VTU", "true", Patterns::Bool(), "Write VTU/PVTU + PVD for ParaView.");
+      prm.declare_entry("Write checkpoint", "true", Patterns::Bool(),
+                        "Write <Directory>/<Base name>.checkpoint at every output time and at "
+                        "the end (replaced atomically), for 'Initial state/Checkpoint'.");
+      prm.declare_entry("Write summary", "true", Patterns::Bool(),
+                        "Write summary.csv at the end of the run: one 'key,value' line per "
+                        "figure of the run summary (cells, steps, wall times, smallest and "
+                        "largest time step, the explicit diffusive limit, Newton/GMRES "
+                        "iterations, mass drift), for scripts such as tools/work_precision.py.");
+      prm.declare_entry("Write profiles", "true", Patterns::Bool(),
+                        "Write profiles.csv: averages over the directions other than the "
+                        "profile direction.");
+      prm.declare_entry("Profile direction", "auto", Patterns::Selection("auto|x|y|z"),
+                        "Direction of the profiles; auto = the last resolved direction.");
+      prm.declare_entry("Cross-section direction", "none", Patterns::Selection("none|x|y|z"),
+                        "3D scenes: also write cross_section.csv, the averages along this "
+                        "direction as a map over the other two (e.g. x for the chute: the "
+                        "velocity field across the channel, paper fig. 8).");
+      prm.declare_entry("Progress interval", "5", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Wall-clock seconds between progress lines (0 = every step).");
+      prm.declare_entry("Verbose", "true", Patterns::Bool(), "Print the run log.");
+    }
+    prm.leave_subsection();
+  }
+
+  void OutputParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Output");
+    output_directory = prm.get("Directory");
+    base_name        = prm.get("Base name");
+    output_interval  = prm.get_double("Interval");
+    write_vtu        = prm.get_bool("Write VTU");
+    write_profiles   = prm.get_bool("Write profiles");
+    write_checkpoint = prm.get_bool("Write checkpoint");
+    write_summary    = prm.get_bool("Write summary");
+    {
+      const std::string p = prm.get("Profile direction");
+      profile_direction = p == "auto" ? -1 : (p == "x" ? 0 : (p == "y" ? 1 : 2));
+    }
+    {
+      const std::string c = prm.get("Cross-section direction");
+      section_direction = c == "none" ? -1 : (c == "x" ? 0 : (c == "y" ? 1 : 2));
+    }
+    progress_interval = prm.get_double("Progress interval");
+    verbose           = prm.get_bool("Verbose");
+    prm.leave_subsection();
+  }
+
+  void OutputParameters::check(const Scene &s)
+  {
+    const unsigned int dim = s.dimension;
+    if (s.output_directory.empty())
+      fail(s, "Output/Directory", "must not be empty");
+    if (s.output_directory.size() > 1024)
+      fail(s, "Output/Directory", "a path of " + std::to_string(s.output_directory.size()) +
+                                    " characters; allowed up to 1024");
+    for (const auto &part : std::filesystem::path(s.output_directory))
+      if (part.string().size() > 255)
+        fail(s, "Output/Directory", "a folder name of " + std::to_string(part.string().size()) +
+                                      " characters; file systems allow up to 255");
+    {
+      // a file name, not a path: no '/', no leading '.', at most 100 characters of
+      // letters, digits, '_', '-', '.'
+      const std::string &b  = s.base_name;
+      bool               ok = !b.empty() && b.size() <= 100 && b[0] != '.';
+      for (const char ch : b)
+        ok = ok && (std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-' || ch == '.');
+      if (!ok)
+        fail(s, "Output/Base name", "'" + b + "' must be 1..100 characters of letters, digits, '_', "
+                                    "'-' or '.', not starting with '.' (a file name, not a path: "
+                                    "use 'Output/Directory' for folders)");
+      // the output folder, or the nearest folder above it that exists, must be writable
+      std::error_code       ec;
+      std::filesystem::path dir = std::filesystem::absolute(s.output_directory, ec);
+      while (!dir.empty() && !std::filesystem::exists(dir, ec) && dir.has_parent_path() &&
+             dir.parent_path() != dir)
+        dir = dir.parent_path();
+      if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
+        fail(s, "Output/Directory", "'" + dir.string() + "' exists and is not a folder");
+      if (std::filesystem::exists(dir, ec) && ::access(dir.c_str(), W_OK) != 0)
+        fail(s, "Output/Directory", "'" + dir.string() + "' is not writable");
+      // access() trusts permissions: a folder (e.g. under /proc) may still refuse new entries
+      if (std::filesystem::is_directory(dir, ec))
+        {
+          std::string probe = (dir / ".granhydro_probe_XXXXXX").string();
+          if (::mkdtemp(&probe[0]) == nullptr)
+            fail(s, "Output/Directory", "cannot create folders in '" + dir.string() + "': " +
+                                          std::strerror(errno));
+          ::rmdir(probe.c_str());
+        }
+    }
+    if (s.section_direction >= 0 && dim != 3)
+      fail(s, "Output/Cross-section direction", "cross sections need a 3D scene");
+    if (s.profile_direction >= static_cast<int>(dim))
+      fail(s, "Output/Profile direction", "names a direction the " + std::to_string(dim) +
+                                            "D scene does not resolve");
+  }
+} // namespace granhydro

@@ -1,0 +1,301 @@
+#include <granhydro/scene/scene.h>
+
+#include "parameter_tools.h"
+
+#include <deal.II/base/exceptions.h>
+
+#include <cctype>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace granhydro
+{
+  using dealii::ParameterHandler;
+  using namespace scene_detail;
+
+  std::string default_scene_text()
+  {
+    return R"(# granhydro default scene: a cylindrical blast in a dilute elastic granular
+# gas (ideal-gas limit), 2D, 100 x 100 cells, slip walls. Runs in seconds.
+set Dimension = 2
+subsection Domain
+  set Lower corner = 0, 0
+  set Upper corner = 0.1, 0.1
+  set Cells = 100, 100
+  set Boundary x- = slip wall
+  set Boundary x+ = slip wall
+  set Boundary y- = slip wall
+  set Boundary y+ = slip wall
+end
+subsection Material
+  set Model = ideal gas
+  set Grain diameter = 1e-3
+  set Material density = 2600
+end
+subsection Initial state
+  set Packing fraction = if((x-0.05)^2 + (y-0.05)^2 < 0.02^2, 0.02, 0.01)
+  set Velocity = 0; 0
+  set Temperature = if((x-0.05)^2 + (y-0.05)^2 < 0.02^2, 1e-7, 1e-8)
+end
+subsection Time
+  set End time = 0.15
+end
+subsection Output
+  set Directory = output
+  set Interval = 0.03
+end
+)";
+  }
+
+  namespace
+  {
+    /// one command-line override "Section/Sub/Name=value" into prm
+    void apply_override(ParameterHandler &prm, const std::string &o)
+    {
+      const std::string where = "command line: -p '" + o + "': ";
+      const auto        eq    = o.find('=');
+      if (eq == std::string::npos || eq == 0)
+        throw SceneError(where + "expected \"Section/Name=value\" (e.g. -p \"Time/End time=0.1\")");
+      const auto trim = [](std::string x) {
+        const auto b = x.find_first_not_of(" \t"), e = x.find_last_not_of(" \t");
+        return b == std::string::npos ? std::string() : x.substr(b, e - b + 1);
+      };
+      std::vector<std::string> path;
+      std::string              rest = o.substr(0, eq);
+      for (std::size_t slash; (slash = rest.find('/')) != std::string::npos; rest = rest.substr(slash + 1))
+        path.push_back(trim(rest.substr(0, slash)));
+      const std::string name = trim(rest), value = trim(o.substr(eq + 1));
+      for (const auto &p : path)
+        prm.enter_subsection(p);
+      try
+        {
+          prm.set(name, value);
+        }
+      catch (const dealii::ExceptionBase &e)
+        {
+          for (std::size_t i = 0; i < path.size(); ++i)
+            prm.leave_subsection();
+          const std::string m = human_message(e.what());
+          if (m.find("not yet declared") != std::string::npos)
+            throw SceneError(where + "there is no parameter '" + trim(o.substr(0, eq)) +
+                             "' (granhydro --print-parameters lists them)");
+          throw SceneError(where + m);
+        }
+      for (std::size_t i = 0; i < path.size(); ++i)
+        prm.leave_subsection();
+    }
+  } // namespace
+
+  namespace
+  {
+    /// "FILE, line N" of line `number` (1-based) of the parsed text
+    std::string place(const std::string &source, const std::vector<std::string> *origin,
+                      const unsigned long number)
+    {
+      if (origin && number >= 1 && number <= origin->size())
+        return (*origin)[number - 1];
+      return source + ", line " + std::to_string(number);
+    }
+
+    /// a deal.II parse message with its place in our words ("Line <N> of file <input
+    /// string>" -> the real file and line) and without unprintable bytes
+    std::string parse_message(const std::string &m, const std::string &source,
+                              const std::vector<std::string> *origin)
+    {
+      std::string out = source + ": " + m;
+      const auto  a   = m.find("Line <");
+      const auto  b   = m.find("> of file <input string>");
+      if (a != std::string::npos && b != std::string::npos && b > a)
+        out = place(source, origin, std::strtoul(m.c_str() + a + 6, nullptr, 10)) + m.substr(b + 24);
+      for (char &ch : out)
+        if (static_cast<unsigned char>(ch) < 32 || static_cast<unsigned char>(ch) > 126)
+          ch = '?';
+      if (out.size() > 400)
+        out = out.substr(0, 400) + " ...";
+      return out;
+    }
+
+    /// every 'subsection' closed by an 'end', every 'end' closing one: named by line (deal.II
+    /// only says that the counts differ)
+    void check_sections(const std::string &text, const std::string &source,
+                        const std::vector<std::string> *origin)
+    {
+      std::istringstream                                  in(text);
+      std::vector<std::pair<unsigned long, std::string>> open;
+      unsigned long                                       number = 0;
+      for (std::string line; std::getline(in, line);)
+        {
+          ++number;
+          const auto hash = line.find('#');
+          if (hash != std::string::npos)
+            line.erase(hash);
+          std::istringstream is(line);
+          std::string        word;
+          if (!(is >> word))
+            continue;
+          for (char &ch : word)
+            ch = std::tolower(static_cast<unsigned char>(ch));
+          if (word == "subsection")
+            {
+              std::string name;
+              std::getline(is >> std::ws, name);
+              open.emplace_back(number, name);
+            }
+          else if (word == "end")
+            {
+              if (open.empty())
+                throw SceneError("in " + place(source, origin, number) +
+                                 ": 'end' without an open 'subsection'");
+              open.pop_back();
+            }
+        }
+      if (!open.empty())
+        throw SceneError("in " + place(source, origin, open.back().first) +
+                         ": 'subsection " + open.back().second +
+                         "' is never closed (an 'end' line is missing)");
+    }
+
+    /// the scene in `text`; origin: "FILE, line N" of every line of it (null: `source_name`
+    /// and the line number of the text)
+    Scene parse_scene_text(const std::string &text, const std::string &source_name,
+                           const std::vector<std::string> &overrides,
+                           const std::vector<std::string> *origin)
+    {
+      ParameterHandler prm;
+      declare_scene_parameters(prm);
+      check_sections(text, source_name, origin);
+      try
+        {
+          prm.parse_input_from_string(text, /*last_line=*/"", /*skip_undefined=*/false);
+        }
+      catch (const dealii::ExceptionBase &e)
+        {
+          throw SceneError("in " + parse_message(human_message(e.what()), source_name, origin));
+        }
+      catch (const std::exception &e)
+        {
+          throw SceneError("in " + parse_message(human_message(e.what()), source_name, origin));
+        }
+      for (const auto &o : overrides)
+        apply_override(prm, o);
+
+      try
+        {
+          return scene_from(prm, source_name);
+        }
+      catch (const SceneError &e)
+        {
+          const std::string m = e.what();
+          if (m.rfind("in ", 0) == 0)
+            throw;
+          throw SceneError("in " + source_name + ": " + m);
+        }
+      catch (const dealii::ExceptionBase &e)
+        {
+          // a value that passes the pattern but does not convert (e.g. 1e-310, below the
+          // smallest normal double): name the entry deal.II names
+          const std::string m = human_message(e.what());
+          const auto        a = m.find("for entry <"), b = m.find('>', a == std::string::npos ? 0 : a);
+          const std::string entry = a != std::string::npos && b != std::string::npos ?
+                                      m.substr(a + 11, b - a - 11) :
+                                      std::string("?");
+          throw SceneError("in " + source_name + ": parameter '" + entry + "': " + m + " (" +
+                           usable_decimal_rule + ")");
+        }
+    }
+  } // namespace
+
+  Scene parse_scene(const std::string &text, const std::string &source_name,
+                    const std::vector<std::string> &overrides)
+  {
+    return parse_scene_text(text, source_name, overrides, nullptr);
+  }
+
+  namespace
+  {
+    /// the scene text with its 'include FILE' lines replaced by the files' texts (a path
+    /// relative to the including file, as for mesh files); refuses an include cycle (a scene
+    /// that included itself recursed until the stack overflowed) and nesting beyond 16;
+    /// origin gets "FILE, line N" for every line of the result (messages name the real place)
+    std::string expand_includes(const std::string &file, std::vector<std::string> chain,
+                                std::vector<std::string> &origin)
+    {
+      std::error_code ec;
+      const auto      canon = std::filesystem::weakly_canonical(file, ec).string();
+      for (const auto &c : chain)
+        if (c == canon)
+          throw SceneError("scene file '" + chain.front() + "' includes '" + file +
+                           "' again (an include cycle); remove that 'include' line");
+      chain.push_back(canon);
+      if (chain.size() > 16)
+        throw SceneError("scene file '" + chain.front() + "': includes nested deeper than 16 files");
+      std::ifstream in(file);
+      if (!in)
+        throw SceneError("cannot open scene file '" + file + "'");
+      std::string  out;
+      unsigned int number = 0;
+      for (std::string line; std::getline(in, line);)
+        {
+          ++number;
+          std::istringstream is(line);
+          std::string        word, target;
+          if (is >> word && word == "include" && is >> target)
+            {
+              std::filesystem::path path(target);
+              if (path.is_relative())
+                path = std::filesystem::path(file).parent_path() / path;
+              if (!std::filesystem::is_regular_file(path, ec))
+                throw SceneError("scene file '" + file + "': 'include " + target +
+                                 "' does not name a readable file (paths are relative to the "
+                                 "including file)");
+              out += expand_includes(path.string(), chain, origin);
+              out += '\n';
+              origin.push_back(file + ", line " + std::to_string(number));
+            }
+          else
+            {
+              out += line + '\n';
+              origin.push_back(file + ", line " + std::to_string(number));
+            }
+        }
+      return out;
+    }
+  } // namespace
+
+  Scene read_scene(const std::string &filename, const std::vector<std::string> &overrides)
+  {
+    if (filename.empty())
+      return parse_scene(default_scene_text(), "<default scene>", overrides);
+    // a scene is a regular text file of reasonable size: a directory, /dev/null or
+    // /dev/zero would otherwise run the default scene or exhaust the memory
+    std::error_code ec;
+    const auto      status = std::filesystem::status(filename, ec);
+    if (ec || !std::filesystem::exists(status))
+      throw SceneError("cannot open scene file '" + filename + "': no such file");
+    if (!std::filesystem::is_regular_file(status))
+      throw SceneError("scene file '" + filename +
+                       "' is not a regular file (a directory or a device); give a .prm file");
+    constexpr std::uintmax_t max_bytes = 16u << 20;
+    if (std::filesystem::file_size(filename, ec) > max_bytes || ec)
+      throw SceneError("scene file '" + filename + "' is larger than 16 MiB (or unreadable); a "
+                       "scene is a short parameter file");
+    std::vector<std::string> origin;
+    const std::string        text = expand_includes(filename, {}, origin);
+    // only comments and blank lines: refuse rather than silently run every default
+    std::istringstream lines(text);
+    bool               statement = false;
+    for (std::string line; !statement && std::getline(lines, line);)
+      {
+        const auto b = line.find_first_not_of(" \t\r");
+        statement    = b != std::string::npos && line[b] != '#';
+      }
+    if (!statement)
+      throw SceneError("scene file '" + filename + "' sets no parameter (it is empty or holds only "
+                       "comments); run granhydro without a file for the default scene");
+    return parse_scene_text(text, filename, overrides, &origin);
+  }
+} // namespace granhydro

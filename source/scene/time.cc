@@ -1,0 +1,48 @@
+#include <granhydro/scene/scene.h>
+#include <granhydro/scene/time.h>
+
+#include "parameter_tools.h"
+
+namespace granhydro
+{
+  using dealii::ParameterHandler;
+  namespace Patterns = dealii::Patterns;
+  using namespace scene_detail;
+
+  void TimeParameters::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Time");
+    {
+      prm.declare_entry("End time", "0.2", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Simulated end time [s].");
+      prm.declare_entry("Maximum wall time", "0", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "Stop cleanly (final output, checkpoint, summary.csv with status "
+                        "'wall time limit') after this many wall-clock seconds; 0 = no limit. "
+                        "Restart from the checkpoint to go on.");
+      prm.declare_entry("Maximum steps", "0", Patterns::Integer(0),
+                        "Stop after this many steps (0 = no limit).");
+      prm.declare_entry("Steady state tolerance", "0", Patterns::Double(0, 1),
+                        "Stop before the end time once a steady state is reached: the total "
+                        "kinetic energy and the mean height (centre of mass) change by less "
+                        "than this fraction between two output times (needs Output/Interval "
+                        "> 0; 0 = off).");
+    }
+    prm.leave_subsection();
+  }
+
+  void TimeParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Time");
+    end_time  = prm.get_double("End time");
+    max_steps = prm.get_integer("Maximum steps");
+    max_wall_seconds = prm.get_double("Maximum wall time");
+    steady_tolerance = prm.get_double("Steady state tolerance");
+    prm.leave_subsection();
+  }
+
+  void TimeParameters::check(const Scene &s)
+  {
+    if (s.end_time <= 0)
+      fail(s, "Time/End time", "must be positive");
+  }
+} // namespace granhydro
