@@ -9,16 +9,12 @@
  *   dof * stages + stage), assembled into granhydro's block-sparse matrix and
  *   solved by GMRES with block ILU(0) (block_sparse.h), or into a Trilinos matrix
  *   with Ifpack ILU or ML AMG (IntegratorSettings::block_ilu, amg).
- * Butcher tables (doc/physics.md P13; the paper's 5.14/5.15 are garbled):
- *   Gauss-Legendre 2: c = 1/2 -+ sqrt(3)/6, A = [[1/4, 1/4 - sqrt(3)/6], [1/4 + sqrt(3)/6, 1/4]], b = (1/2, 1/2)
- *   implicit midpoint: c = 1/2, A = [[1/2]], b = 1
- *   SDIRK2 (Alexander 1977; Hairer & Wanner II, IV.6): g = 1 - 1/sqrt(2),
- *     c = (g, 1), A = [[g, 0], [1 - g, g]], b = (1 - g, g): order 2, L-stable and
- *     stiffly accurate (U1 is the last stage value), so a stiff mode is damped to 0
- *     in one step where Gauss-Legendre keeps |R(-inf)| = 1. Its stages are solved one
- *     after the other, each with the one-stage Newton matrix I - g dt J, which both
- *     stages share (one Jacobian and one preconditioner per step, 5 unknowns per cell
- *     in 3D against 10 for the coupled Gauss-Legendre system).
+ * Methods (their Butcher tables in butcher_tables.h): Gauss-Legendre 2, the implicit
+ * midpoint rule and SDIRK2. SDIRK2 is L-stable and stiffly accurate, so a stiff mode
+ * is damped to 0 in one step where Gauss-Legendre keeps |R(-inf)| = 1. Its stages are
+ * solved one after the other, each with the one-stage Newton matrix I - g dt J, which
+ * both stages share (one Jacobian and one preconditioner per step, 5 unknowns per cell
+ * in 3D against 10 for the coupled Gauss-Legendre system).
  * Inexact Newton: each GMRES solve stops at a relative residual eta_k from the
  * forcing rule of Eisenstat & Walker (1996, choice 2, gamma 0.9, alpha 2), kept in
  * [Linear solver tolerance, 0.1]: the modified Newton iteration converges linearly,
@@ -51,9 +47,11 @@
  * baseline that shows the time-step collapse near close packing.
  */
 #include <granhydro/diffusion/block_sparse.h>
+#include <granhydro/diffusion/butcher_tables.h>
 #include <granhydro/diffusion/diffusion_operator.h>
 
 #include <deal.II/lac/la_parallel_vector.h>
+#include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/trilinos_vector.h>
@@ -64,34 +62,6 @@
 
 namespace granhydro::diffusion
 {
-  enum class ImplicitMethod
-  {
-    gauss_legendre,
-    implicit_midpoint,
-    sdirk2,
-    rkl2,
-    cost_based,
-    automatic,
-    explicit_euler
-  };
-
-  /// Butcher table (A, b, c = row sums of A) of the implicit Runge-Kutta methods above
-  struct ButcherTableau
-  {
-    std::vector<std::vector<double>> A;
-    std::vector<double>              b, c;
-  };
-  /// gauss_legendre, implicit_midpoint or sdirk2 (throws for the others)
-  ButcherTableau butcher_tableau(const ImplicitMethod method);
-
-  /// RKL2 stage j (2 <= j <= s) of s: Y_j = mu Y_j-1 + nu Y_j-2 + (1 - mu - nu) Y_0
-  /// + mu_tilde dt f(Y_j-1) + gamma_tilde dt f(Y_0); j = 1 gives Y_1 = Y_0 + mu_tilde dt f(Y_0)
-  /// (mu = 1, nu = gamma_tilde = 0). Meyer, Balsara & Aslam 2014, eq. 16-17.
-  struct RKL2Stage
-  {
-    double mu, nu, mu_tilde, gamma_tilde;
-  };
-  RKL2Stage rkl2_stage(const unsigned int j, const unsigned int s);
   /// Newton's convergence scale of every unknown of the owned cells (U: NC values per
   /// cell): each cell's own state - its density, sqrt(2 n E) for the momenta (>= |n u|),
   /// its energy density - so that dilute cells converge as tightly as dense ones, but at
@@ -99,21 +69,6 @@ namespace granhydro::diffusion
   /// near vacuum is not asked for round-off accuracy)
   std::vector<double> newton_scale(const std::vector<double> &U, const unsigned int NC, const MPI_Comm comm);
   inline constexpr double newton_scale_floor = 1e-3;
-
-  /// the fewest RKL2 stages (>= 2) stable for dt = ratio x the forward-Euler limit:
-  /// ratio <= (s^2 + s - 2) / 4
-  unsigned int rkl2_stages(const double ratio);
-  /// the cost model's price of one SDIRK2 step in evaluations of f, for NC unknowns per
-  /// cell: the finite-difference Jacobian (2 NC + 1 face-flux sweeps), the preconditioner
-  /// set-up, 12 Newton iterations (two stages; 12.3-14.3 per step measured on the three
-  /// stiff benchmark scenes) of one f and GMRES each, and 3 for the final slopes.
-  /// Calibrated on bouncing_bed-ci, 1 rank: block ILU(0) 2 for the set-up and 1 per Newton
-  /// iteration for GMRES (1.3 ms and 0.9 ms against 0.84 ms per f); Trilinos' Ifpack ILU 15
-  /// and 2.5. A constant, so that the choice depends on dt and the explicit limit alone.
-  inline double sdirk2_cost(const double NC, const bool block_ilu)
-  {
-    return 2 * NC + 1 + (block_ilu ? 2. : 15.) + 12 * (1 + (block_ilu ? 1. : 2.5)) + 3;
-  }
 
   struct IntegratorSettings
   {
@@ -235,6 +190,10 @@ namespace granhydro::diffusion
     bool newton(const std::vector<double> &base, const std::vector<double> &tk, const double dt,
                 const Table &N, const std::vector<double> &scale, std::vector<double> &K,
                 std::vector<double> &power, unsigned int &iterations);
+    /// one GMRES solve of the Newton correction (the block system brhs -> bdelta, or rhs ->
+    /// delta with the Trilinos matrix M) to the tolerance of control; false if GMRES failed
+    bool solve_correction(dealii::SolverControl &control, const dealii::TrilinosWrappers::MPI::Vector &rhs,
+                          dealii::TrilinosWrappers::MPI::Vector &delta);
     bool explicit_step(Vector &U, const double t, const double dt);
     /// RKL2 super-time-step (explicit_limit and W from step())
     bool rkl2_step(Vector &U, const double t, const double dt);

@@ -17,10 +17,16 @@
  * code's scaled units (sigma = m = 1) alike, provided all inputs use one
  * consistent unit system (doc/physics.md section 0).
  *
+ * The dimensionless closures in (phi, chi) and their restitution-only constants are
+ * in garzo_dufty/factors.h, the records and modes the model gives in
+ * garzo_dufty/coefficients.h; this header includes both.
+ *
  * Header only, standard library only, no virtual functions. The dimensionless
  * functions are templated on the number type of phi; the dimensional ones on
  * the number type of (n, T), with grain mass m and diameter sigma as double.
  */
+#include <granhydro/physics/garzo_dufty/coefficients.h>
+#include <granhydro/physics/garzo_dufty/factors.h>
 #include <granhydro/physics/pair_correlation.h>
 
 #include <cmath>
@@ -30,77 +36,12 @@
 
 namespace granhydro::physics
 {
-  /// First-order cooling coefficient zeta_U (doc/physics.md 3.6); off by default.
-  enum class ZetaUMode
-  {
-    off,     ///< zeta = zeta0 (the paper's source term; default)
-    leading, ///< zeta_U = -(1 - eps)(Z - 1) = -2 (1 - eps^2) phi chi
-    full     ///< leading term + the c_D correction as coded in MFIX GD_99
-  };
-
-  /// Density at contact used in the dissipative-wall heat flux (doc/physics.md 5.2).
-  enum class WallHeatFluxModel
-  {
-    contact_theorem, ///< n_c = 2 p_w/((1 + eps_w) T): q_w = (1 - eps_w) p_w sqrt(2T/(pi m)) (default)
-    dilute,          ///< n_c = n
-    n_chi            ///< n_c = n chi (Enskog-style)
-  };
-
-  /**
-   * All dimensionless GD99 factors at one packing fraction (doc/physics.md
-   * 3.2–3.6), filled by GarzoDufty1999::dimensionless() with a single chi
-   * evaluation. Dimensional values: eta = eta0 eta_star, gamma = eta0
-   * gamma_star, kappa = kappa0 kappa_star, mu = (T kappa0/n) mu_star,
-   * zeta0 = nu0 zeta_star (doc/physics.md 3.4).
-   */
-  template <typename Number>
-  struct DimensionlessCoefficientsT
-  {
-    Number phi;           ///< packing fraction the values belong to
-    Number chi;           ///< pair correlation at contact (doc/physics.md 2)
-    Number dchi_dphi;     ///< dchi/dphi
-    Number g;             ///< phi d ln chi/d phi (doc/physics.md 3.4)
-    Number c_star;        ///< fourth cumulant c*(eps) (3.2)
-    Number Z;             ///< p* = p/(n T) (2)
-    Number dZ_dphi;       ///< dZ/dphi (1.1)
-    Number zeta_star;     ///< zeroth-order cooling rate / nu0 (3.3)
-    Number nu_eta_star;   ///< (3.3)
-    Number nu_kappa_star; ///< (3.3), equal to nu_mu*
-    Number eta_k_star;    ///< kinetic part of eta* (3.4)
-    Number eta_star;      ///< eta / eta0 (3.4)
-    Number gamma_star;    ///< gamma / eta0 (3.4)
-    Number kappa_k_star;  ///< kinetic part of kappa* (3.4)
-    Number kappa_star;    ///< kappa / kappa0 (3.4)
-    Number mu_k_star;     ///< kinetic part of mu* (3.4)
-    Number mu_star;       ///< mu n/(T kappa0) (3.4)
-    Number zeta_U;        ///< first-order cooling coefficient in the object's ZetaUMode (3.6)
-  };
-
-  using DimensionlessCoefficients = DimensionlessCoefficientsT<double>;
-
-  /// Dimensional values at one state (n, T), see GarzoDufty1999::transport().
-  template <typename Number>
-  struct TransportCoefficientsT
-  {
-    Number p;      ///< pressure n T Z                       [Pa]
-    Number c;      ///< sound speed (doc/physics.md 1.1)          [m/s]
-    Number eta;    ///< shear viscosity                       [Pa s]
-    Number gamma;  ///< bulk viscosity                        [Pa s]
-    Number kappa;  ///< thermal conductivity (T-based)        [1/(m s)]
-    Number mu;     ///< heat-flux coefficient of grad n       [J m^2/s]
-    Number zeta0;  ///< zeroth-order cooling rate             [1/s]
-    Number zeta_U; ///< dimensionless, multiplies div u in zeta = zeta0 + zeta_U div u
-    DimensionlessCoefficientsT<Number> star; ///< the dimensionless factors used
-  };
-
-  using TransportCoefficients = TransportCoefficientsT<double>;
-
   /**
    * Garzó–Dufty (1999) constitutive model for d = 3 hard spheres with
    * restitution eps (GD99's alpha) and the Torquato pair correlation
    * (doc/physics.md sections 2 and 3).
    */
-  class GarzoDufty1999
+  class GarzoDufty1999 : private GarzoDuftyFactors
   {
   public:
     /**
@@ -195,10 +136,7 @@ namespace granhydro::physics
     double c_star() const { return c_star_; }
 
     /// c* for an arbitrary eps (doc/physics.md 3.2); c_star() is this at eps().
-    static double c_star(const double a)
-    {
-      return 32. * (1. - a) * (1. - 2. * (a * a)) / (81. - 17. * a + 30. * (a * a) * (1. - a)) + 0.;
-    }
+    static double c_star(const double a) { return fourth_cumulant(a); }
 
     /// chi(phi), doc/physics.md 2 (forwarded to the pair correlation).
     template <typename Number>
@@ -220,7 +158,7 @@ namespace granhydro::physics
     {
       Number c, dc;
       chi_.chi_and_derivative(phi, c, dc);
-      return lanes::constant<Number>(two_1pa_) * (c + phi * dc);
+      return dZ_(phi, c, dc);
     }
 
     /// zeta* = (5/12) chi (1 - a^2)(1 + 3c*/32), doc/physics.md 3.3 (GD99 zeroth-order cooling rate / nu0).
@@ -328,7 +266,7 @@ namespace granhydro::physics
       r.g             = phi * dc / c;
       r.c_star        = lanes::constant<Number>(c_star_);
       r.Z             = Z_(phi, c);
-      r.dZ_dphi       = lanes::constant<Number>(two_1pa_) * (c + phi * dc);
+      r.dZ_dphi       = dZ_(phi, c, dc);
       r.zeta_star     = lanes::constant<Number>(zeta_fac_) * c;
       r.nu_eta_star   = lanes::constant<Number>(nu_eta_fac_) * c;
       r.nu_kappa_star = lanes::constant<Number>(nu_kap_fac_) * c;
@@ -404,7 +342,7 @@ namespace granhydro::physics
       Number       c, dc;
       chi_.chi_and_derivative(phi, c, dc);
       const Number Zv = Z_(phi, c);
-      const Number dZ = lanes::constant<Number>(two_1pa_) * (c + phi * dc);
+      const Number dZ = dZ_(phi, c, dc);
       return sqrt(T / lanes::constant<Number>(m) * (Zv + phi * dZ + lanes::constant<Number>(2. / 3.) * Zv * Zv));
     }
 
@@ -575,8 +513,6 @@ namespace granhydro::physics
     ///@}
 
   private:
-    static constexpr double pi_ = 3.14159265358979323846264338327950288;
-
     void initialize(const double eps, const double T_floor, const ZetaUMode zeta_u_mode)
     {
       if (!(eps >= 0.5 && eps <= 1.))
@@ -585,52 +521,11 @@ namespace granhydro::physics
              "[0.5, 1] (doc/physics.md 3.4: positivity of eta and kappa is verified only there)");
       set_T_floor(T_floor);
       zeta_u_mode_ = zeta_u_mode;
-
-      const double a = eps;
-      a_             = a;
-      c_star_        = c_star(a);
-      const double cs = c_star_;
-      two_1pa_       = 2. * (1. + a);
-      // doc/physics.md 3.3
-      zeta_fac_   = cooling_factor(a, cs);
+      a_           = eps;
+      set_factors(eps);
       friction_mu_ = 0.;
-      e_eff_       = a;
+      e_eff_       = eps;
       cooling_fac_ = zeta_fac_;
-      nu_eta_fac_ = (1. - 0.25 * (1. - a) * (1. - a)) * (1. - cs / 64.);
-      nu_kap_fac_ = (1. + a) / 3. * (1. + 33. / 16. * (1. - a) + (19. - 3. * a) / 1024. * cs);
-      // doc/physics.md 3.4
-      gamma_fac_     = 128. / (5. * pi_) * (1. + a) * (1. - cs / 32.);
-      eta_num_fac_   = 0.4 * (1. + a) * (1. - 3. * a);
-      eta_den_fac_   = nu_eta_fac_ - 0.5 * zeta_fac_;
-      eta_tr_fac_    = 0.8 * (1. + a);
-      kap_num0_      = 1. + cs;
-      kap_num1_      = 0.6 * (1. + a) * (1. + a) * (2. * a - 1. + 0.5 * (1. + a) * cs);
-      kap_den_fac_   = nu_kap_fac_ - 2. * zeta_fac_;
-      kap_tr_fac_    = 1.2 * (1. + a);
-      kap_coll_fac_  = 256. / (25. * pi_) * (1. + a) * (1. + 7. / 32. * cs);
-      mu_c_fac_      = cs / 3.;
-      mu_tr_num_fac_ = 0.8 * (1. + a) * (a * (1. - a) - cs / 12. * (16. - 3. * a + 3. * a * a));
-      mu_den_fac_    = nu_kap_fac_ - 1.5 * zeta_fac_;
-      // doc/physics.md 3.6 (MFIX GD_99 form of zeta_U)
-      zu_lead_fac_ = -(1. - a) * two_1pa_;
-      const double nu_gam_fac =
-        (1. + a) / 48. *
-        (128. - 96. * a + 15. * a * a - 15. * a * a * a +
-         cs / 64. * (15. * a * a * a - 15. * a * a + 498. * a - 434.));
-      const double lam = 3. / 8. *
-                         ((1. - a) * (5. * a * a + 4. * a - 1.) +
-                          cs / 12. * (159. * a + 3. * a * a - 19. * a - 15. * a * a * a)) *
-                         (1. + a);
-      zu_cd_num1_ = 4. / 15. * lam;
-      zu_cd_num2_ = (2. / 3. - a) * cs;
-      zu_cd_den_  = 0.5 * zeta_fac_ + nu_gam_fac + 5. * cs / 64. * (1. + 3. * cs / 64.) * (1. - a * a);
-      zu_corr_fac_ = 5. / 32. * (1. - a * a) * (1. + 3. * cs / 64.);
-    }
-
-    /// zeta*/chi = (5/12)(1 - e^2)(1 + 3c*/32), doc/physics.md 3.3
-    static double cooling_factor(const double e, const double cs)
-    {
-      return 5. / 12. * (1. - e * e) * (1. + 3. * cs / 32.);
     }
 
     template <typename Number>
@@ -638,77 +533,6 @@ namespace granhydro::physics
     {
       // NaN propagates (comparison false -> T returned)
       return T < lanes::constant<Number>(T_floor_) ? lanes::constant<Number>(T_floor_) : T;
-    }
-
-    template <typename Number>
-    __attribute__((always_inline)) inline Number Z_(const Number phi, const Number c) const
-    {
-      return lanes::constant<Number>(1.) + lanes::constant<Number>(two_1pa_) * phi * c;
-    }
-
-    template <typename Number>
-    Number gamma_(const Number phi, const Number c) const
-    {
-      return lanes::constant<Number>(gamma_fac_) * phi * phi * c;
-    }
-
-    template <typename Number>
-    Number eta_k_(const Number phi, const Number c) const
-    {
-      return (lanes::constant<Number>(1.) - lanes::constant<Number>(eta_num_fac_) * phi * c) / (lanes::constant<Number>(eta_den_fac_) * c);
-    }
-
-    template <typename Number>
-    Number eta_(const Number phi, const Number c, const Number eta_k) const
-    {
-      return eta_(phi, c, eta_k, gamma_(phi, c));
-    }
-
-    template <typename Number>
-    Number eta_(const Number phi, const Number c, const Number eta_k, const Number gamma_s) const
-    {
-      return eta_k * (lanes::constant<Number>(1.) + lanes::constant<Number>(eta_tr_fac_) * phi * c) + lanes::constant<Number>(0.6) * gamma_s;
-    }
-
-    template <typename Number>
-    Number kappa_k_(const Number phi, const Number c) const
-    {
-      return lanes::constant<Number>(2. / 3.) * (lanes::constant<Number>(kap_num0_) + lanes::constant<Number>(kap_num1_) * phi * c) /
-             (lanes::constant<Number>(kap_den_fac_) * c);
-    }
-
-    template <typename Number>
-    Number kappa_(const Number phi, const Number c, const Number kappa_k) const
-    {
-      return kappa_k * (lanes::constant<Number>(1.) + lanes::constant<Number>(kap_tr_fac_) * phi * c) +
-             lanes::constant<Number>(kap_coll_fac_) * phi * phi * c;
-    }
-
-    template <typename Number>
-    Number mu_k_(const Number phi, const Number c, const Number dc, const Number kappa_k) const
-    {
-      const Number g = phi * dc / c; // phi d ln chi / d phi (doc/physics.md 3.9, D1)
-      return ((lanes::constant<Number>(1.) + g) * lanes::constant<Number>(zeta_fac_) * c * kappa_k + lanes::constant<Number>(mu_c_fac_) -
-              lanes::constant<Number>(mu_tr_num_fac_) * phi * c * (lanes::constant<Number>(1.) + lanes::constant<Number>(0.5) * g)) /
-             (lanes::constant<Number>(mu_den_fac_) * c);
-    }
-
-    template <typename Number>
-    Number mu_(const Number phi, const Number c, const Number mu_k) const
-    {
-      return mu_k * (lanes::constant<Number>(1.) + lanes::constant<Number>(kap_tr_fac_) * phi * c);
-    }
-
-    template <typename Number>
-    Number zeta_U_(const Number phi, const Number c, const ZetaUMode mode) const
-    {
-      const Number lead = lanes::constant<Number>(zu_lead_fac_) * phi * c; // -(1 - a)(Z - 1)
-      if (mode != ZetaUMode::full)
-        return lead;
-      const Number Zm1 = lanes::constant<Number>(two_1pa_) * phi * c;       // Z - 1
-      const Number c_D = (lanes::constant<Number>(zu_cd_num1_) * phi * c + Zm1 * lanes::constant<Number>(zu_cd_num2_)) /
-                         (lanes::constant<Number>(zu_cd_den_) * c);
-      return lead + lanes::constant<Number>(zu_corr_fac_) * c * c_D;
     }
 
     static std::string str(const double x)
@@ -729,14 +553,6 @@ namespace granhydro::physics
     double                  a_           = 1.;
     double                  T_floor_     = 0.;
     ZetaUMode               zeta_u_mode_ = ZetaUMode::off;
-
-    // eps-only constants, set in initialize()
-    double c_star_ = 0., two_1pa_ = 0.;
-    double zeta_fac_ = 0., nu_eta_fac_ = 0., nu_kap_fac_ = 0.;
     double friction_mu_ = 0., e_eff_ = 1., cooling_fac_ = 0.; ///< friction (set_friction)
-    double gamma_fac_ = 0., eta_num_fac_ = 0., eta_den_fac_ = 0., eta_tr_fac_ = 0.;
-    double kap_num0_ = 0., kap_num1_ = 0., kap_den_fac_ = 0., kap_tr_fac_ = 0., kap_coll_fac_ = 0.;
-    double mu_c_fac_ = 0., mu_tr_num_fac_ = 0., mu_den_fac_ = 0.;
-    double zu_lead_fac_ = 0., zu_cd_num1_ = 0., zu_cd_num2_ = 0., zu_cd_den_ = 0., zu_corr_fac_ = 0.;
   };
 } // namespace granhydro::physics

@@ -1,0 +1,166 @@
+// ConvectionOperator: the SSP-RK3 time step of eq. (4.10), its stage update with the
+// a-posteriori first-order fallback, the convective rate for the CFL condition and the
+// admissibility check of a step's result (the operator L(U) is in convection_operator.cc)
+#include <granhydro/physics/packing_fraction.h>
+#include <granhydro/convection/convection_operator.h>
+#include <granhydro/physics/granular_gas.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <algorithm>
+#include <sstream>
+
+namespace granhydro::convection
+{
+  using namespace dealii;
+
+  template <int dim, class Description>
+  bool ConvectionOperator<dim, Description>::stage_update(Vector &U, const double a,
+                                                          const double b, const double den,
+                                                          const double dt) const
+  {
+    // candidate u_new = a U0 + b (u + dt L(u)); cells whose candidate is inadmissible
+    // get first-order Rusanov fluxes (cell averages of this stage) on all their faces,
+    // which is positivity preserving for CFL <= 1/2 (Perthame-Shu); their neighbours
+    // see the changed face flux and are re-checked. Flags are exchanged between
+    // ranks, so shared faces are recomputed identically on both sides.
+    const unsigned int n_owned = patch.n_owned();
+    const std::size_t  n       = std::size_t(n_owned) * NC;
+    double            *u       = n ? &U.local_element(0) : nullptr;
+    apply(W.data(), rhs0.data());
+    cand.resize(n);
+    if (flags.get_partitioner() != patch.partitioner())
+      flags.reinit(patch.partitioner()); // once per mesh
+    std::vector<char> low(patch.n_slots(), 0);
+    for (unsigned int iter = 0;; ++iter)
+      {
+        for (std::size_t i = 0; i < n; ++i)
+          cand[i] = (a * U0[i] + b * (u[i] + dt * rhs0[i])) / den;
+        unsigned int new_flags = 0;
+        for (unsigned int s = 0; s < n_owned; ++s)
+          {
+            physics::State<dim> S;
+            std::copy(&cand[std::size_t(s) * NC], &cand[std::size_t(s + 1) * NC], S.begin());
+            const bool bad = !desc.convectively_admissible(S);
+            flags.local_element(std::size_t(s) * NC) = bad || low[s] ? 1. : 0.;
+            if (bad && !low[s])
+              ++new_flags;
+            if (bad && low[s])
+              {
+                new_flags += 1u << 20; // already first order: give up, the step is rejected
+                if (last_failure.empty())
+                  {
+                    std::ostringstream os;
+                    os << "convective stage at x = " << patch.center(s)
+                       << " m even with first-order fluxes: packing fraction " << physics::packing_fraction(S[0])
+                       << ", T = " << desc.temperature(S) << " (scaled units)";
+                    last_failure = os.str();
+                  }
+              }
+          }
+        const unsigned int global = Utilities::MPI::sum(new_flags, patch.communicator());
+        if (global == 0)
+          break;
+        if (global >= (1u << 20) || iter > 8)
+          return false;
+        flags.update_ghost_values();
+        for (unsigned int s = 0; s < n_owned + patch.n_mpi_ghosts(); ++s)
+          if (flags.local_element(std::size_t(s) * NC) > 0 && !low[s])
+            {
+              low[s] = 1;
+              if (s < n_owned)
+                ++stats.fallback_cells;
+            }
+        for (unsigned int d = 0; d < dim; ++d)
+          for (std::size_t k = 0; k < patch.faces(d).size(); ++k)
+            if (const unsigned int sl = patch.faces(d)[k].l, sr = patch.faces(d)[k].r; low[sl] || low[sr])
+              {
+                physics::State<dim> UL, UR, F;
+                std::copy(&W[std::size_t(sl) * NC], &W[std::size_t(sl + 1) * NC], UL.begin());
+                std::copy(&W[std::size_t(sr) * NC], &W[std::size_t(sr + 1) * NC], UR.begin());
+                numflux.rusanov(UL, UR, d, F);
+                if (wall[d][k])
+                  wall_flux(wall[d][k], d, F.data());
+                std::copy(F.begin(), F.end(), &Fp[d][k * NC]);
+              }
+        assemble_rhs(rhs0.data());
+      }
+    std::copy(cand.begin(), cand.end(), u);
+    return true;
+  }
+
+  template <int dim, class Description>
+  double ConvectionOperator<dim, Description>::max_rate(const Vector &U) const
+  {
+    double m = 0;
+    for (unsigned int s = 0; s < patch.n_owned(); ++s)
+      {
+        physics::State<dim> S;
+        for (unsigned int c = 0; c < NC; ++c)
+          S[c] = U.local_element(std::size_t(s) * NC + c);
+        double rate = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          rate += desc.max_wave_speed(S, d) * inv_h[d][s];
+        m = std::max(m, rate);
+      }
+    return Utilities::MPI::max(m, patch.communicator());
+  }
+
+  template <int dim, class Description>
+  bool ConvectionOperator<dim, Description>::ssp_rk3_step(Vector &U, const double dt) const
+  {
+    const std::size_t n = std::size_t(patch.n_owned()) * NC;
+    last_failure.clear();
+    U0.resize(n);
+    rhs0.resize(n);
+    double *u = n ? &U.local_element(0) : nullptr;
+    std::copy(u, u + n, U0.begin());
+    // eq. 4.10, each stage a convex combination of forward Euler steps, written with
+    // integer weights and one division ((U0 + 2 v)/3, not U0/3 + 2v/3): the rounded
+    // weights 1/3 and 2/3 sum to 1 - 5.6e-17, a systematic mass loss of that size per step
+    patch.gather(U, W);
+    if (!stage_update(U, 0., 1., 1., dt))
+      return false;
+    patch.gather(U, W);
+    if (!stage_update(U, 3., 1., 4., dt))
+      return false;
+    patch.gather(U, W);
+    if (!stage_update(U, 1., 2., 3., dt))
+      return false;
+    return true;
+  }
+
+  template <int dim, class Description>
+  bool ConvectionOperator<dim, Description>::admissible(const Vector &U, std::string *what) const
+  {
+    int bad = -1;
+    for (unsigned int s = 0; s < patch.n_owned() && bad < 0; ++s)
+      {
+        physics::State<dim> S;
+        for (unsigned int c = 0; c < NC; ++c)
+          S[c] = U.local_element(std::size_t(s) * NC + c);
+        if (!desc.admissible(S))
+          bad = s;
+      }
+    const bool ok = Utilities::MPI::min(bad < 0 ? 1 : 0, patch.communicator()) == 1;
+    if (!ok && what != nullptr && bad >= 0)
+      {
+        std::ostringstream os;
+        physics::State<dim> S;
+        for (unsigned int c = 0; c < NC; ++c)
+          S[c] = U.local_element(std::size_t(bad) * NC + c);
+        os << "cell at x = " << patch.center(bad) << " m: n*sigma^3 = " << S[0]
+           << ", packing fraction " << physics::packing_fraction(S[0]) << ", T = " << desc.temperature(S)
+           << " (scaled units)";
+        *what = os.str();
+      }
+    return ok;
+  }
+
+  template class ConvectionOperator<1, physics::IdealGas<1>>;
+  template class ConvectionOperator<2, physics::IdealGas<2>>;
+  template class ConvectionOperator<3, physics::IdealGas<3>>;
+  template class ConvectionOperator<1, physics::GranularGas<1>>;
+  template class ConvectionOperator<2, physics::GranularGas<2>>;
+  template class ConvectionOperator<3, physics::GranularGas<3>>;
+} // namespace granhydro::convection
