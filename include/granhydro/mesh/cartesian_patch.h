@@ -65,6 +65,15 @@
 
 namespace granhydro
 {
+  struct OwnedCell;
+  struct SlotIndex;
+  template <int dim>
+  class Lattice;
+  template <int dim>
+  class VirtualCells;
+  template <int dim>
+  class DilatedMask;
+
   template <int dim>
   class CartesianPatch
   {
@@ -256,11 +265,26 @@ namespace granhydro
     const std::vector<unsigned int> &owned_active_cell_index() const { return active_index_; }
 
   private:
-    void build_lattice_subset(const MeshSettings &settings);
+    /// the triangulation of a box (coarse cells refined globally) or of a mesh file, and
+    /// the lattice's size (source/mesh/triangulation_builder.cc)
     void make_box_mesh(const MeshSettings &settings);
-    /// DoFs, slots, tables of the current box mesh (uniform or adaptive)
-    void rebuild_box();
-    /// faces_, cell faces from each owned cell's neighbour lists per direction and side
+    void make_file_mesh(const MeshSettings &settings);
+    /// DoFs, slots and all tables of the current mesh: ONE builder for box, adaptive and
+    /// mesh-file lattices
+    void rebuild();
+    /// the table builders rebuild() calls (source/mesh/stencil_tables.cc): slots of the
+    /// owned cells and needed keys; boundary ids of the real cells' faces; neighbour
+    /// table and uniform flags; gradient neighbours (mask: the positions whose neighbour
+    /// rows are filled, nullptr for all); faces from each owned cell's neighbour lists
+    /// per direction and side
+    void assign_slots(const std::vector<OwnedCell> &owned, const std::vector<long long> &needed,
+                      const Lattice<dim> &lattice, const VirtualCells<dim> &virtuals,
+                      const dealii::IndexSet &owned_dofs, SlotIndex &index);
+    void make_face_ids(const Lattice<dim> &lattice);
+    void make_neighbor_table(Lattice<dim> &lattice, const VirtualCells<dim> &virtuals,
+                             const SlotIndex &index, const DilatedMask<dim> *mask);
+    void make_gradient_table(Lattice<dim> &lattice, const SlotIndex &index,
+                             const DilatedMask<dim> *mask);
     void make_faces(const std::vector<std::vector<unsigned int>> &lists);
 
     MPI_Comm comm;
@@ -273,6 +297,7 @@ namespace granhydro
     std::array<unsigned int, 3> N_{{1, 1, 1}};
     std::array<double, 3> h_{{1, 1, 1}}, lo_{{0, 0, 0}};
     std::array<bool, 3> periodic_{{true, true, true}};
+    bool subset_ = false; ///< a mesh file's lattice (solid points, boundary ids from the file)
     unsigned long long n_global_ = 0;
     unsigned int n_owned_ = 0, n_mpi_ghost_ = 0;
     std::vector<std::array<int, 3>> lattice_;

@@ -1,0 +1,55 @@
+#pragma once
+/**
+ * @file ghost_layer.h
+ * Which positions a rank needs besides its owned cells (an internal part of
+ * CartesianPatch): the keys (lattice.h) of the leaves owned elsewhere, the wall ghosts
+ * and, through them, the leaves their states come from.
+ *
+ * Box and adaptive meshes take the stencil closure: the owned cells' face neighbours,
+ * the gradient stencils and reconstruction boxes (Chebyshev radius r = G - 1) of those
+ * face cells, and the leaves the virtual cells are made of. Mesh-file lattices take
+ * every position within Chebyshev distance G of an owned cell (the dilated mask); their
+ * neighbour tables cover the mask only.
+ */
+#include <granhydro/mesh/lattice.h>
+#include <granhydro/mesh/virtual_cells.h>
+
+#include <vector>
+
+namespace granhydro
+{
+  /// the face neighbour keys of every owned cell i along d on side s (entry
+  /// (i dim + d) 2 + s): the same-level leaf or wall ghost, one coarser leaf, or the
+  /// 2^(dim-1) finer leaves of a hanging face (first transverse direction fastest)
+  template <int dim>
+  std::vector<std::vector<long long>> face_neighbour_keys(const std::vector<OwnedCell> &owned,
+                                                          Lattice<dim>                 &lattice);
+
+  /// the keys of the stencil closure (with repetitions), creating the virtual cells
+  template <int dim>
+  std::vector<long long> stencil_closure(const std::vector<OwnedCell>              &owned,
+                                         const std::vector<std::vector<long long>> &face_keys,
+                                         Lattice<dim> &lattice, VirtualCells<dim> &virtuals,
+                                         const int r);
+
+  /// the positions within Chebyshev distance G of the owned cells (level 0), in the
+  /// rank's box: the owned bounding box widened by G
+  template <int dim>
+  class DilatedMask
+  {
+  public:
+    using Position = typename Lattice<dim>::Position;
+    DilatedMask(const std::vector<OwnedCell> &owned, const unsigned int G);
+    bool contains(const Position &p) const;
+    /// the keys of the mask's positions
+    std::vector<long long> keys(Lattice<dim> &lattice) const;
+
+  private:
+    std::array<int, 3> blo{{0, 0, 0}}, bn{{1, 1, 1}};
+    std::vector<char>  mask;
+  };
+
+  /// sort needed, drop repetitions, and add the leaves the wall ghosts mirror
+  template <int dim>
+  void add_wall_sources(std::vector<long long> &needed, const Lattice<dim> &lattice);
+} // namespace granhydro

@@ -1,0 +1,30 @@
+#pragma once
+/**
+ * @file stencil_tables.h
+ * The slot numbering shared by the table builders of CartesianPatch (an internal part
+ * of the patch; the builders are its private members, source/mesh/stencil_tables.cc).
+ */
+#include <granhydro/mesh/lattice.h>
+
+#include <unordered_map>
+#include <vector>
+
+namespace granhydro
+{
+  /// slot of each key (lattice.h) and key of each slot (no_slot_key for virtual cells)
+  struct SlotIndex
+  {
+    std::unordered_map<long long, unsigned int> slot_of;
+    std::vector<long long>                       keys;
+    /// the first virtual cell's slot (virtual cells come last)
+    unsigned int first_virtual = 0;
+    /// the slot of a key, or -1
+    int operator()(const long long key) const
+    {
+      if (key == no_slot_key)
+        return -1;
+      const auto it = slot_of.find(key);
+      return it == slot_of.end() ? -1 : int(it->second);
+    }
+  };
+} // namespace granhydro

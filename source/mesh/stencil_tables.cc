@@ -1,0 +1,230 @@
+#include <granhydro/mesh/cartesian_patch.h>
+#include <granhydro/mesh/ghost_layer.h>
+#include <granhydro/mesh/stencil_tables.h>
+
+#include <map>
+
+namespace granhydro
+{
+  using namespace dealii;
+
+  template <int dim>
+  void CartesianPatch<dim>::assign_slots(const std::vector<OwnedCell> &owned,
+                                         const std::vector<long long> &needed,
+                                         const Lattice<dim> &lattice, const VirtualCells<dim> &virtuals,
+                                         const IndexSet &owned_dofs, SlotIndex &index)
+  {
+    // owned cells in DoF order, MPI ghosts in DoF order, wall ghosts by key, virtual cells
+    lattice_.clear();
+    level_.clear();
+    active_index_.clear();
+    index.slot_of.clear();
+    index.keys.clear();
+    for (unsigned int i = 0; i < owned.size(); ++i)
+      {
+        index.slot_of[owned[i].key] = i;
+        index.keys.push_back(owned[i].key);
+        lattice_.push_back(owned[i].ijk);
+        level_.push_back(owned[i].level);
+        active_index_.push_back(owned[i].active);
+      }
+    std::vector<std::pair<long long, long long>> mpi_ghosts; // (first dof, key)
+    for (const long long t : needed)
+      if (t >= 0 && !index.slot_of.count(t))
+        mpi_ghosts.emplace_back(lattice.first_dof(t), t);
+    std::sort(mpi_ghosts.begin(), mpi_ghosts.end());
+    IndexSet ghost_dofs(dofh->n_dofs());
+    for (const auto &[first, key] : mpi_ghosts)
+      {
+        index.slot_of[key] = lattice_.size();
+        unsigned int                      k;
+        typename Lattice<dim>::Position p;
+        lattice.decode(key, k, p);
+        lattice_.push_back({{int(p[0]), int(p[1]), int(p[2])}});
+        level_.push_back(k);
+        index.keys.push_back(key);
+        ghost_dofs.add_range(first, first + n_components);
+      }
+    n_mpi_ghost_ = mpi_ghosts.size();
+    ghost_dofs.compress();
+    part = std::make_shared<Utilities::MPI::Partitioner>(owned_dofs, ghost_dofs, comm);
+    bghosts_.clear();
+    for (const long long t : needed)
+      if (t < 0)
+        {
+          const auto &gi     = lattice.ghost(t);
+          index.slot_of[t] = lattice_.size();
+          lattice_.push_back(gi.pos);
+          level_.push_back(gi.level);
+          index.keys.push_back(t);
+        }
+    for (const long long t : needed)
+      if (t < 0)
+        {
+          BoundaryGhost bg = lattice.ghost(t).bg;
+          bg.slot          = index.slot_of.at(t);
+          bg.source        = index.slot_of.at(lattice.ghost(t).source_key);
+          bghosts_.push_back(bg);
+        }
+    index.first_virtual = lattice_.size();
+    const auto &vcells  = virtuals.cells();
+    for (const auto &v : vcells)
+      {
+        lattice_.push_back({{int(v.pos[0]), int(v.pos[1]), int(v.pos[2])}});
+        level_.push_back(v.level);
+        index.keys.push_back(no_slot_key);
+      }
+    virtual_.clear();
+    for (unsigned int i = 0; i < vcells.size(); ++i)
+      if (vcells[i].ghost)
+        {
+          BoundaryGhost bg = vcells[i].bg;
+          bg.slot          = index.first_virtual + i;
+          bg.source        = index.first_virtual + vcells[i].mirror;
+          bghosts_.push_back(bg);
+        }
+      else
+        {
+          VirtualCell vc;
+          vc.slot = index.first_virtual + i;
+          for (const auto &[t, w] : vcells[i].sources)
+            vc.sources.emplace_back(index.slot_of.at(t), w);
+          virtual_.push_back(vc);
+        }
+  }
+
+  template <int dim>
+  void CartesianPatch<dim>::make_face_ids(const Lattice<dim> &lattice)
+  {
+    slot_face_id_.assign(std::size_t(n_owned_ + n_mpi_ghost_) * 2 * dim, -1);
+    for (unsigned int s = 0; s < n_owned_ + n_mpi_ghost_; ++s)
+      for (unsigned int lf = 0; lf < 2 * dim; ++lf)
+        slot_face_id_[std::size_t(s) * 2 * dim + lf] =
+          lattice.face_id(level_[s], {{lattice_[s][0], lattice_[s][1], lattice_[s][2]}}, lf);
+  }
+
+  template <int dim>
+  void CartesianPatch<dim>::make_neighbor_table(Lattice<dim> &lattice, const VirtualCells<dim> &virtuals,
+                                                const SlotIndex &index, const DilatedMask<dim> *mask)
+  {
+    using Position = typename Lattice<dim>::Position;
+    // the slot at position q of level k: a leaf or wall ghost of that level, or a virtual cell
+    auto slot_at = [&](const unsigned int k, const Position &q) -> int {
+      const long long t = lattice.same_level(k, q);
+      if (t != no_slot_key)
+        return index(t);
+      const int v = virtuals.find(k, q);
+      return v < 0 ? -1 : int(index.first_virtual + v);
+    };
+    const int          r  = int(G) - 1;
+    const unsigned int W  = 2 * G + 1;
+    const unsigned int ns = lattice_.size();
+    nb_.assign(std::size_t(ns) * dim * W, -1);
+    uniform_.assign(ns, 0);
+    for (unsigned int s = 0; s < ns; ++s)
+      {
+        const unsigned int k = level_[s];
+        const Position     p0{{lattice_[s][0], lattice_[s][1], lattice_[s][2]}};
+        const bool         row = !mask || mask->contains(p0);
+        for (unsigned int d = 0; d < dim && row; ++d)
+          for (int o = -int(G); o <= int(G); ++o)
+            {
+              Position q = p0;
+              q[d] += o;
+              if (!mask || mask->contains(q))
+                nb_[(std::size_t(s) * dim + d) * W + (o + int(G))] = slot_at(k, q);
+            }
+        bool ok = s < n_owned_; // the flag is for owned cells (output) only
+        for (int z = (dim > 2 ? -r : 0); z <= (dim > 2 ? r : 0) && ok; ++z)
+          for (int y = (dim > 1 ? -r : 0); y <= (dim > 1 ? r : 0) && ok; ++y)
+            for (int x = -r; x <= r && ok; ++x)
+              ok = index(lattice.same_level(k, {{p0[0] + x, p0[1] + y, p0[2] + z}})) >= 0;
+        uniform_[s] = ok ? 1 : 0;
+      }
+  }
+
+  template <int dim>
+  void CartesianPatch<dim>::make_gradient_table(Lattice<dim> &lattice, const SlotIndex &index,
+                                                const DilatedMask<dim> *mask)
+  {
+    using Position        = typename Lattice<dim>::Position;
+    const unsigned int ns = lattice_.size();
+    gnb_.assign(std::size_t(ns) * dim * 2, -1);
+    goff_.assign(std::size_t(ns) * dim * 2, 0.);
+    for (unsigned int s = 0; s < index.first_virtual; ++s)
+      for (unsigned int j = 0; j < dim; ++j)
+        for (unsigned int side = 0; side < 2; ++side)
+          {
+            if (mask)
+              {
+                Position p{{lattice_[s][0], lattice_[s][1], lattice_[s][2]}};
+                if (!mask->contains(p))
+                  continue;
+                p[j] += side ? 1 : -1;
+                if (!mask->contains(p))
+                  continue;
+              }
+            const int t = index(lattice.gradient_key(index.keys[s], j, side ? 1 : -1));
+            gnb_[(std::size_t(s) * dim + j) * 2 + side] = t;
+            if (t >= 0)
+              goff_[(std::size_t(s) * dim + j) * 2 + side] =
+                (side ? 0.5 : -0.5) * (cell_size(s, j) + cell_size(t, j));
+          }
+  }
+
+  template <int dim>
+  void CartesianPatch<dim>::make_faces(const std::vector<std::vector<unsigned int>> &lists)
+  {
+    const double sub = 1. / double(1u << (dim - 1)); // share of a fine sub-face
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        faces_[d].clear();
+        cell_face_[d].clear();
+        cell_face_start_[d].assign(n_owned_ + 1, 0);
+        std::map<std::pair<unsigned int, unsigned int>, unsigned int> index;
+        for (unsigned int s = 0; s < n_owned_; ++s)
+          {
+            cell_face_start_[d][s] = cell_face_[d].size();
+            for (unsigned int side = 0; side < 2; ++side)
+              for (const unsigned int t : lists[(std::size_t(s) * dim + d) * 2 + side])
+                {
+                  const unsigned int l = side ? s : t, r = side ? t : s;
+                  auto [it, fresh] = index.emplace(std::make_pair(l, r), faces_[d].size());
+                  if (fresh)
+                    {
+                      const double fl = level_[l] < level_[r] ? sub : 1.;
+                      const double fr = level_[r] < level_[l] ? sub : 1.;
+                      // a hanging face: the fine cell's quadrant of the coarse face, which
+                      // holds the coarse face's Gauss point of the same index
+                      int q = -1;
+                      if (level_[l] != level_[r])
+                        {
+                          const auto &pf = lattice_[level_[l] > level_[r] ? l : r];
+                          const int   a  = dim > 1 ? pf[(d + 1) % dim] & 1 : 0;
+                          const int   b  = dim > 2 ? pf[(d + 2) % dim] & 1 : 0;
+                          q              = dim == 3 ? 2 * a + b : a;
+                        }
+                      faces_[d].push_back({l, r, fl, fr, q});
+                    }
+                  cell_face_[d].push_back({it->second, side == 1});
+                }
+          }
+        cell_face_start_[d][n_owned_] = cell_face_[d].size();
+      }
+  }
+
+#define GRANHYDRO_INSTANTIATE(d)                                                                     \
+  template void CartesianPatch<d>::assign_slots(const std::vector<OwnedCell> &,                      \
+                                                const std::vector<long long> &, const Lattice<d> &,  \
+                                                const VirtualCells<d> &, const IndexSet &, SlotIndex &); \
+  template void CartesianPatch<d>::make_face_ids(const Lattice<d> &);                                \
+  template void CartesianPatch<d>::make_neighbor_table(Lattice<d> &, const VirtualCells<d> &,        \
+                                                       const SlotIndex &, const DilatedMask<d> *);   \
+  template void CartesianPatch<d>::make_gradient_table(Lattice<d> &, const SlotIndex &,              \
+                                                       const DilatedMask<d> *);                      \
+  template void CartesianPatch<d>::make_faces(const std::vector<std::vector<unsigned int>> &);
+  GRANHYDRO_INSTANTIATE(1)
+  GRANHYDRO_INSTANTIATE(2)
+  GRANHYDRO_INSTANTIATE(3)
+#undef GRANHYDRO_INSTANTIATE
+} // namespace granhydro
