@@ -1,3 +1,4 @@
+#include <granhydro/physics/models.h>
 #include <granhydro/convection/convection_operator.h>
 #include <granhydro/physics/granular_gas.h>
 
@@ -457,10 +458,7 @@ namespace granhydro::convection
     return g;
   }
 
-  template class ConvectionOperator<1, physics::IdealGas<1>>;
-  template class ConvectionOperator<2, physics::IdealGas<2>>;
-  template class ConvectionOperator<3, physics::IdealGas<3>>;
-  template class ConvectionOperator<1, physics::GranularGas<1>>;
-  template class ConvectionOperator<2, physics::GranularGas<2>>;
-  template class ConvectionOperator<3, physics::GranularGas<3>>;
+#define GRANHYDRO_INSTANTIATE(d, D) template class ConvectionOperator<d, D>;
+  GRANHYDRO_FOR_EACH_MODEL(GRANHYDRO_INSTANTIATE)
+#undef GRANHYDRO_INSTANTIATE
 } // namespace granhydro::convection

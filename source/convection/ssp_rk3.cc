@@ -1,6 +1,7 @@
 // ConvectionOperator: the SSP-RK3 time step of eq. (4.10), its stage update with the
 // a-posteriori first-order fallback, the convective rate for the CFL condition and the
 // admissibility check of a step's result (the operator L(U) is in convection_operator.cc)
+#include <granhydro/physics/models.h>
 #include <granhydro/physics/packing_fraction.h>
 #include <granhydro/convection/convection_operator.h>
 #include <granhydro/physics/granular_gas.h>
@@ -157,10 +158,7 @@ namespace granhydro::convection
     return ok;
   }
 
-  template class ConvectionOperator<1, physics::IdealGas<1>>;
-  template class ConvectionOperator<2, physics::IdealGas<2>>;
-  template class ConvectionOperator<3, physics::IdealGas<3>>;
-  template class ConvectionOperator<1, physics::GranularGas<1>>;
-  template class ConvectionOperator<2, physics::GranularGas<2>>;
-  template class ConvectionOperator<3, physics::GranularGas<3>>;
+#define GRANHYDRO_INSTANTIATE(d, D) template class ConvectionOperator<d, D>;
+  GRANHYDRO_FOR_EACH_MODEL(GRANHYDRO_INSTANTIATE)
+#undef GRANHYDRO_INSTANTIATE
 } // namespace granhydro::convection

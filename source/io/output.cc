@@ -1,5 +1,6 @@
-#include <granhydro/physics/packing_fraction.h>
 #include <granhydro/io/output.h>
+#include <granhydro/physics/models.h>
+#include <granhydro/physics/packing_fraction.h>
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/numerics/data_out.h>
@@ -461,10 +462,7 @@ namespace granhydro::io
       }
   }
 
-  template class Output<1, physics::IdealGas<1>>;
-  template class Output<2, physics::IdealGas<2>>;
-  template class Output<3, physics::IdealGas<3>>;
-  template class Output<1, physics::GranularGas<1>>;
-  template class Output<2, physics::GranularGas<2>>;
-  template class Output<3, physics::GranularGas<3>>;
+#define GRANHYDRO_INSTANTIATE(d, D) template class Output<d, D>;
+  GRANHYDRO_FOR_EACH_MODEL(GRANHYDRO_INSTANTIATE)
+#undef GRANHYDRO_INSTANTIATE
 } // namespace granhydro::io

@@ -6,11 +6,7 @@
  * ends with GRANHYDRO_SIMULATION_INSTANCES to instantiate the members it defines.
  */
 #include <granhydro/driver/simulation.h>
+#include <granhydro/physics/models.h>
 
-#define GRANHYDRO_SIMULATION_INSTANCES                            \
-  template class Simulation<1, physics::IdealGas<1>>;             \
-  template class Simulation<2, physics::IdealGas<2>>;             \
-  template class Simulation<3, physics::IdealGas<3>>;             \
-  template class Simulation<1, physics::GranularGas<1>>;          \
-  template class Simulation<2, physics::GranularGas<2>>;          \
-  template class Simulation<3, physics::GranularGas<3>>;
+#define GRANHYDRO_SIMULATION_INSTANCE(d, D) template class Simulation<d, D>;
+#define GRANHYDRO_SIMULATION_INSTANCES GRANHYDRO_FOR_EACH_MODEL(GRANHYDRO_SIMULATION_INSTANCE)
