@@ -10,6 +10,7 @@
  * the reason to stderr on any failure.
  */
 #include <granhydro/physics/garzo_dufty.h>
+#include <granhydro/physics/packing_fraction.h>
 #include <granhydro/physics/pair_correlation.h>
 
 #include <algorithm>
@@ -223,6 +224,8 @@ namespace
         // the round trip n -> phi must not move phi across a branch point
         const double phi_rt = GarzoDufty1999::packing_fraction(n, sigma);
         check_close(where + "phi round trip", phi_rt, phi, 1e-15);
+        // the initial state's copy (6 phi / (pi sigma^3), another rounding order): 1 ulp apart at most
+        check_close(where + "number_density_si", granhydro::physics::number_density_si(phi, sigma), n, 2.3e-16);
         const bool at_branch_point =
           phi_rt != phi && (phi == gd.pair_correlation().phi_f() || phi == gd.pair_correlation().phi_max());
 

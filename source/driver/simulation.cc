@@ -6,6 +6,7 @@
  * adapt_mesh.cc, simulation_checkpoint.cc and run_summary.cc.
  */
 #include <granhydro/driver/simulation_instances.h>
+#include <granhydro/physics/packing_fraction.h>
 
 #include <deal.II/base/function_parser.h>
 #include <deal.II/base/mpi.h>
@@ -188,7 +189,7 @@ namespace granhydro
         const double p = phi.value(x), t = T.value(x);
         bad_phi        = bad_phi || !(p > 0);
         bad_T          = bad_T || !(t > 0);
-        const double n = 6. * p / (M_PI * sigma * sigma * sigma);
+        const double n = physics::number_density_si(p, sigma);
         double       u[3];
         for (unsigned int d = 0; d < dim; ++d)
           u[d] = vel.value(x, d);
