@@ -21,6 +21,9 @@
 #              checkpoint, the older formats v3 and v4, and (with valid checksums) a NaN
 #              value, a negative density, a time of -1e300, a time beyond the end time, a
 #              cell count of 2^40, and (written by 2 or more ranks) a cell in two parts.
+# Environment: FAULTS_KINDS (corrupt: a subset of the kinds), FAULTS_NO_ULIMIT=1 (disk_full:
+# skip (b), which several ranks on one node cannot run: Open MPI's shared memory hits the
+# limit inside MPI_Init).
 set -u
 exe=$1; scene=$2; work=$3; mode=$4; shift 4
 launcher=("$@")
@@ -29,6 +32,9 @@ fail() { echo "FAIL: $*"; exit 1; }
 run() { "${launcher[@]}" "$exe" "$@"; }
 digest() { "$exe" --checkpoint-info "$1" | sed -n 's/.*state digest //p'; }
 status() { sed -n 's/^status,//p' "$1"; }
+# a crash in a log (mpirun's own note on a rank's non-zero exit, "the job has been
+# aborted", is not one)
+crashed() { grep -v "Per user-direction, the job has been aborted" "$1" | grep -qiE "internal error|Stacktrace|Aborted|MPI_ABORT|bad_alloc"; }
 
 case $mode in
 sigterm)
@@ -66,23 +72,26 @@ disk_full)
   rc=$?
   [ $rc -eq 3 ] || { cat inj.log; fail "injected ENOSPC: exit $rc, expected 3"; }
   grep -q "No space left on device" inj.log || { cat inj.log; fail "the message does not give the OS reason"; }
-  grep -qiE "internal error|Stacktrace|Aborted|MPI_ABORT" inj.log && { cat inj.log; fail "crash text"; }
+  crashed inj.log && { cat inj.log; fail "crash text"; }
   "$exe" --checkpoint-info inj/solution.checkpoint > info.txt || { cat info.txt; fail "the checkpoint left in place does not verify"; }
   ls inj/*.tmp > /dev/null 2>&1 && fail "a .tmp file was left behind"
   [ "$(status inj/solution_summary.csv)" != "completed" ] || fail "summary says completed"
   echo "injected failure: exit 3, checkpoint kept: $(grep ' step ' info.txt)"
-  # a real write limit from the OS
-  # (PMIx's shared-memory store would hit the limit inside MPI_Init: use its hash store)
-  ( ulimit -f 16; PMIX_MCA_gds=hash run -p "Output/Directory=lim" "$scene" > lim.log 2>&1 ); rc=$?
-  [ $rc -eq 3 ] || { cat lim.log; fail "file size limit: exit $rc, expected 3"; }
-  grep -qiE "internal error|Stacktrace|Aborted|MPI_ABORT" lim.log && { cat lim.log; fail "crash text"; }
-  if [ -f lim/solution_summary.csv ]; then
-    [ "$(status lim/solution_summary.csv)" != "completed" ] || fail "summary says completed"
+  # a real write limit from the OS (FAULTS_NO_ULIMIT=1 skips it: with several ranks on one
+  # node, Open MPI's shared-memory segments themselves exceed the limit in MPI_Init)
+  if [ -z "${FAULTS_NO_ULIMIT:-}" ]; then
+    # (PMIx's shared-memory store would hit the limit inside MPI_Init: use its hash store)
+    ( ulimit -f 16; PMIX_MCA_gds=hash run -p "Output/Directory=lim" "$scene" > lim.log 2>&1 ); rc=$?
+    [ $rc -eq 3 ] || { cat lim.log; fail "file size limit: exit $rc, expected 3"; }
+    crashed lim.log && { cat lim.log; fail "crash text"; }
+    if [ -f lim/solution_summary.csv ]; then
+      [ "$(status lim/solution_summary.csv)" != "completed" ] || fail "summary says completed"
+    fi
+    if [ -f lim/solution.checkpoint ]; then
+      "$exe" --checkpoint-info lim/solution.checkpoint > /dev/null || fail "file size limit left an invalid checkpoint"
+    fi
+    echo "file size limit: exit 3: $(grep 'run stopped' lim.log | head -1)"
   fi
-  if [ -f lim/solution.checkpoint ]; then
-    "$exe" --checkpoint-info lim/solution.checkpoint > /dev/null || fail "file size limit left an invalid checkpoint"
-  fi
-  echo "file size limit: exit 3: $(grep 'run stopped' lim.log | head -1)"
   ;;
 corrupt)
   run -p "Output/Directory=good" -p "Time/End time=0.05" "$scene" > good.log 2>&1 || { cat good.log; fail "run"; }
@@ -170,9 +179,7 @@ EOF2
       rc=$?
       [ $rc -eq 2 ] || { cat $f.log; fail "$f ($how): exit $rc, expected 2"; }
       grep -q "Initial state/Checkpoint" $f.log || { cat $f.log; fail "$f ($how): message does not name the parameter"; }
-      # (mpirun's own note on a rank's non-zero exit says "the job has been aborted")
-      grep -v "Per user-direction, the job has been aborted" $f.log |
-        grep -qiE "internal error|Stacktrace|Aborted|MPI_ABORT|bad_alloc" && { cat $f.log; fail "$f ($how): crash text"; }
+      crashed $f.log && { cat $f.log; fail "$f ($how): crash text"; }
       [ -z "$(ls -A out_$f)" ] || fail "$f ($how): files written: $(ls out_$f)"
     done
     echo "$f: refused: $(grep -o "Checkpoint.*" $f.log | head -1 | cut -c1-150)"
