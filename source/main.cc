@@ -97,19 +97,21 @@ namespace
   {
     try
       {
-        const auto  d = granhydro::io::read_checkpoint_file(cp);
-        const auto &h = d.header;
+        const granhydro::io::CheckpointReader d(cp);
+        const auto                           &h = d.header();
+        // every part is read and verified (the digest merges them in key order)
+        const std::uint64_t digest = granhydro::io::state_digest(d);
         if (root)
           {
-            std::printf("checkpoint %s: valid (format v4, checksum verified)\n", cp.c_str());
+            std::printf("checkpoint %s: valid (format v5, every checksum verified)\n", cp.c_str());
             std::printf("  dimension %d, model %s, %llu cells, step %llu, outputs %llu\n", h.dim,
                         h.model, (unsigned long long)h.n_cells, (unsigned long long)h.step,
                         (unsigned long long)h.outputs);
             std::printf("  time %.17g s\n", h.time * h.length / h.velocity);
             std::printf("  implicit-step history: %s\n",
                         h.history.matrix_valid ? "kept Newton matrix (interrupted run)" : "none");
-            std::printf("  state digest %016llx\n",
-                        (unsigned long long)granhydro::io::state_digest(d));
+            std::printf("  parts %zu (one per writing rank)\n", d.parts().size());
+            std::printf("  state digest %016llx\n", (unsigned long long)digest);
           }
         return 0;
       }

@@ -609,31 +609,36 @@ def read_last_profile(rundir):
     return t, {h: [r[i] for r in rows] for i, h in enumerate(header)}
 
 
-CHECKPOINT_MAGIC = b"granhydro checkpoint v4\n"  # keys: fine-lattice key * 8 + level
+CHECKPOINT_MAGIC = b"granhydro checkpoint v5\n"  # keys: fine-lattice key * 8 + level
 # io::CheckpointHeader (include/granhydro/io/checkpoint.h) with x86-64 alignment: dims,
 # cells, corners, units, time, step/n_cells/outputs, model, n_values, the implicit
 # step's history (5 int32 + padding, t, dt, N[4]), the convective time owed; 240 bytes
 CHECKPOINT_HEADER = struct.Struct("=ii3Q3d3d4d3Q16si4x5i4x2d4dd")
+# then the part count and the part table: offset, rows, first key, last key, checksum
+CHECKPOINT_PART = struct.Struct("<QQqqQ")
 
 
 def read_checkpoint(path):
-    """Checkpoint of write_checkpoint (source/driver/simulation.cc): header and the
-    cells sorted by lattice key, conservative variables in the file's scaled units."""
+    """Checkpoint of write_checkpoint (source/driver/simulation_checkpoint.cc): header and
+    the cells of every part (one per writing rank) sorted by lattice key, conservative
+    variables in the file's scaled units."""
     import numpy as np
     with open(path, "rb") as f:
         data = f.read()
     if not data.startswith(CHECKPOINT_MAGIC):
-        raise ValueError("%s is not a granhydro checkpoint" % path)
+        raise ValueError("%s is not a granhydro checkpoint (format v5)" % path)
     o = len(CHECKPOINT_MAGIC)
     h = CHECKPOINT_HEADER.unpack_from(data, o)
     o += CHECKPOINT_HEADER.size
     dim, nc = h[0], h[1]
     cells = h[2:5]
     length, mass, velocity, t = h[11], h[12], h[13], h[14]
-    n_cells = h[16]
     n_values = h[19]  # nc, or 2 nc when the implicit step's history is stored
+    n_parts = struct.unpack_from("<Q", data, o)[0]
+    parts = [CHECKPOINT_PART.unpack_from(data, o + 8 + p * CHECKPOINT_PART.size) for p in range(n_parts)]
     rec = np.dtype([("key", "<i8"), ("u", "<f8", (n_values,))])
-    rows = np.frombuffer(data, dtype=rec, count=n_cells, offset=o)
+    rows = np.concatenate([np.frombuffer(data, dtype=rec, count=n, offset=off) for off, n, _, _, _ in parts])
+    rows = rows[np.argsort(rows["key"], kind="stable")]
     return {"dim": dim, "cells": cells, "time_scaled": t, "length": length, "mass": mass,
             "velocity": velocity, "key": rows["key"], "U": rows["u"][:, :nc]}
 

@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 namespace granhydro
 {
@@ -74,22 +75,24 @@ namespace granhydro
     constexpr unsigned int NC   = dim + 2;
     const std::string      what = "in " + scene.source + ": parameter 'Initial state/Checkpoint': '" +
                              file + "' ";
-    io::CheckpointData data;
+    // the header and the part table (O(ranks)); the parts are streamed below
+    std::unique_ptr<io::CheckpointReader> reader;
     try
       {
-        data = io::read_checkpoint_file(file);
+        reader = std::make_unique<io::CheckpointReader>(file);
+        if (scene.max_level > 0 && reader->header().dim == dim)
+          {
+            // an adaptive mesh is rebuilt from the leaves in the file
+            patch_->refine_to(io::checkpoint_keys(*reader, comm));
+            mesh_changed();
+            U.reinit(patch_->partitioner());
+          }
       }
     catch (const io::CheckpointError &e)
       {
         throw SceneError(what + e.what());
       }
-    const io::CheckpointHeader &h = data.header;
-    if (scene.max_level > 0 && h.dim == dim)
-      {
-        patch_->refine_to(std::vector<long long>(data.keys.begin(), data.keys.end()));
-        mesh_changed();
-        U.reinit(patch_->partitioner());
-      }
+    const io::CheckpointHeader &h = reader->header();
     bool same_mesh = h.dim == dim && h.n_components == int(NC) && h.n_cells == patch_->n_global_cells();
     for (unsigned int d = 0; d < dim; ++d)
       same_mesh = same_mesh && h.cells[d] == scene.cells[d] &&
@@ -110,8 +113,16 @@ namespace granhydro
     typename diffusion::ImplicitIntegrator<dim>::History history;
     if (with_history)
       history.state.resize(std::size_t(patch_->n_owned()) * NC);
-    const std::size_t found =
-      io::scatter_checkpoint(data, keys, units_, U.begin(), with_history ? history.state.data() : nullptr);
+    std::size_t found = 0;
+    try
+      {
+        found = io::read_state_checkpoint(*reader, keys, units_, U.begin(),
+                                          with_history ? history.state.data() : nullptr, comm);
+      }
+    catch (const io::CheckpointError &e)
+      {
+        throw SceneError(what + e.what());
+      }
     if (Utilities::MPI::sum(found, comm) != patch_->n_global_cells() || found != patch_->n_owned())
       throw SceneError(what + "does not hold every cell of the mesh");
     start_time_ = same_units ? h.time : h.time * h.length / h.velocity / units_.time();

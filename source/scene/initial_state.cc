@@ -1,4 +1,4 @@
-#include <granhydro/io/checkpoint.h>
+#include <granhydro/io/state_checkpoint.h>
 #include <granhydro/scene/initial_state.h>
 #include <granhydro/scene/scene.h>
 
@@ -11,6 +11,7 @@
 #include <cmath>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <string>
 
@@ -229,16 +230,18 @@ namespace granhydro
     void check_checkpoint(const Scene &s)
     {
       const std::string cp = "'" + s.initial_checkpoint + "' ";
-      io::CheckpointData d;
+      // every rank verifies its share of the parts (every part is verified once)
+      std::unique_ptr<io::CheckpointReader> d;
       try
         {
-          d = io::read_checkpoint_file(s.initial_checkpoint);
+          d = std::make_unique<io::CheckpointReader>(s.initial_checkpoint);
+          io::verify_checkpoint(*d, MPI_COMM_WORLD);
         }
       catch (const io::CheckpointError &e)
         {
           fail(s, "Initial state/Checkpoint", cp + e.what());
         }
-      const auto &h = d.header;
+      const auto &h = d->header();
       if (h.dim != int(s.dimension))
         fail(s, "Initial state/Checkpoint", cp + "holds a " + std::to_string(h.dim) +
                                               "D state; the scene is " + std::to_string(s.dimension) + "D");

@@ -1,23 +1,36 @@
 #pragma once
 /**
  * @file checkpoint.h
- * The checkpoint file: format, atomic write and verified read. Mesh- and scene-free:
- * the driver fills a header and rows of (lattice key, conserved values) and checks the
- * meaning of what it reads (mesh, material, time) itself.
+ * The checkpoint file: format, collective atomic write and verified streaming read.
+ * Mesh- and scene-free: the driver fills a header and each rank's rows of (lattice key,
+ * values) and checks the meaning of what it reads (mesh, material, time) itself.
  *
- * Layout (little-endian, this machine's doubles):
- *   magic "granhydro checkpoint v4\n" | CheckpointHeader | n_cells rows of
- *   (int64 key, n_values doubles) | uint64 FNV-1a checksum of every byte before it.
- * A row holds the state (dim + 2 values) and, when the header says so, the state the
- * implicit step's kept Newton matrix was built from (another dim + 2 values), so that a
- * run interrupted between output times continues exactly as the uninterrupted run.
+ * Layout (format v5, little-endian, this machine's doubles): one file, one part per
+ * writing rank:
+ *   magic "granhydro checkpoint v5\n" | CheckpointHeader | uint64 n_parts |
+ *   n_parts CheckpointPart (offset, rows, first and last key, FNV-1a checksum of the
+ *   part's bytes) | uint64 FNV-1a checksum of every byte before it |
+ *   part 0 | part 1 | ... (contiguous; the file ends with the last part)
+ * A part holds its writer's rows sorted by key: (int64 key, n_values doubles). A row
+ * holds the state (dim + 2 values) and, when the header says so, the state the implicit
+ * step's kept Newton matrix was built from (another dim + 2 values), so that a run
+ * interrupted between output times continues exactly as the uninterrupted run. Keys are
+ * unique over the file; parts may interleave in key order (a rank's cells are not a
+ * key range), a reader merges them.
  *
- * Writing: the whole file goes to <file>.tmp, is flushed and fsync'ed, read back and
- * verified (size and checksum); only then is the previous checkpoint renamed to
- * <file>.bak and the new one renamed over <file>. A full disk or any other failure leaves
- * the previous checkpoint in place and raises CheckpointError with the OS reason.
+ * Writing (collective): rank 0 creates <file>.tmp and writes the header and the table
+ * (O(ranks) bytes, gathered from each rank's offset, row count and checksum); every rank
+ * writes its own part at its offset (an exclusive prefix sum of the part sizes), fsyncs
+ * it, reads it back and verifies its checksum; all ranks agree, and only then does rank 0
+ * rename the previous checkpoint to <file>.bak and the new one to <file>. No rank holds
+ * more than its own part and the O(ranks) table. A failure anywhere leaves the previous
+ * checkpoint in place and raises the same CheckpointError (with the OS reason) on every
+ * rank.
  */
+#include <mpi.h>
+
 #include <cstdint>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -58,28 +71,60 @@ namespace granhydro::io
     double convection_owed = 0;
   };
 
+  /// one entry of the part table
+  struct CheckpointPart
+  {
+    std::uint64_t offset = 0, n_rows = 0;      ///< byte offset in the file, rows
+    std::int64_t  first_key = -1, last_key = -1; ///< key range (-1: empty part)
+    std::uint64_t checksum = 0;                 ///< FNV-1a of the part's bytes
+  };
+
   /// the magic line of the current format
   const std::string &checkpoint_magic();
 
-  /// writes the checkpoint atomically (see the file comment); keys must be strictly
-  /// increasing and values hold n_values per key
-  void write_checkpoint_file(const std::string &file, const CheckpointHeader &h,
-                             const std::vector<std::int64_t> &keys, const std::vector<double> &values);
+  /// writes the checkpoint atomically and collectively (see the file comment): keys are
+  /// this rank's, strictly increasing, values hold h.n_values per key; h.n_cells is filled
+  /// here. Throws the same CheckpointError on every rank of comm.
+  void write_checkpoint_file(const std::string &file, CheckpointHeader h,
+                             const std::vector<std::int64_t> &keys, const std::vector<double> &values,
+                             const MPI_Comm comm);
 
-  struct CheckpointData
+  /// a row as read: its key and its n_values values
+  using RowFunction = std::function<void(std::int64_t key, const double *values)>;
+
+  /// an opened checkpoint: the constructor reads and verifies the magic and format
+  /// version, the header and the part table (checksum, file size, row counts, units,
+  /// time, counts); the parts are read by streaming with bounded buffers, each verified
+  /// as it is read: checksum, keys strictly increasing within the part's range, every
+  /// value finite with n > 0 and energy > 0. Failures throw CheckpointError with the
+  /// reason ("... is truncated", "checksum mismatch", ...).
+  class CheckpointReader
   {
-    CheckpointHeader          header;
-    std::vector<std::int64_t> keys;
-    std::vector<double>       values;
+  public:
+    explicit CheckpointReader(const std::string &file);
+
+    const CheckpointHeader            &header() const { return h_; }
+    const std::vector<CheckpointPart> &parts() const { return parts_; }
+
+    /// streams part p's rows in key order and verifies the part
+    void read_part(const std::size_t p, const RowFunction &f) const;
+
+    /// streams every row in global key order (a merge of the parts, one bounded buffer per
+    /// part) and verifies every part and that no key appears twice
+    void read_merged(const RowFunction &f) const;
+
+  private:
+    std::string                 file_;
+    CheckpointHeader            h_;
+    std::vector<CheckpointPart> parts_;
   };
 
-  /// reads and verifies a checkpoint: magic and format version, header (dimension,
-  /// components, units, time, counts), file size against the header, checksum, keys
-  /// strictly increasing, every value finite with n > 0 and energy > 0. Throws
-  /// CheckpointError with the reason ("... is truncated", "checksum mismatch", ...).
-  CheckpointData read_checkpoint_file(const std::string &file);
+  /// FNV-1a digest of the keys and the state values only, in key order (not the header,
+  /// not the history, not the parts): two checkpoints with the same digest hold the same
+  /// state bit for bit, whatever number of ranks wrote them. Verifies every part.
+  std::uint64_t state_digest(const CheckpointReader &r);
 
-  /// FNV-1a digest of the keys and the state values only (not the header, not the
-  /// history): two checkpoints with the same digest hold the same state bit for bit
-  std::uint64_t state_digest(const CheckpointData &d);
+  /// the first non-empty error of the ranks of comm (the lowest rank's), or empty: a
+  /// failure on one rank stops every rank with the same message
+  std::string first_error(const std::string &error, const MPI_Comm comm);
 } // namespace granhydro::io
