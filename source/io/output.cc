@@ -237,6 +237,14 @@ namespace granhydro::io
                 << " dropped; it is rewritten at the next output\n";
   }
 
+  unsigned int vtu_groups(const unsigned int files_per_output, const unsigned int n_ranks)
+  {
+    // 0 for deal.II means one file per rank, each written by its rank alone; so is any
+    // bound the ranks do not exceed (deal.II would otherwise write K = ranks files through
+    // MPI-IO: the same pieces, but not the same bytes as the plain write)
+    return files_per_output == 0 || files_per_output >= n_ranks ? 0 : files_per_output;
+  }
+
   /// the SI unit of every VTU array (empty: dimensionless)
   static std::map<std::string, std::string> physical_units()
   {
@@ -283,7 +291,8 @@ namespace granhydro::io
     flags.physical_units = physical_units();
     data_out.set_flags(flags);
     const std::string name = data_out.write_vtu_with_pvtu_record(
-      settings.directory + "/", settings.base_name, counter, patch.communicator(), 4, 0);
+      settings.directory + "/", settings.base_name, counter, patch.communicator(), 4,
+      vtu_groups(settings.vtu_files, Utilities::MPI::n_mpi_processes(patch.communicator())));
     if (Utilities::MPI::this_mpi_process(patch.communicator()) == 0)
       {
         pvd_records.emplace_back(time_si, name);

@@ -28,6 +28,11 @@ namespace granhydro
       prm.declare_entry("Interval", "0", Patterns::Double(0, Patterns::Double::max_double_value),
                         "Simulated time between outputs [s]; 0 = initial and final state only.");
       prm.declare_entry("Write VTU", "true", Patterns::Bool(), "Write VTU/PVTU + PVD for ParaView.");
+      prm.declare_entry("VTU files per output", "16", Patterns::Anything(),
+                        "Bound on the .vtu files of one output time: 0 = one file per MPI "
+                        "rank; K = one file per rank on up to K ranks, and on more ranks K "
+                        "files, file k holding the pieces of ranks k, k+K, k+2K, ... "
+                        "(written collectively with MPI-IO). A whole number 0..1000000.");
       prm.declare_entry("Write checkpoint", "true", Patterns::Bool(),
                         "Write <Directory>/<Base name>.checkpoint at every output time and at "
                         "the end (replaced atomically), for 'Initial state/Checkpoint'.");
@@ -62,6 +67,28 @@ namespace granhydro
     write_profiles   = prm.get_bool("Write profiles");
     write_checkpoint = prm.get_bool("Write checkpoint");
     write_summary    = prm.get_bool("Write summary");
+    {
+      // a whole number; anything else is refused naming the parameter (not deal.II's
+      // pattern text)
+      const std::string v = prm.get("VTU files per output");
+      std::size_t       end = 0;
+      long long         k   = -1;
+      try
+        {
+          k = std::stoll(v, &end);
+        }
+      catch (const std::exception &)
+        {
+          end = 0;
+        }
+      while (end < v.size() && std::isspace(static_cast<unsigned char>(v[end])))
+        ++end;
+      if (v.empty() || end != v.size() || k < 0 || k > 1000000)
+        throw SceneError("parameter 'Output/VTU files per output' = '" + v +
+                         "': expected a whole number 0..1000000 (0 = one file per MPI rank, K = "
+                         "at most K files per output time)");
+      vtu_files_per_output = static_cast<unsigned int>(k);
+    }
     {
       const std::string p = prm.get("Profile direction");
       profile_direction = p == "auto" ? -1 : (p == "x" ? 0 : (p == "y" ? 1 : 2));

@@ -51,6 +51,7 @@ namespace granhydro
     o.write_vtu           = write_vtu;
     o.write_profiles      = write_profiles;
     o.write_checkpoint    = write_checkpoint;
+    o.vtu_files           = vtu_files_per_output;
     o.profile_direction   = profile_direction;
     o.section_direction   = section_direction;
     o.units               = units();

@@ -2,7 +2,8 @@
 /**
  * @file output.h
  * Output for people: VTU/PVTU per output time plus a PVD series for ParaView
- * (SI fields with units in their names), and profiles.csv with averages over
+ * (SI fields with units in their names; at most 'Output/VTU files per output' .vtu
+ * files per output time however many ranks), and profiles.csv with averages over
  * the directions other than the profile direction. Velocities are written in
  * the lab frame: for a vibrated container the frame velocity ds/dt is added.
  */
@@ -29,6 +30,12 @@ namespace granhydro::io
   public:
     using std::runtime_error::runtime_error;
   };
+
+  /// the n_groups argument of deal.II's write_vtu_with_pvtu_record for 'Output/VTU files
+  /// per output' = files_per_output on n_ranks ranks: 0 (one file per rank, the plain
+  /// write) while the ranks do not exceed the bound, else the bound: file k then holds
+  /// the pieces of ranks k, k + K, k + 2K, ... (written collectively with MPI-IO)
+  unsigned int vtu_groups(const unsigned int files_per_output, const unsigned int n_ranks);
 
   template <int dim, class Description>
   class Output

@@ -18,6 +18,9 @@ namespace granhydro::io
     /// directory/base_name + suffix
     std::string file(const std::string &suffix) const { return directory + "/" + base_name + suffix; }
     bool        write_vtu = true, write_profiles = true, write_checkpoint = true;
+    /// VTU files per output time: 0 = one per rank, else at most this many (ranks are
+    /// grouped round robin: rank r writes into file r mod K)
+    unsigned int vtu_files = 16;
     int         profile_direction = -1; ///< -1: the last dimension
     int         section_direction = -1; ///< 3D: average along it into a 2D map; -1: off
     Units       units;

@@ -29,6 +29,9 @@ namespace granhydro
     bool         write_summary    = true;
     int          profile_direction = -1; // -1: last dimension
     int          section_direction = -1; // 3D: average along this direction into a 2D map, -1: off
+    /// VTU files per output time: 0 = one per rank; K > 0 = one per rank up to K ranks,
+    /// beyond that K files, each holding the pieces of every K-th rank (MPI-IO)
+    unsigned int vtu_files_per_output = 16;
     double       progress_interval = 5;  // wall seconds
     bool         verbose           = true;
 
