@@ -8,6 +8,9 @@
 //                           adaptive 2D granular gas with all diffusion effects give the same
 //                           state on N ranks as on 1 rank (cells matched by their leaf key):
 //                           the adaptation decisions do not depend on the partition.
+//   test_amr mpi-3d       : under mpirun -n N (4, 8): the adaptive 3D blast alone, bit for
+//                           bit (convection only: the same floating-point operations in the
+//                           same order on any partition).
 //   test_amr sod DIM [refine coarsen buffer levels indicator interval max_error max_cells]
 //                         : Sod's problem along the diagonal of the unit square/cube with AMR
 //                           against the uniform mesh at the finest level: L1 density errors
@@ -322,6 +325,9 @@ int main(int argc, char **argv)
           compare_ranks<2, physics::GranularGas<2>>("2D granular gas with AMR, all effects",
                                                     parse_scene(granular_2d, "granular_2d"), chk, 1e-10);
         }
+      else if (what == "mpi-3d")
+        compare_ranks<3, physics::IdealGas<3>>("3D blast with AMR (bit for bit)",
+                                               parse_scene(blast_3d(60), "blast_3d"), chk, 0.);
       else if ((what == "sod" || what == "sod-study") && argc >= 3)
         {
           study_mode = what == "sod-study";

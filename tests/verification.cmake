@@ -18,6 +18,11 @@ granhydro_test_executable(test_mpi_equivalence test_mpi_equivalence.cc)
 add_test(NAME mpi.equivalence_2ranks COMMAND ${DEAL_II_MPIEXEC} -n 2 $<TARGET_FILE:test_mpi_equivalence>)
 add_test(NAME mpi.equivalence_3ranks COMMAND ${DEAL_II_MPIEXEC} -n 3 --oversubscribe $<TARGET_FILE:test_mpi_equivalence>)
 set_tests_properties(mpi.equivalence_2ranks mpi.equivalence_3ranks PROPERTIES LABELS mpi TIMEOUT 600 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)
+# 4 and 8 ranks (oversubscribed here): the 3D cases only, the blast bit for bit
+foreach(n 4 8)
+  add_test(NAME mpi.equivalence_3d_${n}ranks COMMAND ${DEAL_II_MPIEXEC} -n ${n} --oversubscribe $<TARGET_FILE:test_mpi_equivalence> 3d)
+  set_tests_properties(mpi.equivalence_3d_${n}ranks PROPERTIES LABELS mpi TIMEOUT 900 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)
+endforeach()
 
 granhydro_test_executable(test_haff test_haff.cc)
 add_test(NAME verify.haff COMMAND test_haff)
@@ -88,6 +93,10 @@ add_test(NAME mpi.amr_conservation_2ranks COMMAND ${DEAL_II_MPIEXEC} -n 2 $<TARG
 set_tests_properties(mpi.amr_conservation_2ranks PROPERTIES LABELS mpi TIMEOUT 600 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)
 add_test(NAME mpi.amr_equivalence_2ranks COMMAND ${DEAL_II_MPIEXEC} -n 2 $<TARGET_FILE:test_amr> mpi)
 set_tests_properties(mpi.amr_equivalence_2ranks PROPERTIES LABELS mpi TIMEOUT 600 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)
+foreach(n 4 8)
+  add_test(NAME mpi.amr_equivalence_3d_${n}ranks COMMAND ${DEAL_II_MPIEXEC} -n ${n} --oversubscribe $<TARGET_FILE:test_amr> mpi-3d)
+  set_tests_properties(mpi.amr_equivalence_3d_${n}ranks PROPERTIES LABELS mpi TIMEOUT 900 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)
+endforeach()
 add_test(NAME verify.amr_restart_after_kill
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/restart_after_kill.sh $<TARGET_FILE:granhydro>
           ${CMAKE_CURRENT_SOURCE_DIR}/data/restart_amr_2d.prm ${CMAKE_CURRENT_BINARY_DIR}/restart_amr_1rank)

@@ -93,21 +93,11 @@ namespace granhydro
     AssertThrow(owned_dofs.is_contiguous(), ExcMessage("owned DoFs must be contiguous"));
     n_global_ = tria->n_global_active_cells();
 
-    // the owned cells and the replicated lattice (with a mesh file's boundary faces)
+    // the owned cells, and the leaves within reach of them (see Lattice::distribute())
     Lattice<dim> lattice(N_, periodic_, max_level_, G, {btype_, wall_velocity_, velocity_unit_}, subset_);
-    std::vector<long long> my_faces;
-    const std::vector<OwnedCell> owned =
-      lattice.owned_cells(*dofh, lo_, h_, base_tria_level_, subset_ ? &my_faces : nullptr);
-    n_owned_ = owned.size();
-    std::vector<long long> mine(2 * n_owned_);
-    for (unsigned int i = 0; i < n_owned_; ++i)
-      {
-        mine[2 * i]     = owned[i].key;
-        mine[2 * i + 1] = owned[i].first;
-      }
-    lattice.cover(all_gather(mine, comm), n_global_);
-    if (subset_)
-      lattice.set_boundary_faces(all_gather(my_faces, comm));
+    const std::vector<OwnedCell> owned = lattice.owned_cells(*dofh, lo_, h_, base_tria_level_);
+    n_owned_                           = owned.size();
+    lattice.distribute(owned, n_global_, comm);
 
     // the positions needed besides the owned cells, then the slots and tables
     const auto face_keys = face_neighbour_keys(owned, lattice);

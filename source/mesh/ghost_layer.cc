@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <set>
+#include <unordered_set>
 
 namespace granhydro
 {
@@ -96,10 +97,8 @@ namespace granhydro
     // (each leaf lies in up to 5^dim of them): a leaf is pushed once, marked at its fine
     // corner (leaves do not overlap)
     virtuals.reserve(4 * face_cells.size());
-    long long n_fine = 1;
-    for (unsigned int d = 0; d < dim; ++d)
-      n_fine *= lattice.n(lattice.max_level(), d);
-    std::vector<char> seen(n_fine, 0);
+    std::unordered_set<long long> seen;
+    seen.reserve(4 * face_cells.size());
     for (const long long u : face_cells)
       {
         unsigned int k;
@@ -115,11 +114,8 @@ namespace granhydro
                   virtuals.add(k, q);
                 else if (t < 0)
                   needed.push_back(t);
-                else if (!seen[t >> 3])
-                  {
-                    seen[t >> 3] = 1;
-                    needed.push_back(t);
-                  }
+                else if (seen.insert(t).second)
+                  needed.push_back(t);
               }
       }
     for (const auto &v : virtuals.cells())

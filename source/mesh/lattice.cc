@@ -10,24 +10,6 @@ namespace granhydro
 {
   using namespace dealii;
 
-  std::vector<long long> all_gather(const std::vector<long long> &mine, const MPI_Comm comm)
-  {
-    const int        nranks = Utilities::MPI::n_mpi_processes(comm);
-    std::vector<int> counts(nranks), displs(nranks);
-    int              mycount = mine.size();
-    MPI_Allgather(&mycount, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-    long long total = 0;
-    for (int r = 0; r < nranks; ++r)
-      {
-        displs[r] = total;
-        total += counts[r];
-      }
-    std::vector<long long> all(total);
-    MPI_Allgatherv(mine.data(), mycount, MPI_LONG_LONG, all.data(), counts.data(),
-                   displs.data(), MPI_LONG_LONG, comm);
-    return all;
-  }
-
   template <int dim>
   Lattice<dim>::Lattice(const std::array<unsigned int, 3> &N, const std::array<bool, 3> &periodic,
                         const unsigned int max_level, const unsigned int ghost_width,
@@ -48,8 +30,7 @@ namespace granhydro
   std::vector<OwnedCell> Lattice<dim>::owned_cells(const DoFHandler<dim> &dofh,
                                                    const std::array<double, 3> &lo,
                                                    const std::array<double, 3> &h,
-                                                   const unsigned int base_level,
-                                                   std::vector<long long> *boundary_faces) const
+                                                   const unsigned int base_level) const
   {
     const unsigned int nc = dofh.get_fe().n_components();
     std::vector<OwnedCell> owned;
@@ -71,16 +52,17 @@ namespace granhydro
               corner[d] = (long long)(ijk[d]) << (m - k);
             }
           const long long fk = fine_key(corner);
-          owned.push_back({dofs[0], fk * 8 + k, cell->active_cell_index(), k, ijk});
-          if (boundary_faces)
+          int             faces = 0;
+          if (subset_)
             for (const unsigned int f : cell->face_indices())
               if (cell->face(f)->at_boundary() && !cell->has_periodic_neighbor(f))
                 {
                   const auto [d, upper]        = face_direction(cell, f);
                   const types::boundary_id id = cell->face(f)->boundary_id();
                   AssertThrow(id < 2 * dim, ExcMessage("boundary id out of range"));
-                  boundary_faces->push_back((fk * 2 * dim + 2 * d + upper) * 8 + id);
+                  faces |= int(id + 1) << (3 * (2 * d + upper));
                 }
+          owned.push_back({dofs[0], fk * 8 + k, cell->active_cell_index(), k, ijk, faces});
         }
     std::sort(owned.begin(), owned.end(),
               [](const OwnedCell &a, const OwnedCell &b) { return a.first < b.first; });
@@ -88,37 +70,208 @@ namespace granhydro
   }
 
   template <int dim>
-  void Lattice<dim>::cover(const std::vector<long long> &all, const unsigned long long n_global)
+  unsigned int Lattice<dim>::reach() const
   {
-    AssertThrow(all.size() == 2 * n_global,
-                ExcMessage(subset_ ? "mesh is not the expected lattice" : "mesh is not the expected octree"));
-    const long long n_fine = Nf[0] * Nf[1] * Nf[2];
-    cover_first.assign(n_fine, -1);
-    cover_level.assign(n_fine, -1);
-    for (std::size_t i = 0; i < all.size(); i += 2)
-      {
-        const long long    fk   = all[i] >> 3;
-        const unsigned int k    = all[i] & 7;
-        const long long    span = 1ll << (m - k);
-        const Position     c{{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}};
-        for (long long z = 0; z < (dim > 2 ? span : 1); ++z)
-          for (long long y = 0; y < (dim > 1 ? span : 1); ++y)
-            for (long long x = 0; x < span; ++x)
-              {
-                const long long q = fine_key({{c[0] + x, c[1] + y, c[2] + z}});
-                AssertThrow(all[i] >= 0 && q < n_fine && cover_first[q] < 0,
-                            ExcMessage("two cells on one lattice point"));
-                cover_first[q] = all[i + 1];
-                cover_level[q] = k;
-              }
-      }
+    return subset_ ? G + 2 * (unsigned int)(std::ceil(std::sqrt(double(dim)) * G)) + 2 : 2 * G + 4;
   }
 
   template <int dim>
-  void Lattice<dim>::set_boundary_faces(std::vector<long long> all)
+  long long Lattice<dim>::block_of(const long long fk) const
   {
-    bfaces = std::move(all);
-    std::sort(bfaces.begin(), bfaces.end());
+    const Position c{{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}};
+    return (c[0] >> m) + (long long)(N[0]) * ((c[1] >> m) + (long long)(N[1]) * (c[2] >> m));
+  }
+
+  namespace
+  {
+    /// all-to-all of long long records of `width` entries, bucketed by destination rank
+    std::vector<long long> alltoall_records(const std::vector<std::vector<long long>> &out, const MPI_Comm comm)
+    {
+      const int        P = out.size();
+      std::vector<int> scount(P), rcount(P), sdisp(P), rdisp(P);
+      for (int r = 0; r < P; ++r)
+        {
+          AssertThrow(out[r].size() < (1ull << 31), ExcMessage("all-to-all message above 2^31 entries"));
+          scount[r] = out[r].size();
+        }
+      MPI_Alltoall(scount.data(), 1, MPI_INT, rcount.data(), 1, MPI_INT, comm);
+      long long ns = 0, nr = 0;
+      for (int r = 0; r < P; ++r)
+        {
+          sdisp[r] = ns;
+          rdisp[r] = nr;
+          ns += scount[r];
+          nr += rcount[r];
+        }
+      AssertThrow(ns < (1ll << 31) && nr < (1ll << 31), ExcMessage("all-to-all above 2^31 entries"));
+      std::vector<long long> send(ns), recv(nr);
+      for (int r = 0; r < P; ++r)
+        std::copy(out[r].begin(), out[r].end(), send.begin() + sdisp[r]);
+      MPI_Alltoallv(send.data(), scount.data(), sdisp.data(), MPI_LONG_LONG, recv.data(), rcount.data(),
+                    rdisp.data(), MPI_LONG_LONG, comm);
+      return recv;
+    }
+  } // namespace
+
+  template <int dim>
+  void Lattice<dim>::distribute(const std::vector<OwnedCell> &owned, const unsigned long long n_global,
+                                const MPI_Comm comm)
+  {
+    const int       P       = Utilities::MPI::n_mpi_processes(comm);
+    const long long nblocks = (long long)(N[0]) * N[1] * N[2];
+    auto home = [&](const long long b) { return int((__int128)(b)*P / nblocks); };
+    // 1. the leaves to the directory: (block, key, first DoF, faces)
+    std::vector<std::vector<long long>> out(P);
+    for (const auto &o : owned)
+      {
+        const long long b = block_of(o.key >> 3);
+        auto           &v = out[home(b)];
+        v.insert(v.end(), {b, o.key, (long long)(o.first), o.faces});
+      }
+    std::vector<long long> dir = alltoall_records(out, comm);
+    // the directory's records sorted by (block, key)
+    const std::size_t             nrec = dir.size() / 4;
+    std::vector<std::size_t>      order(nrec);
+    for (std::size_t i = 0; i < nrec; ++i)
+      order[i] = i;
+    std::sort(order.begin(), order.end(), [&](const std::size_t a, const std::size_t b) {
+      return dir[4 * a] != dir[4 * b] ? dir[4 * a] < dir[4 * b] : dir[4 * a + 1] < dir[4 * b + 1];
+    });
+    {
+      std::vector<long long> sorted(dir.size());
+      for (std::size_t i = 0; i < nrec; ++i)
+        std::copy(dir.begin() + 4 * order[i], dir.begin() + 4 * order[i] + 4, sorted.begin() + 4 * i);
+      dir.swap(sorted);
+      std::vector<std::size_t>().swap(order);
+    }
+    // checks: the leaves of a block tile it (a box) or are one level-0 cell (a mesh file)
+    {
+      const long long full = 1ll << (m * dim);
+      long long       n_blocks_seen = 0;
+      for (std::size_t i = 0; i < nrec;)
+        {
+          std::size_t j = i;
+          long long   vol = 0;
+          for (; j < nrec && dir[4 * j] == dir[4 * i]; ++j)
+            {
+              AssertThrow(j == i || dir[4 * j + 1] != dir[4 * j - 3], ExcMessage("two cells on one lattice point"));
+              vol += 1ll << ((m - (dir[4 * j + 1] & 7)) * dim);
+            }
+          AssertThrow(vol == full, ExcMessage(subset_ ? "mesh is not the expected lattice"
+                                                      : "mesh is not the expected octree"));
+          ++n_blocks_seen;
+          i = j;
+        }
+      const unsigned long long n_leaves = Utilities::MPI::sum((unsigned long long)(nrec), comm);
+      AssertThrow(n_leaves == n_global, ExcMessage(subset_ ? "mesh is not the expected lattice"
+                                                           : "mesh is not the expected octree"));
+      if (!subset_)
+        AssertThrow(Utilities::MPI::sum((unsigned long long)(n_blocks_seen), comm) ==
+                      (unsigned long long)(nblocks),
+                    ExcMessage("mesh is not the expected octree"));
+    }
+    // 2. the blocks within reach of the owned leaves: a sparse separable dilation, each
+    // block carrying the largest radius (blocks) of its leaves
+    std::unordered_map<long long, int> radius;
+    const int R = reach();
+    for (const auto &o : owned)
+      {
+        const int r = (R + (1 << o.level) - 1) >> o.level;
+        int      &e = radius[block_of(o.key >> 3)];
+        e           = std::max(e, r);
+      }
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        std::unordered_map<long long, int> grown;
+        grown.reserve(radius.size() * 2);
+        for (const auto &[b, r] : radius)
+          {
+            Position c{{b % N[0], (b / N[0]) % N[1], b / ((long long)(N[0]) * N[1])}};
+            const long long c0 = c[d];
+            for (int o = -r; o <= r; ++o)
+              {
+                long long x = c0 + o;
+                if (periodic[d])
+                  x = ((x % N[d]) + N[d]) % N[d];
+                else if (x < 0 || x >= N[d])
+                  continue;
+                c[d]      = x;
+                int &e    = grown[c[0] + (long long)(N[0]) * (c[1] + (long long)(N[1]) * c[2])];
+                e         = std::max(e, r);
+              }
+          }
+        radius.swap(grown);
+      }
+    std::vector<std::vector<long long>> requests(P);
+    blocks.clear();
+    blocks.reserve(radius.size());
+    for (const auto &[b, r] : radius)
+      {
+        requests[home(b)].push_back(b);
+        blocks.insert(b);
+      }
+    std::unordered_map<long long, int>().swap(radius);
+    // 3. the directory answers: the records of the blocks asked for, to each asker
+    std::vector<int> rcount(P), scount(P);
+    for (int r = 0; r < P; ++r)
+      scount[r] = requests[r].size();
+    MPI_Alltoall(scount.data(), 1, MPI_INT, rcount.data(), 1, MPI_INT, comm);
+    const std::vector<long long> asked = alltoall_records(requests, comm);
+    std::vector<std::vector<long long>>().swap(requests);
+    std::vector<std::vector<long long>> answer(P);
+    std::size_t                         a = 0;
+    for (int r = 0; r < P; ++r)
+      for (int i = 0; i < rcount[r]; ++i, ++a)
+        {
+          const long long b = asked[a];
+          // records of block b: binary search in the sorted directory
+          std::size_t lo = 0, hi = nrec;
+          while (lo < hi)
+            {
+              const std::size_t mid = (lo + hi) / 2;
+              if (dir[4 * mid] < b)
+                lo = mid + 1;
+              else
+                hi = mid;
+            }
+          for (std::size_t j = lo; j < nrec && dir[4 * j] == b; ++j)
+            answer[r].insert(answer[r].end(), {dir[4 * j + 1], dir[4 * j + 2], dir[4 * j + 3]});
+        }
+    std::vector<long long>().swap(dir);
+    const std::vector<long long> got = alltoall_records(answer, comm);
+    std::vector<std::vector<long long>>().swap(answer);
+    leaves.clear();
+    leaves.reserve(got.size() / 3);
+    for (std::size_t i = 0; i < got.size(); i += 3)
+      leaves[got[i]] = {got[i + 1], int(got[i + 2])};
+  }
+
+  template <int dim>
+  int Lattice<dim>::level_at(const long long fk) const
+  {
+    Position c{{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}};
+    for (unsigned int l = 0; l <= m; ++l)
+      {
+        Position a = c;
+        for (unsigned int d = 0; d < dim; ++d)
+          a[d] = (c[d] >> (m - l)) << (m - l);
+        if (leaves.count(fine_key(a) * 8 + l))
+          return l;
+      }
+    AssertThrow(blocks.count(block_of(fk)),
+                ExcMessage("internal error: a lattice point beyond the part of the mesh this rank "
+                           "fetched (Lattice::reach() too small)"));
+    AssertThrow(subset_, ExcMessage("mesh is not the expected octree"));
+    return -1;
+  }
+
+  template <int dim>
+  const typename Lattice<dim>::Leaf &Lattice<dim>::leaf(const long long key) const
+  {
+    const auto it = leaves.find(key);
+    AssertThrow(it != leaves.end(),
+                ExcMessage("internal error: a leaf beyond the part of the mesh this rank fetched"));
+    return it->second;
   }
 
   template <int dim>
@@ -157,7 +310,7 @@ namespace granhydro
     for (unsigned int d = 0; d < 3; ++d)
       if (e[d] < 0 || e[d] >= Nf[d])
         return false;
-    return cover_level[fine_key(e)] >= 0;
+    return level_at(fine_key(e)) >= 0;
   }
 
   template <int dim>
@@ -190,7 +343,7 @@ namespace granhydro
           {
             const Position  c{{x, y, z}};
             const long long ck = fine_key(c);
-            if (cover_level[ck] < 0)
+            if (level_at(ck) < 0)
               continue;
             long long d2  = 0;
             int       nnz = 0;
@@ -239,9 +392,9 @@ namespace granhydro
     if (wrap(k, p))
       {
         const long long fk = corner_key(k, p);
-        if (cover_level[fk] == int(k))
+        if (leaves.count(fk * 8 + k))
           return fk * 8 + k;
-        if (cover_level[fk] >= 0)
+        if (level_at(fk) >= 0)
           return no_slot_key;
       }
     // outside the lattice or a solid point: a wall (or outflow) ghost, the mirror (copy)
@@ -255,8 +408,11 @@ namespace granhydro
     WallGhost       gi;
     const Position  q  = mirror(k, p, gi.bg);
     const long long qk = corner_key(k, q);
-    if (cover_level[qk] != int(k))
-      return no_slot_key;
+    if (!leaves.count(qk * 8 + k))
+      {
+        level_at(qk); // throws if qk lies beyond the fetched blocks
+        return no_slot_key;
+      }
     gi.source_key = qk * 8 + k;
     for (unsigned int d = 0; d < 3; ++d)
       gi.pos[d] = p[d];
@@ -289,8 +445,11 @@ namespace granhydro
   {
     if (!wrap(k, p))
       return no_slot_key;
-    const long long    fk = corner_key(k, p);
-    const unsigned int l  = cover_level[fk];
+    const long long fk = corner_key(k, p);
+    const int       lv = level_at(fk);
+    if (lv < 0)
+      return no_slot_key;
+    const unsigned int l = lv;
     Position           c{{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}};
     for (unsigned int d = 0; d < dim; ++d)
       c[d] = (c[d] >> (m - l)) << (m - l);
@@ -317,9 +476,7 @@ namespace granhydro
     if (subset_)
       {
         // the boundary faces of the mesh file (level 0: the corner key is the cell's key)
-        const long long code = (corner_key(k, p) * 2 * dim + lf) * 8;
-        const auto      it   = std::lower_bound(bfaces.begin(), bfaces.end(), code);
-        return (it != bfaces.end() && *it < code + 8) ? int(*it - code) : -1;
+        return ((leaf(corner_key(k, p) * 8 + k).faces >> (3 * lf)) & 7) - 1;
       }
     // box faces are colorized: id 2 d + upper
     const unsigned int d = lf / 2;

@@ -5,8 +5,11 @@
  * meshes (an internal part of the patch).
  *
  * The fine lattice has N_d << m points along d (m: maximum level; 0 for mesh files).
- * Every point knows the first DoF and the level of the leaf covering it (replicated
- * on every rank), or -1 for a solid point of a mesh file. A position of level k
+ * No rank holds the whole lattice: a rank knows the leaves (first DoF, boundary ids of
+ * a mesh file's faces) of the level-0 blocks within reach of its own leaves, fetched
+ * from a directory that is distributed over the ranks by level-0 block (distribute()).
+ * A point of a fetched block is covered by one leaf, or solid (a mesh file); looking at
+ * a point of a block that was not fetched is an internal error and throws. A position of level k
  * (lattice coordinates at level k) is named by a key: a leaf of level k by its fine
  * corner key * 8 + k (>= 0); a wall ghost (a position outside the lattice, or a solid
  * point) by -1 - (extended key * 8 + k), its coordinates shifted by E = 2 G + 2 (the
@@ -21,6 +24,8 @@
 #include <array>
 #include <limits>
 #include <map>
+#include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 namespace granhydro
@@ -35,10 +40,8 @@ namespace granhydro
     long long          key;                ///< fine corner key * 8 + level
     unsigned int       active, level;      ///< active cell index, level above Domain/Cells
     std::array<int, 3> ijk;                ///< lattice coordinates at its level
+    int faces = 0; ///< a mesh file's boundary ids: 3 bits per lattice face 2 d + upper, id + 1 (0: none)
   };
-
-  /// every rank's entries, concatenated in rank order, on every rank
-  std::vector<long long> all_gather(const std::vector<long long> &mine, const MPI_Comm comm);
 
   template <int dim>
   class Lattice
@@ -63,17 +66,28 @@ namespace granhydro
 
     /**
      * The owned cells of dofh in DoF order (the cells of level k lie base_level + k
-     * levels below deal.II's coarse cells); boundary_faces (if given) receives
-     * (fine key * 2 dim + lattice face) * 8 + boundary id of their boundary faces.
+     * levels below deal.II's coarse cells), with a mesh file's boundary ids (faces).
      */
     std::vector<OwnedCell> owned_cells(const dealii::DoFHandler<dim> &dofh,
                                        const std::array<double, 3> &lo, const std::array<double, 3> &h,
-                                       const unsigned int base_level,
-                                       std::vector<long long> *boundary_faces) const;
-    /// fill the replicated map from every rank's (leaf key, first DoF) pairs
-    void cover(const std::vector<long long> &all, const unsigned long long n_global);
-    /// the boundary faces of a mesh file, from every rank (see owned_cells())
-    void set_boundary_faces(std::vector<long long> all);
+                                       const unsigned int base_level) const;
+    /**
+     * Learn the leaves near the owned ones. The level-0 blocks are dealt to the ranks in
+     * contiguous ranges of their key (the directory); every rank sends its leaves to
+     * their blocks' directory ranks, then asks them for the blocks within reach(): a
+     * leaf of level k reaches reach() cells of its level in every direction (Chebyshev),
+     * that is ceil(reach() / 2^k) blocks. Two all-to-all exchanges (three messages);
+     * memory per rank: the local leaves, their halo and the rank's share of the
+     * directory, nothing of the size of the whole lattice. Checks that the leaves tile
+     * every block of a box (a mesh file: at most one leaf per block) and that there are
+     * n_global of them.
+     */
+    void distribute(const std::vector<OwnedCell> &owned, const unsigned long long n_global,
+                    const MPI_Comm comm);
+    /// how far (cells of its level) the tables of a leaf look: stencil closure, the
+    /// gradients and prolongations of virtual cells, wall mirrors (2 G + 4); a mesh file
+    /// adds the search for the nearest fluid cell, ceil(sqrt(dim) G) (G + 2 ceil(sqrt(dim) G) + 2)
+    unsigned int reach() const;
 
     unsigned int max_level() const { return m; }
     bool         subset() const { return subset_; }
@@ -88,7 +102,7 @@ namespace granhydro
     /// wrap the periodic directions of p; false if p lies outside a non-periodic side
     bool wrap(const unsigned int k, Position &p) const;
     /// the first DoF of a leaf key
-    long long first_dof(const long long key) const { return cover_first[key >> 3]; }
+    long long first_dof(const long long key) const { return leaf(key).first; }
 
     /// the key of the leaf or wall ghost of level k at p, or no_slot_key (the
     /// neighbourhood is refined or coarser there)
@@ -109,9 +123,21 @@ namespace granhydro
     int face_id(const unsigned int k, const Position &p, const unsigned int lf) const;
 
   private:
+    struct Leaf
+    {
+      long long first; ///< first DoF
+      int       faces; ///< see OwnedCell::faces
+    };
     /// the fluid cell nearest to a position without a cell
     Position nearest_fluid(const unsigned int k, const Position &e) const;
     bool     fluid(const Position &e) const;
+    /// the level of the leaf covering fine point fk (inside the lattice), -1: solid;
+    /// throws if its block was not fetched
+    int level_at(const long long fk) const;
+    /// the leaf of a key (throws if unknown)
+    const Leaf &leaf(const long long key) const;
+    /// the level-0 block of fine key fk
+    long long block_of(const long long fk) const;
 
     std::array<unsigned int, 3> N;
     std::array<bool, 3>         periodic;
@@ -120,9 +146,8 @@ namespace granhydro
     bool                        subset_;
     std::array<long long, 3>    Nf{{1, 1, 1}};
     long long                   E;
-    std::vector<long long>      cover_first;  ///< per fine point: first DoF of the leaf, -1: solid
-    std::vector<signed char>    cover_level;  ///< per fine point: level of the leaf, -1: solid
-    std::vector<long long>      bfaces;       ///< sorted boundary faces of a mesh file
+    std::unordered_map<long long, Leaf> leaves; ///< the leaves of the fetched blocks, by key
+    std::unordered_set<long long>       blocks; ///< the fetched level-0 blocks
     std::map<long long, WallGhost> ghosts;
   };
 } // namespace granhydro
