@@ -53,7 +53,7 @@ subsection Output
   set Write checkpoint = false
 end
 PRM
-  LD_LIBRARY_PATH=$B mpirun --oversubscribe -n $P $B/granhydro $W/scene.prm > $W/log-$P 2>&1 || { tail -5 $W/log-$P; exit 1; }
+  LD_LIBRARY_PATH=$B mpirun ${MPIRUN_ARGS:-} --oversubscribe -n $P $B/granhydro $W/scene.prm > $W/log-$P 2>&1 || { tail -5 $W/log-$P; exit 1; }
   mib=$(grep -o "peak resident [0-9.]*" $W/log-$P | awk '{print $3}')
   [ -z "$base" ] && base=$mib
   printf "%6d %14d %22.1f %8.3f\n" $P $((nx*ny*nz)) $mib $(awk "BEGIN{print $mib/$base}")

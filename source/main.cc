@@ -40,11 +40,11 @@ namespace
   /// memory of the ranks it runs on (each rank assumed to have this machine's memory).
   /// Per cell, measured on this code (peak resident set over cells, large meshes):
   /// convection alone ~2.3 KiB, with the diffusion step ~6.3 KiB (block ILU, one stage),
-  /// ~13 KiB with Gauss-Legendre's two coupled stages; adaptive meshes add the replicated
-  /// lattice map, 9 bytes per finest lattice point on every rank.
+  /// ~13 KiB with Gauss-Legendre's two coupled stages. (No rank holds a map of the whole
+  /// fine lattice: each knows the leaves near its own, see mesh/lattice.h.)
   void check_memory(const granhydro::Scene &s, const unsigned int ranks)
   {
-    double cells = 1, finest = 1;
+    double cells = 1;
     if (!s.mesh_file.empty())
       {
         cells = granhydro::check_mesh_file(s.mesh_file, s.dimension).n_cells;
@@ -55,12 +55,11 @@ namespace
       for (unsigned int d = 0; d < s.dimension; ++d)
         {
           cells *= s.cells[d];
-          finest *= double(s.cells[d]) * double(1u << s.max_level);
         }
     const double per_cell = !s.diffusion_active()                ? 2.3 * 1024 :
                             s.integrator == "gauss-legendre" ? 13.1 * 1024 :
                                                                   6.3 * 1024;
-    const double need     = cells * per_cell + (s.max_level > 0 ? 9 * finest * ranks : 0);
+    const double need     = cells * per_cell;
     const double have     = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE)) * ranks;
     if (need > have)
       {
