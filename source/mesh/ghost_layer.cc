@@ -1,8 +1,7 @@
 #include <granhydro/mesh/ghost_layer.h>
 
 #include <algorithm>
-#include <set>
-#include <unordered_set>
+
 
 namespace granhydro
 {
@@ -77,14 +76,17 @@ namespace granhydro
         needed.push_back(t);
     // the face cells: owned cells and their face neighbours (they need reconstruction
     // boxes and gradient stencils)
-    std::set<long long> face_cells;
+    std::vector<long long> face_cells; // sorted, unique
+    face_cells.reserve(owned.size() * 3);
     for (std::size_t i = 0; i < owned.size(); ++i)
       {
-        face_cells.insert(owned[i].key);
+        face_cells.push_back(owned[i].key);
         for (unsigned int f = 0; f < dim * 2; ++f)
           for (const long long t : face_keys[i * dim * 2 + f])
-            face_cells.insert(t);
+            face_cells.push_back(t);
       }
+    std::sort(face_cells.begin(), face_cells.end());
+    face_cells.erase(std::unique(face_cells.begin(), face_cells.end()), face_cells.end());
     for (const long long c : face_cells)
       for (unsigned int j = 0; j < dim; ++j)
         for (const int o : {-1, 1})
@@ -97,7 +99,7 @@ namespace granhydro
     // (each leaf lies in up to 5^dim of them): a leaf is pushed once, marked at its fine
     // corner (leaves do not overlap)
     virtuals.reserve(4 * face_cells.size());
-    std::unordered_set<long long> seen;
+    FlatKeyMap<char> seen;
     seen.reserve(4 * face_cells.size());
     for (const long long u : face_cells)
       {
@@ -114,7 +116,7 @@ namespace granhydro
                   virtuals.add(k, q);
                 else if (t < 0)
                   needed.push_back(t);
-                else if (seen.insert(t).second)
+                else if (seen.insert(t, 1).second)
                   needed.push_back(t);
               }
       }

@@ -172,7 +172,7 @@ namespace granhydro
     }
     // 2. the blocks within reach of the owned leaves: a sparse separable dilation, each
     // block carrying the largest radius (blocks) of its leaves
-    std::unordered_map<long long, int> radius;
+    FlatKeyMap<int> radius;
     const int R = reach();
     for (const auto &o : owned)
       {
@@ -182,10 +182,9 @@ namespace granhydro
       }
     for (unsigned int d = 0; d < dim; ++d)
       {
-        std::unordered_map<long long, int> grown;
+        FlatKeyMap<int> grown;
         grown.reserve(radius.size() * 2);
-        for (const auto &[b, r] : radius)
-          {
+        radius.for_each([&](const long long b, const int r) {
             Position c{{b % N[0], (b / N[0]) % N[1], b / ((long long)(N[0]) * N[1])}};
             const long long c0 = c[d];
             for (int o = -r; o <= r; ++o)
@@ -199,18 +198,17 @@ namespace granhydro
                 int &e    = grown[c[0] + (long long)(N[0]) * (c[1] + (long long)(N[1]) * c[2])];
                 e         = std::max(e, r);
               }
-          }
-        radius.swap(grown);
+          });
+        std::swap(radius, grown);
       }
     std::vector<std::vector<long long>> requests(P);
     blocks.clear();
     blocks.reserve(radius.size());
-    for (const auto &[b, r] : radius)
-      {
-        requests[home(b)].push_back(b);
-        blocks.insert(b);
-      }
-    std::unordered_map<long long, int>().swap(radius);
+    radius.for_each([&](const long long b, const int) {
+      requests[home(b)].push_back(b);
+      blocks.insert(b, 1);
+    });
+    radius.clear();
     // 3. the directory answers: the records of the blocks asked for, to each asker
     std::vector<int> rcount(P), scount(P);
     for (int r = 0; r < P; ++r)
@@ -241,22 +239,125 @@ namespace granhydro
     const std::vector<long long> got = alltoall_records(answer, comm);
     std::vector<std::vector<long long>>().swap(answer);
     leaves.clear();
-    leaves.reserve(got.size() / 3);
+    leaves.reserve(got.size() / 3 + got.size() / 18);
     for (std::size_t i = 0; i < got.size(); i += 3)
       leaves[got[i]] = {got[i + 1], int(got[i + 2])};
+    // the refined positions above the leaves (first DoF -1): a position of level k is
+    // then a leaf, refined, or (absent) covered by a coarser leaf, in one lookup
+    for (std::size_t i = 0; i < got.size(); i += 3)
+      {
+        const long long fk = got[i] >> 3;
+        const Position  c{{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}};
+        for (int a = int(got[i] & 7) - 1; a >= 0; --a)
+          {
+            Position an = c;
+            for (unsigned int d = 0; d < dim; ++d)
+              an[d] = (c[d] >> (m - a)) << (m - a);
+            const auto [e, inserted] = leaves.insert(fine_key(an) * 8 + a, Leaf{-1, 0});
+            AssertThrow(e->first < 0, ExcMessage("mesh is not the expected octree"));
+            if (!inserted) // its ancestors are in already
+              break;
+          }
+      }
+    // a dense window of levels over the bounding box of the fetched blocks, when it is
+    // small against the leaves (one rank, compact partitions, few levels): lookups then
+    // touch one byte; its size stays a fixed multiple of the local leaves
+    window_level.clear();
+    {
+      Position blo{{0, 0, 0}}, bhi{{0, 0, 0}};
+      bool     first = true;
+      blocks.for_each([&](const long long b, const char) {
+        const Position c{{b % N[0], (b / N[0]) % N[1], b / ((long long)(N[0]) * N[1])}};
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            blo[d] = first ? c[d] : std::min(blo[d], c[d]);
+            bhi[d] = first ? c[d] : std::max(bhi[d], c[d]);
+          }
+        first = false;
+      });
+      long long vol = first ? 0 : 1;
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          window_lo[d] = blo[d] << (d < dim ? m : 0);
+          window_n[d]  = (bhi[d] - blo[d] + 1) << (d < dim ? m : 0);
+          vol *= window_n[d];
+        }
+      if (vol > 0 && vol <= 8 * (long long)(leaves.size()) + 4096)
+        {
+          window_level.assign(vol, -2);
+          const long long span0 = 1ll << m;
+          blocks.for_each([&](const long long b, const char) {
+            const Position c{{b % N[0], (b / N[0]) % N[1], b / ((long long)(N[0]) * N[1])}};
+            for (long long z = 0; z < (dim > 2 ? span0 : 1); ++z)
+              for (long long y = 0; y < (dim > 1 ? span0 : 1); ++y)
+                for (long long x = 0; x < span0; ++x)
+                  window_level[window_index({{(c[0] << m) + x, dim > 1 ? (c[1] << m) + y : 0,
+                                              dim > 2 ? (c[2] << m) + z : 0}})] = -1;
+          });
+          for (std::size_t i = 0; i < got.size(); i += 3)
+            {
+              const long long    fk   = got[i] >> 3;
+              const unsigned int k    = got[i] & 7;
+              const long long    span = 1ll << (m - k);
+              const Position     c{{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}};
+              for (long long z = 0; z < (dim > 2 ? span : 1); ++z)
+                for (long long y = 0; y < (dim > 1 ? span : 1); ++y)
+                  for (long long x = 0; x < span; ++x)
+                    window_level[window_index({{c[0] + x, c[1] + y, c[2] + z}})] = k;
+            }
+        }
+    }
   }
 
   template <int dim>
-  int Lattice<dim>::level_at(const long long fk) const
+  long long Lattice<dim>::window_index(const Position &c) const
   {
-    Position c{{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}};
-    for (unsigned int l = 0; l <= m; ++l)
+    return (c[0] - window_lo[0]) + window_n[0] * ((c[1] - window_lo[1]) + window_n[1] * (c[2] - window_lo[2]));
+  }
+
+  template <int dim>
+  int Lattice<dim>::window_at(const long long fk) const
+  {
+    const Position c{{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}};
+    for (unsigned int d = 0; d < 3; ++d)
+      AssertThrow(c[d] >= window_lo[d] && c[d] < window_lo[d] + window_n[d],
+                  ExcMessage("internal error: a lattice point beyond the part of the mesh this rank "
+                             "fetched (Lattice::reach() too small)"));
+    const int l = window_level[window_index(c)];
+    AssertThrow(l != -2, ExcMessage("internal error: a lattice point beyond the part of the mesh this rank "
+                                    "fetched (Lattice::reach() too small)"));
+    AssertThrow(l >= 0 || subset_, ExcMessage("mesh is not the expected octree"));
+    return l;
+  }
+
+  template <int dim>
+  int Lattice<dim>::level_from(const long long fk, const unsigned int k) const
+  {
+    if (!window_level.empty())
+      return window_at(fk);
+    const Leaf *e = leaves.find(fk * 8 + k);
+    if (e)
+      {
+        if (e->first >= 0)
+          return k;
+        // refined: the finer leaf at the same corner
+        for (unsigned int l = k + 1; l <= m; ++l)
+          if ((e = leaves.find(fk * 8 + l)) && e->first >= 0)
+            return l;
+        AssertThrow(false, ExcMessage("mesh is not the expected octree"));
+      }
+    // a coarser leaf, or a solid point
+    const Position c{{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}};
+    for (int l = int(k) - 1; l >= 0; --l)
       {
         Position a = c;
         for (unsigned int d = 0; d < dim; ++d)
           a[d] = (c[d] >> (m - l)) << (m - l);
-        if (leaves.count(fine_key(a) * 8 + l))
-          return l;
+        if ((e = leaves.find(fine_key(a) * 8 + l)))
+          {
+            AssertThrow(e->first >= 0, ExcMessage("mesh is not the expected octree"));
+            return l;
+          }
       }
     AssertThrow(blocks.count(block_of(fk)),
                 ExcMessage("internal error: a lattice point beyond the part of the mesh this rank "
@@ -268,10 +369,9 @@ namespace granhydro
   template <int dim>
   const typename Lattice<dim>::Leaf &Lattice<dim>::leaf(const long long key) const
   {
-    const auto it = leaves.find(key);
-    AssertThrow(it != leaves.end(),
-                ExcMessage("internal error: a leaf beyond the part of the mesh this rank fetched"));
-    return it->second;
+    const Leaf *l = key >= 0 ? leaves.find(key) : nullptr;
+    AssertThrow(l != nullptr && l->first >= 0, ExcMessage("internal error: a leaf beyond the part of the mesh this rank fetched"));
+    return *l;
   }
 
   template <int dim>
@@ -310,7 +410,7 @@ namespace granhydro
     for (unsigned int d = 0; d < 3; ++d)
       if (e[d] < 0 || e[d] >= Nf[d])
         return false;
-    return level_at(fine_key(e)) >= 0;
+    return level_from(fine_key(e), m) >= 0;
   }
 
   template <int dim>
@@ -343,7 +443,7 @@ namespace granhydro
           {
             const Position  c{{x, y, z}};
             const long long ck = fine_key(c);
-            if (level_at(ck) < 0)
+            if (level_from(ck, m) < 0)
               continue;
             long long d2  = 0;
             int       nnz = 0;
@@ -392,9 +492,17 @@ namespace granhydro
     if (wrap(k, p))
       {
         const long long fk = corner_key(k, p);
-        if (leaves.count(fk * 8 + k))
-          return fk * 8 + k;
-        if (level_at(fk) >= 0)
+        if (!window_level.empty())
+          {
+            const int l = window_at(fk);
+            if (l == int(k))
+              return fk * 8 + k;
+            if (l >= 0)
+              return no_slot_key;
+          }
+        else if (const Leaf *e = leaves.find(fk * 8 + k))
+          return e->first >= 0 ? fk * 8 + k : no_slot_key; // a leaf, or refined
+        if (level_from(fk, k) >= 0)                          // coarser
           return no_slot_key;
       }
     // outside the lattice or a solid point: a wall (or outflow) ghost, the mirror (copy)
@@ -408,11 +516,8 @@ namespace granhydro
     WallGhost       gi;
     const Position  q  = mirror(k, p, gi.bg);
     const long long qk = corner_key(k, q);
-    if (!leaves.count(qk * 8 + k))
-      {
-        level_at(qk); // throws if qk lies beyond the fetched blocks
-        return no_slot_key;
-      }
+    if (level_from(qk, k) != int(k)) // throws if qk lies beyond the fetched blocks
+      return no_slot_key;
     gi.source_key = qk * 8 + k;
     for (unsigned int d = 0; d < 3; ++d)
       gi.pos[d] = p[d];
@@ -446,7 +551,7 @@ namespace granhydro
     if (!wrap(k, p))
       return no_slot_key;
     const long long fk = corner_key(k, p);
-    const int       lv = level_at(fk);
+    const int       lv = level_from(fk, k);
     if (lv < 0)
       return no_slot_key;
     const unsigned int l = lv;

@@ -18,14 +18,13 @@
  */
 #include <granhydro/boundary/wall_mirror.h>
 #include <granhydro/mesh/cartesian_patch.h>
+#include <granhydro/mesh/flat_key_map.h>
 
 #include <deal.II/dofs/dof_handler.h>
 
 #include <array>
 #include <limits>
 #include <map>
-#include <unordered_map>
-#include <unordered_set>
 #include <vector>
 
 namespace granhydro
@@ -131,9 +130,12 @@ namespace granhydro
     /// the fluid cell nearest to a position without a cell
     Position nearest_fluid(const unsigned int k, const Position &e) const;
     bool     fluid(const Position &e) const;
-    /// the level of the leaf covering fine point fk (inside the lattice), -1: solid;
-    /// throws if its block was not fetched
-    int level_at(const long long fk) const;
+    /// the level of the leaf covering the position of level k whose fine corner key is
+    /// fk (inside the lattice), -1: solid; throws if its block was not fetched
+    int level_from(const long long fk, const unsigned int k) const;
+    /// the window's entry of fine key fk (throws outside the fetched blocks)
+    int       window_at(const long long fk) const;
+    long long window_index(const Position &c) const;
     /// the leaf of a key (throws if unknown)
     const Leaf &leaf(const long long key) const;
     /// the level-0 block of fine key fk
@@ -146,8 +148,12 @@ namespace granhydro
     bool                        subset_;
     std::array<long long, 3>    Nf{{1, 1, 1}};
     long long                   E;
-    std::unordered_map<long long, Leaf> leaves; ///< the leaves of the fetched blocks, by key
-    std::unordered_set<long long>       blocks; ///< the fetched level-0 blocks
+    FlatKeyMap<Leaf> leaves; ///< the leaves of the fetched blocks by key, and their ancestors (first -1)
+    FlatKeyMap<char> blocks; ///< the fetched level-0 blocks
+    /// the leaf level per fine point over the bounding box of the fetched blocks (-1:
+    /// solid, -2: not fetched), if that box is at most 8 x the leaves; empty otherwise
+    std::vector<signed char> window_level;
+    Position                 window_lo{{0, 0, 0}}, window_n{{1, 1, 1}};
     std::map<long long, WallGhost> ghosts;
   };
 } // namespace granhydro

@@ -6,7 +6,6 @@
  */
 #include <granhydro/mesh/lattice.h>
 
-#include <unordered_map>
 #include <vector>
 
 namespace granhydro
@@ -14,8 +13,8 @@ namespace granhydro
   /// slot of each key (lattice.h) and key of each slot (no_slot_key for virtual cells)
   struct SlotIndex
   {
-    std::unordered_map<long long, unsigned int> slot_of;
-    std::vector<long long>                       keys;
+    FlatKeyMap<unsigned int> slot_of;
+    std::vector<long long>   keys;
     /// the first virtual cell's slot (virtual cells come last)
     unsigned int first_virtual = 0;
     /// the slot of a key, or -1
@@ -23,8 +22,8 @@ namespace granhydro
     {
       if (key == no_slot_key)
         return -1;
-      const auto it = slot_of.find(key);
-      return it == slot_of.end() ? -1 : int(it->second);
+      const unsigned int *s = slot_of.find(key);
+      return s ? int(*s) : -1;
     }
   };
 } // namespace granhydro
