@@ -39,10 +39,26 @@ namespace granhydro::convection
 
   namespace
   {
-    void unique_sort(std::vector<unsigned int> &v)
+    /// sort v and drop repetitions; its entries lie below n (slots): a mark per slot and
+    /// one scan when v is not much shorter than n, else a sort
+    void unique_sort(std::vector<unsigned int> &v, const unsigned int n)
     {
-      std::sort(v.begin(), v.end());
-      v.erase(std::unique(v.begin(), v.end()), v.end());
+      if (v.size() < n / 16)
+        {
+          std::sort(v.begin(), v.end());
+          v.erase(std::unique(v.begin(), v.end()), v.end());
+          return;
+        }
+      std::vector<char> mark(n, 0);
+      for (const unsigned int s : v)
+        {
+          AssertIndexRange(s, n);
+          mark[s] = 1;
+        }
+      v.clear();
+      for (unsigned int s = 0; s < n; ++s)
+        if (mark[s])
+          v.push_back(s);
     }
 
     // GCC vectors of doubles (element-wise IEEE arithmetic, no contraction on the default
@@ -273,13 +289,13 @@ namespace granhydro::convection
         for (const auto &f : faces)
           for (const unsigned int s : {f.l, f.r})
             fin.push_back(s);
-        unique_sort(fin);
+        unique_sort(fin, patch.n_slots());
         auto widen = [&](const std::vector<unsigned int> &in, unsigned int dir) {
           std::vector<unsigned int> out;
           for (const unsigned int s : in)
             for (int o = -r; o <= r; ++o)
               out.push_back(nb(s, dir, o));
-          unique_sort(out);
+          unique_sort(out, patch.n_slots());
           return out;
         };
         listA[d].clear();

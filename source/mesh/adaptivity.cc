@@ -136,16 +136,10 @@ namespace granhydro
         for (std::size_t i = 0; i < std::size_t(n_owned_) * n_components; ++i)
           old.local_element(i) = U.local_element(i);
         old.update_ghost_values();
-        tria->prepare_coarsening_and_refinement();
-        unsigned long long nr = 0, nc = 0;
-        for (const auto &cell : tria->active_cell_iterators())
-          if (cell->is_locally_owned())
-            {
-              nr += cell->refine_flag_set() ? 1 : 0;
-              nc += cell->coarsen_flag_set() ? 1 : 0;
-            }
-        last_refined_   = Utilities::MPI::sum(nr, comm);
-        last_coarsened_ = Utilities::MPI::sum(nc, comm);
+        // (deal.II's execute_coarsening_and_refinement() makes the flags consistent, 2:1
+        // balance included: the counts of refined and coarsened cells come from the
+        // carried levels below, not from a second pass over the flags)
+        //
         // limited linear prolongation: each cell carries, through the transfer, its
         // minmod slopes per direction (from the gradient neighbours, all components) and
         // its level; a child then knows it is new (its level is higher) and takes the
@@ -154,15 +148,14 @@ namespace granhydro
         constexpr unsigned int NC = n_components;
         const bool linear = bool(admissible);
         // carried[d < dim]: the slopes along d; carried[dim]: the level (in every component)
-        std::vector<LinearAlgebra::distributed::Vector<double>> carried(linear ? dim + 1 : 0);
-        if (linear)
-          {
-            std::vector<double> W;
-            gather(U, W);
-            for (auto &v : carried)
-              v.reinit(dofh->locally_owned_dofs(), relevant, comm);
-            carry_slopes(*this, W, carried);
-          }
+        std::vector<LinearAlgebra::distributed::Vector<double>> carried(dim + 1);
+        {
+          std::vector<double> W;
+          gather(U, W);
+          for (auto &v : carried)
+            v.reinit(dofh->locally_owned_dofs(), relevant, comm);
+          carry_slopes(*this, W, carried);
+        }
         std::vector<const LinearAlgebra::distributed::Vector<double> *> in{&old};
         for (const auto &v : carried)
           in.push_back(&v);
@@ -181,6 +174,17 @@ namespace granhydro
         U.reinit(part);
         for (std::size_t i = 0; i < std::size_t(n_owned_) * NC; ++i)
           U.local_element(i) = out[0].local_element(i);
+        // a new child's level is above the carried (its parent's); a new parent's below
+        // the carried (the mean of its children's)
+        unsigned long long nr = 0, nc = 0;
+        for (unsigned int s = 0; s < n_owned_; ++s)
+          {
+            const double carried_level = out[dim + 1].local_element(std::size_t(s) * NC);
+            nr += double(level_[s]) > carried_level ? 1 : 0;
+            nc += double(level_[s]) < carried_level ? 1 : 0;
+          }
+        last_refined_   = Utilities::MPI::sum(nr, comm) >> dim;
+        last_coarsened_ = Utilities::MPI::sum(nc, comm) << dim;
         if (linear)
           prolong_linearly(*this, out, U, admissible);
         return true;

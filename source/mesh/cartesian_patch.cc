@@ -104,18 +104,19 @@ namespace granhydro
     VirtualCells<dim>                  virtuals(lattice);
     std::unique_ptr<DilatedMask<dim>>  mask;
     std::vector<long long>             needed;
+    std::vector<char>                  full_box; // per owned cell (the stencil closure)
     if (subset_)
       {
         mask   = std::make_unique<DilatedMask<dim>>(owned, G);
         needed = mask->keys(lattice);
       }
     else
-      needed = stencil_closure(owned, face_keys, lattice, virtuals, int(G) - 1);
+      needed = stencil_closure(owned, face_keys, lattice, virtuals, int(G) - 1, full_box);
     add_wall_sources(needed, lattice);
     SlotIndex index;
     assign_slots(owned, needed, lattice, virtuals, owned_dofs, index);
     make_face_ids(lattice);
-    make_neighbor_table(lattice, virtuals, index, mask.get());
+    make_neighbor_table(lattice, virtuals, index, mask.get(), full_box);
     make_gradient_table(lattice, index, mask.get());
     std::vector<std::vector<unsigned int>> lists(face_keys.size());
     for (std::size_t f = 0; f < face_keys.size(); ++f)

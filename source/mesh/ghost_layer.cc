@@ -7,6 +7,36 @@ namespace granhydro
 {
   using namespace dealii;
 
+  namespace
+  {
+    /// separable Chebyshev dilation by r of a 0/1 box of bn points (x fastest) along
+    /// the first dim directions, line by line
+    void dilate_box(std::vector<char> &a, const std::array<long long, 3> &bn, const unsigned int dim,
+                    const int r)
+    {
+      if (r <= 0)
+        return;
+      const std::array<std::size_t, 3> stride{{1, std::size_t(bn[0]), std::size_t(bn[0] * bn[1])}};
+      std::vector<char>                out;
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          out.assign(a.size(), 0);
+          const long long n = bn[d];
+          // the lines along d: every point whose coordinate along d is 0
+          for (std::size_t base = 0; base < a.size(); ++base)
+            {
+              if ((base / stride[d]) % n != 0)
+                continue;
+              for (long long c = 0; c < n; ++c)
+                if (a[base + c * stride[d]])
+                  for (long long o = std::max(-c, -(long long)r); o <= r && c + o < n; ++o)
+                    out[base + (c + o) * stride[d]] = 1;
+            }
+          a.swap(out);
+        }
+    }
+  } // namespace
+
   template <int dim>
   std::vector<std::vector<long long>> face_neighbour_keys(const std::vector<OwnedCell> &owned,
                                                           Lattice<dim>                 &lattice)
@@ -67,7 +97,7 @@ namespace granhydro
   std::vector<long long> stencil_closure(const std::vector<OwnedCell>              &owned,
                                          const std::vector<std::vector<long long>> &face_keys,
                                          Lattice<dim> &lattice, VirtualCells<dim> &virtuals,
-                                         const int r)
+                                         const int r, std::vector<char> &uniform)
   {
     using Position = typename Lattice<dim>::Position;
     std::vector<long long> needed;
@@ -86,6 +116,10 @@ namespace granhydro
             face_cells.push_back(t);
       }
     std::sort(face_cells.begin(), face_cells.end());
+    std::vector<std::pair<long long, unsigned int>> owned_sorted(owned.size()); // (key, index)
+    for (unsigned int i = 0; i < owned.size(); ++i)
+      owned_sorted[i] = {owned[i].key, i};
+    std::sort(owned_sorted.begin(), owned_sorted.end());
     face_cells.erase(std::unique(face_cells.begin(), face_cells.end()), face_cells.end());
     for (const long long c : face_cells)
       for (unsigned int j = 0; j < dim; ++j)
@@ -95,30 +129,107 @@ namespace granhydro
             if (t != no_slot_key)
               needed.push_back(t);
           }
-    // the reconstruction boxes: leaves, wall ghosts, virtual cells. The boxes overlap
-    // (each leaf lies in up to 5^dim of them): a leaf is pushed once, marked at its fine
-    // corner (leaves do not overlap)
-    virtuals.reserve(4 * face_cells.size());
-    FlatKeyMap<char> seen;
-    seen.reserve(4 * face_cells.size());
+    // the reconstruction boxes (Chebyshev radius r of each face cell, at its level):
+    // leaves, wall ghosts, virtual cells. The boxes overlap (each position lies in up to
+    // (2 r + 1)^dim of them): per level, the union of the boxes is marked on a dense
+    // grid over the face cells' bounding box (positions unwrapped, as the boxes have
+    // them) and each of its positions is looked at once; where that grid would be much
+    // larger than the boxes themselves (a scattered level), box by box. A cell's box is
+    // full when it holds no virtual cell: the positions with none, dilated by r.
+    uniform.assign(owned.size(), 0);
+    const unsigned int                 m = lattice.max_level();
+    std::vector<std::vector<Position>> cells_at(m + 1);
+    std::vector<std::vector<long long>> keys_at(m + 1);
     for (const long long u : face_cells)
       {
         unsigned int k;
         Position     p0;
         lattice.decode(u, k, p0);
-        for (int z = (dim > 2 ? -r : 0); z <= (dim > 2 ? r : 0); ++z)
-          for (int y = (dim > 1 ? -r : 0); y <= (dim > 1 ? r : 0); ++y)
-            for (int x = -r; x <= r; ++x)
+        cells_at[k].push_back(p0);
+        keys_at[k].push_back(u);
+      }
+    virtuals.reserve(4 * face_cells.size());
+    const long long box_volume = dim == 3 ? (2 * r + 1) * (2 * r + 1) * (2 * r + 1) : dim == 2 ? (2 * r + 1) * (2 * r + 1) : 2 * r + 1;
+    for (unsigned int k = 0; k <= m; ++k)
+      {
+        const auto &P = cells_at[k];
+        if (P.empty())
+          continue;
+        Position lo{{0, 0, 0}}, bn{{1, 1, 1}};
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            long long mn = P[0][d], mx = P[0][d];
+            for (const auto &p : P)
               {
-                const Position  q{{p0[0] + x, p0[1] + y, p0[2] + z}};
-                const long long t = lattice.same_level(k, q);
-                if (t == no_slot_key)
-                  virtuals.add(k, q);
-                else if (t < 0)
-                  needed.push_back(t);
-                else if (seen.insert(t, 1).second)
-                  needed.push_back(t);
+                mn = std::min(mn, p[d]);
+                mx = std::max(mx, p[d]);
               }
+            lo[d] = mn - r;
+            bn[d] = mx - mn + 1 + 2 * r;
+          }
+        const long long vol = bn[0] * bn[1] * bn[2];
+        auto idx = [&](const Position &q) {
+          return std::size_t((q[0] - lo[0]) + bn[0] * ((q[1] - lo[1]) + bn[1] * (q[2] - lo[2])));
+        };
+        std::vector<char> bad; // dense: the positions without a slot (virtual cells)
+        FlatKeyMap<char>  seen; // box by box: a leaf is pushed once
+        if (vol <= 4 * box_volume * (long long)P.size() + 4096)
+          {
+            std::vector<char> in(vol, 0);
+            for (const auto &p : P)
+              in[idx(p)] = 1;
+            dilate_box(in, bn, dim, r);
+            bad.assign(vol, 0);
+            std::size_t i = 0;
+            for (long long z = 0; z < bn[2]; ++z)
+              for (long long y = 0; y < bn[1]; ++y)
+                for (long long x = 0; x < bn[0]; ++x, ++i)
+                  if (in[i])
+                    {
+                      const Position  q{{lo[0] + x, lo[1] + y, lo[2] + z}};
+                      const long long t = lattice.same_level(k, q);
+                      if (t == no_slot_key)
+                        {
+                          virtuals.add(k, q);
+                          bad[i] = 1;
+                        }
+                      else
+                        needed.push_back(t); // periodic images repeat: add_wall_sources drops them
+                    }
+            dilate_box(bad, bn, dim, r);
+          }
+        else
+          seen.reserve(4 * P.size());
+        for (std::size_t c = 0; c < P.size(); ++c)
+          {
+            const Position &p0   = P[c];
+            bool            full = true;
+            if (!bad.empty())
+              full = !bad[idx(p0)];
+            else
+              for (int z = (dim > 2 ? -r : 0); z <= (dim > 2 ? r : 0); ++z)
+                for (int y = (dim > 1 ? -r : 0); y <= (dim > 1 ? r : 0); ++y)
+                  for (int x = -r; x <= r; ++x)
+                    {
+                      const Position  q{{p0[0] + x, p0[1] + y, p0[2] + z}};
+                      const long long t = lattice.same_level(k, q);
+                      if (t == no_slot_key)
+                        {
+                          virtuals.add(k, q);
+                          full = false;
+                        }
+                      else if (t < 0)
+                        needed.push_back(t);
+                      else if (seen.insert(t, 1).second)
+                        needed.push_back(t);
+                    }
+            // owned cells: their place in DoF order
+            if (full)
+              if (const auto it = std::lower_bound(owned_sorted.begin(), owned_sorted.end(),
+                                                   std::make_pair(keys_at[k][c], 0u));
+                  it != owned_sorted.end() && it->first == keys_at[k][c])
+                uniform[it->second] = 1;
+          }
       }
     for (const auto &v : virtuals.cells())
       for (const auto &[t, w] : v.sources)
@@ -147,21 +258,7 @@ namespace granhydro
     for (const auto &o : owned)
       mask[std::size_t(o.ijk[0] - blo[0]) +
            std::size_t(bn[0]) * (std::size_t(o.ijk[1] - blo[1]) + std::size_t(bn[1]) * (o.ijk[2] - blo[2]))] = 1;
-    // separable Chebyshev dilation by G
-    const std::array<std::size_t, 3> stride{{1, std::size_t(bn[0]), std::size_t(bn[0]) * bn[1]}};
-    for (unsigned int d = 0; d < dim; ++d)
-      {
-        std::vector<char> out(nbox, 0);
-        for (std::size_t p = 0; p < nbox; ++p)
-          if (mask[p])
-            {
-              const int c = (p / stride[d]) % bn[d];
-              for (int o = -int(G); o <= int(G); ++o)
-                if (c + o >= 0 && c + o < bn[d])
-                  out[p + std::ptrdiff_t(o) * std::ptrdiff_t(stride[d])] = 1;
-            }
-        mask.swap(out);
-      }
+    dilate_box(mask, {{bn[0], bn[1], bn[2]}}, dim, int(G));
   }
 
   template <int dim>
@@ -189,9 +286,17 @@ namespace granhydro
   template <int dim>
   void add_wall_sources(std::vector<long long> &needed, const Lattice<dim> &lattice)
   {
+    // the repetitions go through a hash set first: the list holds every key several
+    // times, sorting the distinct ones only is cheaper
     auto make_unique = [&]() {
+      FlatKeyMap<char> seen;
+      seen.reserve(needed.size() / 4);
+      std::size_t n = 0;
+      for (const long long t : needed)
+        if (seen.insert(t, 1).second)
+          needed[n++] = t;
+      needed.resize(n);
       std::sort(needed.begin(), needed.end());
-      needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
     };
     make_unique();
     for (std::size_t i = 0, n = needed.size(); i < n; ++i)
@@ -205,7 +310,8 @@ namespace granhydro
                                                                    Lattice<d> &);                  \
   template std::vector<long long> stencil_closure(const std::vector<OwnedCell> &,                  \
                                                   const std::vector<std::vector<long long>> &,     \
-                                                  Lattice<d> &, VirtualCells<d> &, const int);     \
+                                                  Lattice<d> &, VirtualCells<d> &, const int,      \
+                                                  std::vector<char> &);     \
   template class DilatedMask<d>;                                                                   \
   template void add_wall_sources(std::vector<long long> &, const Lattice<d> &);
   GRANHYDRO_INSTANTIATE(1)

@@ -318,7 +318,12 @@ namespace granhydro
   template <int dim>
   int Lattice<dim>::window_at(const long long fk) const
   {
-    const Position c{{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}};
+    return window_at_point({{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}});
+  }
+
+  template <int dim>
+  int Lattice<dim>::window_at_point(const Position &c) const
+  {
     for (unsigned int d = 0; d < 3; ++d)
       AssertThrow(c[d] >= window_lo[d] && c[d] < window_lo[d] + window_n[d],
                   ExcMessage("internal error: a lattice point beyond the part of the mesh this rank "
@@ -491,19 +496,26 @@ namespace granhydro
   {
     if (wrap(k, p))
       {
-        const long long fk = corner_key(k, p);
         if (!window_level.empty())
           {
-            const int l = window_at(fk);
+            // the fine corner, without decoding a key (the hot path of the tables)
+            Position c{{0, 0, 0}};
+            for (unsigned int d = 0; d < dim; ++d)
+              c[d] = p[d] << (m - k);
+            const int l = window_at_point(c);
             if (l == int(k))
-              return fk * 8 + k;
+              return fine_key(c) * 8 + k;
             if (l >= 0)
+              return no_slot_key; // refined or coarser; l < 0: solid, a wall ghost below
+          }
+        else
+          {
+            const long long fk = corner_key(k, p);
+            if (const Leaf *e = leaves.find(fk * 8 + k))
+              return e->first >= 0 ? fk * 8 + k : no_slot_key; // a leaf, or refined
+            if (level_from(fk, k) >= 0)                          // coarser
               return no_slot_key;
           }
-        else if (const Leaf *e = leaves.find(fk * 8 + k))
-          return e->first >= 0 ? fk * 8 + k : no_slot_key; // a leaf, or refined
-        if (level_from(fk, k) >= 0)                          // coarser
-          return no_slot_key;
       }
     // outside the lattice or a solid point: a wall (or outflow) ghost, the mirror (copy)
     // of the same-level cell inside

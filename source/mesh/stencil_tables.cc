@@ -2,6 +2,8 @@
 #include <granhydro/mesh/ghost_layer.h>
 #include <granhydro/mesh/stencil_tables.h>
 
+#include <granhydro/mesh/flat_key_map.h>
+
 #include <map>
 
 namespace granhydro
@@ -105,7 +107,8 @@ namespace granhydro
 
   template <int dim>
   void CartesianPatch<dim>::make_neighbor_table(Lattice<dim> &lattice, const VirtualCells<dim> &virtuals,
-                                                const SlotIndex &index, const DilatedMask<dim> *mask)
+                                                const SlotIndex &index, const DilatedMask<dim> *mask,
+                                                const std::vector<char> &full_box)
   {
     using Position = typename Lattice<dim>::Position;
     // the slot at position q of level k: a leaf or wall ghost of that level, or a virtual cell
@@ -135,10 +138,13 @@ namespace granhydro
                 nb_[(std::size_t(s) * dim + d) * W + (o + int(G))] = slot_at(k, q);
             }
         bool ok = s < n_owned_; // the flag is for owned cells (output) only
-        for (int z = (dim > 2 ? -r : 0); z <= (dim > 2 ? r : 0) && ok; ++z)
-          for (int y = (dim > 1 ? -r : 0); y <= (dim > 1 ? r : 0) && ok; ++y)
-            for (int x = -r; x <= r && ok; ++x)
-              ok = index(lattice.same_level(k, {{p0[0] + x, p0[1] + y, p0[2] + z}})) >= 0;
+        if (ok && !full_box.empty())
+          ok = full_box[s] != 0; // slots of owned cells are in owned order
+        else
+          for (int z = (dim > 2 ? -r : 0); z <= (dim > 2 ? r : 0) && ok; ++z)
+            for (int y = (dim > 1 ? -r : 0); y <= (dim > 1 ? r : 0) && ok; ++y)
+              for (int x = -r; x <= r && ok; ++x)
+                ok = index(lattice.same_level(k, {{p0[0] + x, p0[1] + y, p0[2] + z}})) >= 0;
         uniform_[s] = ok ? 1 : 0;
       }
   }
@@ -181,7 +187,8 @@ namespace granhydro
         faces_[d].clear();
         cell_face_[d].clear();
         cell_face_start_[d].assign(n_owned_ + 1, 0);
-        std::map<std::pair<unsigned int, unsigned int>, unsigned int> index;
+        FlatKeyMap<unsigned int> index; // (left slot, right slot) -> face
+        index.reserve(std::size_t(n_owned_) * 2);
         for (unsigned int s = 0; s < n_owned_; ++s)
           {
             cell_face_start_[d][s] = cell_face_[d].size();
@@ -189,7 +196,7 @@ namespace granhydro
               for (const unsigned int t : lists[(std::size_t(s) * dim + d) * 2 + side])
                 {
                   const unsigned int l = side ? s : t, r = side ? t : s;
-                  auto [it, fresh] = index.emplace(std::make_pair(l, r), faces_[d].size());
+                  const auto [f, fresh] = index.insert((long long)(l) << 32 | r, faces_[d].size());
                   if (fresh)
                     {
                       const double fl = level_[l] < level_[r] ? sub : 1.;
@@ -206,7 +213,7 @@ namespace granhydro
                         }
                       faces_[d].push_back({l, r, fl, fr, q});
                     }
-                  cell_face_[d].push_back({it->second, side == 1});
+                  cell_face_[d].push_back({*f, side == 1});
                 }
           }
         cell_face_start_[d][n_owned_] = cell_face_[d].size();
@@ -219,7 +226,8 @@ namespace granhydro
                                                 const VirtualCells<d> &, const IndexSet &, SlotIndex &); \
   template void CartesianPatch<d>::make_face_ids(const Lattice<d> &);                                \
   template void CartesianPatch<d>::make_neighbor_table(Lattice<d> &, const VirtualCells<d> &,        \
-                                                       const SlotIndex &, const DilatedMask<d> *);   \
+                                                       const SlotIndex &, const DilatedMask<d> *,    \
+                                                       const std::vector<char> &);                   \
   template void CartesianPatch<d>::make_gradient_table(Lattice<d> &, const SlotIndex &,              \
                                                        const DilatedMask<d> *);                      \
   template void CartesianPatch<d>::make_faces(const std::vector<std::vector<unsigned int>> &);

@@ -274,7 +274,8 @@ namespace granhydro
     void rebuild();
     /// the table builders rebuild() calls (source/mesh/stencil_tables.cc): slots of the
     /// owned cells and needed keys; boundary ids of the real cells' faces; neighbour
-    /// table and uniform flags; gradient neighbours (mask: the positions whose neighbour
+    /// table and uniform flags (full_box: the stencil closure's flags per owned cell, or
+    /// empty to look); gradient neighbours (mask: the positions whose neighbour
     /// rows are filled, nullptr for all); faces from each owned cell's neighbour lists
     /// per direction and side
     void assign_slots(const std::vector<OwnedCell> &owned, const std::vector<long long> &needed,
@@ -282,7 +283,8 @@ namespace granhydro
                       const dealii::IndexSet &owned_dofs, SlotIndex &index);
     void make_face_ids(const Lattice<dim> &lattice);
     void make_neighbor_table(Lattice<dim> &lattice, const VirtualCells<dim> &virtuals,
-                             const SlotIndex &index, const DilatedMask<dim> *mask);
+                             const SlotIndex &index, const DilatedMask<dim> *mask,
+                             const std::vector<char> &full_box);
     void make_gradient_table(Lattice<dim> &lattice, const SlotIndex &index,
                              const DilatedMask<dim> *mask);
     void make_faces(const std::vector<std::vector<unsigned int>> &lists);

@@ -25,12 +25,13 @@ namespace granhydro
   std::vector<std::vector<long long>> face_neighbour_keys(const std::vector<OwnedCell> &owned,
                                                           Lattice<dim>                 &lattice);
 
-  /// the keys of the stencil closure (with repetitions), creating the virtual cells
+  /// the keys of the stencil closure (with repetitions), creating the virtual cells;
+  /// uniform[i]: owned cell i's box of radius r holds leaves and wall ghosts of its level only
   template <int dim>
   std::vector<long long> stencil_closure(const std::vector<OwnedCell>              &owned,
                                          const std::vector<std::vector<long long>> &face_keys,
                                          Lattice<dim> &lattice, VirtualCells<dim> &virtuals,
-                                         const int r);
+                                         const int r, std::vector<char> &uniform);
 
   /// the positions within Chebyshev distance G of the owned cells (level 0), in the
   /// rank's box: the owned bounding box widened by G

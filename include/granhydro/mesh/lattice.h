@@ -135,6 +135,8 @@ namespace granhydro
     int level_from(const long long fk, const unsigned int k) const;
     /// the window's entry of fine key fk (throws outside the fetched blocks)
     int       window_at(const long long fk) const;
+    /// the same for fine lattice coordinates c
+    int       window_at_point(const Position &c) const;
     long long window_index(const Position &c) const;
     /// the leaf of a key (throws if unknown)
     const Leaf &leaf(const long long key) const;
