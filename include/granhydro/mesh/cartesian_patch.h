@@ -44,10 +44,9 @@
  * neighbour used for cell gradients: the same-level cell, else a coarser one
  * (never a finer one; then the gradient is one-sided).
  *
- * Limits: the fine-lattice to DoF map and the boundary face ids are
- * replicated on every rank (9 bytes per fine lattice point plus one per
- * boundary face); adaptive meshes need a box domain (no mesh file) and 2 or
- * 3 dimensions.
+ * Limits: adaptive meshes need a box domain (no mesh file) and 2 or 3
+ * dimensions. No rank holds the whole fine lattice: the leaves a rank's
+ * tables reach come from a directory distributed by level-0 block (lattice.h).
  */
 #include <granhydro/mesh/settings.h>
 
