@@ -2,7 +2,6 @@
 
 #include <algorithm>
 
-
 namespace granhydro
 {
   using namespace dealii;
@@ -116,11 +115,11 @@ namespace granhydro
             face_cells.push_back(t);
       }
     std::sort(face_cells.begin(), face_cells.end());
+    face_cells.erase(std::unique(face_cells.begin(), face_cells.end()), face_cells.end());
     std::vector<std::pair<long long, unsigned int>> owned_sorted(owned.size()); // (key, index)
     for (unsigned int i = 0; i < owned.size(); ++i)
       owned_sorted[i] = {owned[i].key, i};
     std::sort(owned_sorted.begin(), owned_sorted.end());
-    face_cells.erase(std::unique(face_cells.begin(), face_cells.end()), face_cells.end());
     for (const long long c : face_cells)
       for (unsigned int j = 0; j < dim; ++j)
         for (const int o : {-1, 1})
@@ -149,7 +148,9 @@ namespace granhydro
         keys_at[k].push_back(u);
       }
     virtuals.reserve(4 * face_cells.size());
-    const long long box_volume = dim == 3 ? (2 * r + 1) * (2 * r + 1) * (2 * r + 1) : dim == 2 ? (2 * r + 1) * (2 * r + 1) : 2 * r + 1;
+    long long box_volume = 1; // (2 r + 1)^dim
+    for (unsigned int d = 0; d < dim; ++d)
+      box_volume *= 2 * r + 1;
     for (unsigned int k = 0; k <= m; ++k)
       {
         const auto &P = cells_at[k];
@@ -311,7 +312,7 @@ namespace granhydro
   template std::vector<long long> stencil_closure(const std::vector<OwnedCell> &,                  \
                                                   const std::vector<std::vector<long long>> &,     \
                                                   Lattice<d> &, VirtualCells<d> &, const int,      \
-                                                  std::vector<char> &);     \
+                                                  std::vector<char> &);                            \
   template class DilatedMask<d>;                                                                   \
   template void add_wall_sources(std::vector<long long> &, const Lattice<d> &);
   GRANHYDRO_INSTANTIATE(1)
