@@ -1,8 +1,8 @@
 #include <granhydro/mesh/cartesian_patch.h>
 
-#include <deal.II/distributed/solution_transfer.h>
+#include <granhydro/mesh/forest.h>
+
 #include <deal.II/distributed/tria.h>
-#include <deal.II/dofs/dof_tools.h>
 
 #include <algorithm>
 #include <cmath>
@@ -16,76 +16,12 @@ namespace granhydro
   {
     using Vector = LinearAlgebra::distributed::Vector<double>;
 
-    /// per owned cell (W: the slot array) and direction d < dim the minmod slopes of all components (from the
-    /// gradient neighbours) in carried[d], and the cell's level in carried[dim]
-    template <int dim>
-    void carry_slopes(const CartesianPatch<dim> &patch, const std::vector<double> &W,
-                      std::vector<Vector> &carried)
+    /// y = 0 + a x, as deal.II's FullMatrix::vmult forms one row of a diagonal matrix
+    /// (a zero product is +0): the values equal those of deal.II's SolutionTransfer
+    inline double row(const double a, const double x)
     {
-      constexpr unsigned int NC = CartesianPatch<dim>::n_components;
-      for (unsigned int s = 0; s < patch.n_owned(); ++s)
-        {
-          for (unsigned int d = 0; d < dim; ++d)
-            {
-              const int m = patch.gradient_neighbor(s, d, 0), q = patch.gradient_neighbor(s, d, 1);
-              for (unsigned int c = 0; c < NC; ++c)
-                {
-                  double sigma = 0;
-                  if (m >= 0 && q >= 0)
-                    {
-                      const double u  = W[std::size_t(s) * NC + c];
-                      const double sl = (u - W[std::size_t(m) * NC + c]) / -patch.gradient_offset(s, d, 0);
-                      const double sr = (W[std::size_t(q) * NC + c] - u) / patch.gradient_offset(s, d, 1);
-                      sigma = sl * sr > 0 ? (std::abs(sl) < std::abs(sr) ? sl : sr) : 0.;
-                    }
-                  carried[d].local_element(std::size_t(s) * NC + c) = sigma;
-                }
-            }
-          for (unsigned int c = 0; c < NC; ++c)
-            carried[dim].local_element(std::size_t(s) * NC + c) = patch.level(s);
-        }
-      for (auto &v : carried)
-        v.update_ghost_values();
-    }
-
-    /// new children (their level is above the carried one) take the parent's value plus
-    /// the carried slopes times their offset, when all 2^dim siblings pass admissible
-    template <int dim>
-    void prolong_linearly(const CartesianPatch<dim> &patch, const std::vector<Vector> &out, Vector &U,
-                          const std::function<bool(const double *)> &admissible)
-    {
-      constexpr unsigned int NC = CartesianPatch<dim>::n_components;
-      for (unsigned int s = 0; s < patch.n_owned(); ++s)
-        {
-          if (double(patch.level(s)) <= out[dim + 1].local_element(std::size_t(s) * NC))
-            continue;
-          // the value of sibling `sib` (bit d set: upper half along d); all 2^dim
-          // siblings admissible, or the family keeps the parent's value
-          double *u       = &U.local_element(std::size_t(s) * NC);
-          auto    sibling = [&](const unsigned int sib, double *child) {
-            for (unsigned int c = 0; c < NC; ++c)
-              {
-                child[c] = u[c];
-                for (unsigned int d = 0; d < dim; ++d)
-                  child[c] += out[1 + d].local_element(std::size_t(s) * NC + c) * 0.5 * patch.cell_size(s, d) *
-                              ((sib >> d & 1u) ? 1. : -1.);
-              }
-          };
-          double child[NC];
-          bool   ok = true;
-          for (unsigned int sib = 0; sib < (1u << dim) && ok; ++sib)
-            {
-              sibling(sib, child);
-              ok = admissible(child);
-            }
-          if (!ok)
-            continue;
-          unsigned int mine = 0;
-          for (unsigned int d = 0; d < dim; ++d)
-            mine |= (patch.lattice(s)[d] & 1u) << d;
-          sibling(mine, child);
-          std::copy(child, child + NC, u);
-        }
+      const double y = a * x;
+      return y == 0 ? 0. : y;
     }
   } // namespace
 
@@ -104,89 +40,110 @@ namespace granhydro
       }
     else
       {
-        auto &ptria = dynamic_cast<parallel::distributed::Triangulation<dim> &>(*tria);
+        AssertThrow(forest_, ExcMessage("adapt() needs an adaptive box mesh"));
         AssertThrow(flags.size() == n_owned_, ExcMessage("one flag per owned cell"));
-        std::vector<int> slot_of_active(tria->n_active_cells(), -1);
-        for (unsigned int s = 0; s < n_owned_; ++s)
-          slot_of_active[active_index_[s]] = s;
         unsigned int changes = 0;
-        for (const auto &cell : tria->active_cell_iterators())
-          if (cell->is_locally_owned())
-            {
-              const int s = slot_of_active[cell->active_cell_index()];
-              cell->clear_refine_flag();
-              cell->clear_coarsen_flag();
-              if (flags[s] > 0 && level_[s] < max_level_)
-                {
-                  cell->set_refine_flag();
-                  ++changes;
-                }
-              else if (flags[s] < 0 && level_[s] > 0)
-                {
-                  cell->set_coarsen_flag();
-                  ++changes;
-                }
-            }
+        std::vector<signed char> f(n_owned_, 0);
+        for (unsigned int s = 0; s < n_owned_; ++s)
+          if (flags[s] > 0 && level_[s] < max_level_)
+            f[s] = 1;
+          else if (flags[s] < 0 && level_[s] > 0)
+            f[s] = -1;
+        for (const signed char x : f)
+          changes += x != 0;
         if (Utilities::MPI::sum(changes, comm) == 0)
           return false;
-        // the state with the ghost values deal.II expects (locally relevant = one layer)
-        IndexSet relevant;
-        DoFTools::extract_locally_relevant_dofs(*dofh, relevant);
-        LinearAlgebra::distributed::Vector<double> old(dofh->locally_owned_dofs(), relevant, comm);
-        for (std::size_t i = 0; i < std::size_t(n_owned_) * n_components; ++i)
-          old.local_element(i) = U.local_element(i);
-        old.update_ghost_values();
-        // (deal.II's execute_coarsening_and_refinement() makes the flags consistent, 2:1
-        // balance included: the counts of refined and coarsened cells come from the
-        // carried levels below, not from a second pass over the flags)
-        //
-        // limited linear prolongation: each cell carries, through the transfer, its
-        // minmod slopes per direction (from the gradient neighbours, all components) and
-        // its level; a child then knows it is new (its level is higher) and takes the
-        // parent's value plus the slopes times its offset from the parent's centre. The
+
+        // the transfer: a leaf that stays keeps its values; a parent takes the mean of its
+        // children (restriction matrix of the DG0 element, children in z-order); a child
+        // takes its parent's values (prolongation matrix) and, with `admissible`, the
+        // parent's minmod slopes (from the gradient neighbours, all components) times its
+        // offset from the parent's centre, when all 2^dim siblings' states pass. The
         // offsets of the 2^dim children sum to zero: conservative to round-off.
-        constexpr unsigned int NC = n_components;
-        const bool linear = bool(admissible);
-        // carried[d < dim]: the slopes along d; carried[dim]: the level (in every component)
-        std::vector<LinearAlgebra::distributed::Vector<double>> carried(dim + 1);
-        {
-          std::vector<double> W;
-          gather(U, W);
-          for (auto &v : carried)
-            v.reinit(dofh->locally_owned_dofs(), relevant, comm);
-          carry_slopes(*this, W, carried);
-        }
-        std::vector<const LinearAlgebra::distributed::Vector<double> *> in{&old};
-        for (const auto &v : carried)
-          in.push_back(&v);
-        parallel::distributed::SolutionTransfer<dim, LinearAlgebra::distributed::Vector<double>> st(*dofh);
-        st.prepare_for_coarsening_and_refinement(in);
-        ptria.execute_coarsening_and_refinement();
-        rebuild();
-        std::vector<LinearAlgebra::distributed::Vector<double>> out(in.size());
-        std::vector<LinearAlgebra::distributed::Vector<double> *> outp;
-        for (auto &v : out)
-          {
-            v.reinit(dofh->locally_owned_dofs(), comm);
-            outp.push_back(&v);
-          }
-        st.interpolate(outp);
-        U.reinit(part);
-        for (std::size_t i = 0; i < std::size_t(n_owned_) * NC; ++i)
-          U.local_element(i) = out[0].local_element(i);
-        // a new child's level is above the carried (its parent's); a new parent's below
-        // the carried (the mean of its children's)
-        unsigned long long nr = 0, nc = 0;
-        for (unsigned int s = 0; s < n_owned_; ++s)
-          {
-            const double carried_level = out[dim + 1].local_element(std::size_t(s) * NC);
-            nr += double(level_[s]) > carried_level ? 1 : 0;
-            nc += double(level_[s]) < carried_level ? 1 : 0;
-          }
-        last_refined_   = Utilities::MPI::sum(nr, comm) >> dim;
-        last_coarsened_ = Utilities::MPI::sum(nc, comm) << dim;
+        constexpr unsigned int NC     = n_components;
+        const bool             linear = bool(admissible);
+        std::vector<double>    W;
+        gather(U, W);
+        std::vector<double> slopes; // per owned slot: dim x NC
         if (linear)
-          prolong_linearly(*this, out, U, admissible);
+          {
+            slopes.assign(std::size_t(n_owned_) * dim * NC, 0.);
+            for (unsigned int s = 0; s < n_owned_; ++s)
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  const int m = gradient_neighbor(s, d, 0), q = gradient_neighbor(s, d, 1);
+                  if (m < 0 || q < 0)
+                    continue;
+                  for (unsigned int c = 0; c < NC; ++c)
+                    {
+                      const double u  = W[std::size_t(s) * NC + c];
+                      const double sl = (u - W[std::size_t(m) * NC + c]) / -gradient_offset(s, d, 0);
+                      const double sr = (W[std::size_t(q) * NC + c] - u) / gradient_offset(s, d, 1);
+                      slopes[(std::size_t(s) * dim + d) * NC + c] =
+                        sl * sr > 0 ? (std::abs(sl) < std::abs(sr) ? sl : sr) : 0.;
+                    }
+                }
+          }
+        // the DG0 element's interpolation matrices (diagonal, one entry per component)
+        std::array<std::array<double, NC>, 1u << dim> P, R;
+        for (unsigned int ch = 0; ch < (1u << dim); ++ch)
+          for (unsigned int c = 0; c < NC; ++c)
+            {
+              P[ch][c] = fe->get_prolongation_matrix(ch)(c, c);
+              R[ch][c] = fe->get_restriction_matrix(ch)(c, c);
+            }
+        const std::vector<unsigned char> old_level = level_;
+        auto fill = [&](const typename Forest<dim>::Source &src, double *out) {
+          using Source = typename Forest<dim>::Source;
+          const double *u = &U.local_element(std::size_t(src.first) * NC);
+          if (src.kind == Source::same)
+            std::copy(u, u + NC, out);
+          else if (src.kind == Source::from_children)
+            for (unsigned int c = 0; c < NC; ++c)
+              {
+                double sum = 0;
+                for (unsigned int ch = 0; ch < (1u << dim); ++ch)
+                  sum += row(R[ch][c], U.local_element((std::size_t(src.first) + ch) * NC + c));
+                out[c] = sum;
+              }
+          else
+            {
+              double v[NC];
+              for (unsigned int c = 0; c < NC; ++c)
+                v[c] = row(P[src.child][c], u[c]);
+              std::copy(v, v + NC, out);
+              if (!linear)
+                return;
+              const unsigned int k = old_level[src.first] + 1;
+              auto sibling = [&](const unsigned int sib, double *child) {
+                for (unsigned int c = 0; c < NC; ++c)
+                  {
+                    child[c] = v[c];
+                    for (unsigned int d = 0; d < dim; ++d)
+                      child[c] += row(P[src.child][c], slopes[(std::size_t(src.first) * dim + d) * NC + c]) *
+                                  0.5 * (h_[d] / double(1u << k)) * ((sib >> d & 1u) ? 1. : -1.);
+                  }
+              };
+              double child[NC];
+              for (unsigned int sib = 0; sib < (1u << dim); ++sib)
+                {
+                  sibling(sib, child);
+                  if (!admissible(child))
+                    return;
+                }
+              sibling(src.child, out);
+            }
+        };
+        unsigned long long nr = 0, nc = 0;
+        const std::vector<double> values = forest_->adapt(f, fill, nr, nc);
+        dealii_mesh_current_ = false;
+        rebuild();
+        U.reinit(part);
+        AssertThrow(values.size() == std::size_t(n_owned_) * NC, ExcInternalError());
+        for (std::size_t i = 0; i < values.size(); ++i)
+          U.local_element(i) = values[i];
+        last_refined_   = Utilities::MPI::sum(nr, comm);
+        last_coarsened_ = Utilities::MPI::sum(nc, comm);
         return true;
       }
   }
@@ -200,7 +157,9 @@ namespace granhydro
       }
     else
       {
+        // on deal.II's mesh (brought up to date first), then copied to the forest:
         // a leaf of the target at level l inside an active cell of level k < l: refine it
+        sync_dealii();
         std::set<long long> target(cells.begin(), cells.end());
         for (unsigned int pass = 0; pass < max_level_; ++pass)
           {
@@ -232,6 +191,14 @@ namespace granhydro
             if (Utilities::MPI::sum(n, comm) == 0)
               break;
             tria->execute_coarsening_and_refinement();
+          }
+        if (forest_)
+          {
+            forest_.reset();
+            forest_ = std::make_unique<Forest<dim>>(
+              dynamic_cast<const parallel::distributed::Triangulation<dim> &>(*tria), base_tria_level_, lo_, h_,
+              n_components);
+            dealii_mesh_current_ = true;
           }
         rebuild();
       }

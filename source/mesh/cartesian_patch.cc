@@ -1,10 +1,12 @@
 #include <granhydro/mesh/cartesian_patch.h>
+#include <granhydro/mesh/forest.h>
 #include <granhydro/mesh/ghost_layer.h>
 #include <granhydro/mesh/lattice.h>
 #include <granhydro/mesh/stencil_tables.h>
 #include <granhydro/mesh/triangulation_builder.h>
 #include <granhydro/mesh/virtual_cells.h>
 
+#include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_renumbering.h>
 #include <deal.II/fe/fe_dgq.h>
 
@@ -22,6 +24,7 @@ namespace granhydro
   template <int dim>
   CartesianPatch<dim>::~CartesianPatch()
   {
+    forest_.reset(); // shares deal.II's connectivity
     dofh.reset();
     tria.reset();
   }
@@ -64,6 +67,7 @@ namespace granhydro
     velocity_unit_ = settings.velocity_unit;
     subset_        = !settings.mesh_file.empty();
     max_level_     = subset_ ? 0 : settings.max_level;
+    forest_.reset();
     dofh.reset();
     tria = make_triangulation<dim>(comm);
     fe   = std::make_unique<FESystem<dim>>(FE_DGQ<dim>(0), n_components);
@@ -71,32 +75,91 @@ namespace granhydro
       make_file_mesh(settings);
     else
       make_box_mesh(settings);
+    if constexpr (dim > 1)
+      if (max_level_ > 0)
+        forest_ = std::make_unique<Forest<dim>>(
+          dynamic_cast<const parallel::distributed::Triangulation<dim> &>(*tria), base_tria_level_, lo_, h_,
+          n_components);
+    dealii_mesh_current_ = true;
     rebuild();
+  }
+
+  template <int dim>
+  void CartesianPatch<dim>::sync_dealii() const
+  {
+    if (!forest_)
+      return;
+    if constexpr (dim > 1)
+      if (!dealii_mesh_current_)
+        {
+          // deal.II copies the forest and refines/coarsens its mesh until they match
+          dynamic_cast<parallel::distributed::Triangulation<dim> &>(*tria).load(forest_->get());
+          dealii_mesh_current_ = true;
+          dealii_dofs_current_ = false;
+        }
+    if (dealii_dofs_current_)
+      return;
+    if (!dofh)
+      dofh = std::make_unique<DoFHandler<dim>>(*tria);
+    dofh->distribute_dofs(*fe);
+    DoFRenumbering::hierarchical(*dofh);
+    // deal.II's owned cells in DoF order must be the slots (same partition and order)
+    Lattice<dim> lattice(N_, periodic_, max_level_, G, {btype_, wall_velocity_, velocity_unit_}, subset_);
+    const std::vector<OwnedCell> owned = lattice.owned_cells(*dofh, lo_, h_, base_tria_level_);
+    bool same = owned.size() == n_owned_ && dofh->locally_owned_dofs() == part->locally_owned_range();
+    for (unsigned int s = 0; same && s < n_owned_; ++s)
+      same = owned[s].level == level_[s] && owned[s].ijk == lattice_[s];
+    AssertThrow(same, ExcMessage("deal.II's mesh does not match the adaptive forest (internal error)"));
+    active_index_.resize(n_owned_);
+    for (unsigned int s = 0; s < n_owned_; ++s)
+      active_index_[s] = owned[s].active;
+    dealii_dofs_current_ = true;
   }
 
   template <int dim>
   void CartesianPatch<dim>::rebuild()
   {
     AssertThrow(max_level_ <= 7, ExcMessage("at most 7 refinement levels"));
-    if (!dofh)
-      dofh = std::make_unique<DoFHandler<dim>>(*tria);
-    dofh->distribute_dofs(*fe);
-    // adaptive meshes: number the cells along the octree's z-order, which depends on the
-    // leaves only, not on the history of refinement and coarsening (deal.II's own cell
-    // order does): a restart that rebuilds the mesh gets the same numbering, hence the
-    // same block-ILU preconditioner and bitwise the same run
-    if (max_level_ > 0)
-      DoFRenumbering::hierarchical(*dofh);
     for (unsigned int c = 0; c < n_components; ++c)
       AssertThrow(fe->system_to_component_index(c).first == c, ExcInternalError());
-    const IndexSet owned_dofs = dofh->locally_owned_dofs();
-    AssertThrow(owned_dofs.is_contiguous(), ExcMessage("owned DoFs must be contiguous"));
-    n_global_ = tria->n_global_active_cells();
-
-    // the owned cells, and the leaves within reach of them (see Lattice::distribute())
     Lattice<dim> lattice(N_, periodic_, max_level_, G, {btype_, wall_velocity_, velocity_unit_}, subset_);
-    const std::vector<OwnedCell> owned = lattice.owned_cells(*dofh, lo_, h_, base_tria_level_);
-    n_owned_                           = owned.size();
+    std::vector<OwnedCell> owned;
+    IndexSet               owned_dofs;
+    if (forest_)
+      {
+        // adaptive: the cells are numbered along the octree's z-order (p4est's order, which
+        // depends on the leaves only, not on the history of refinement and coarsening): a
+        // restart that rebuilds the mesh gets the same numbering, hence the same block-ILU
+        // preconditioner and bitwise the same run. deal.II's DoFs are numbered alike
+        // (DoFRenumbering::hierarchical) when output asks for them.
+        n_global_                      = forest_->n_global();
+        const unsigned long long first = forest_->first_global();
+        const auto               leaves = forest_->leaves();
+        owned_dofs = IndexSet(n_global_ * n_components);
+        owned_dofs.add_range(first * n_components, (first + leaves.size()) * n_components);
+        owned.reserve(leaves.size());
+        for (std::size_t i = 0; i < leaves.size(); ++i)
+          {
+            const auto                     &l = leaves[i];
+            typename Lattice<dim>::Position corner{{0, 0, 0}};
+            for (unsigned int d = 0; d < dim; ++d)
+              corner[d] = (long long)(l.ijk[d]) << (max_level_ - l.level);
+            owned.push_back({types::global_dof_index((first + i) * n_components), lattice.fine_key(corner) * 8 + l.level, 0, l.level,
+                             l.ijk, 0});
+          }
+        dealii_dofs_current_ = false;
+      }
+    else
+      {
+        if (!dofh)
+          dofh = std::make_unique<DoFHandler<dim>>(*tria);
+        dofh->distribute_dofs(*fe);
+        owned_dofs = dofh->locally_owned_dofs();
+        AssertThrow(owned_dofs.is_contiguous(), ExcMessage("owned DoFs must be contiguous"));
+        n_global_ = tria->n_global_active_cells();
+        owned     = lattice.owned_cells(*dofh, lo_, h_, base_tria_level_);
+      }
+    n_owned_ = owned.size();
     lattice.distribute(owned, n_global_, comm);
 
     // the positions needed besides the owned cells, then the slots and tables

@@ -35,7 +35,7 @@ namespace granhydro
       if (t >= 0 && !index.slot_of.count(t))
         mpi_ghosts.emplace_back(lattice.first_dof(t), t);
     std::sort(mpi_ghosts.begin(), mpi_ghosts.end());
-    IndexSet ghost_dofs(dofh->n_dofs());
+    IndexSet ghost_dofs(owned_dofs.size());
     for (const auto &[first, key] : mpi_ghosts)
       {
         index.slot_of[key] = lattice_.size();

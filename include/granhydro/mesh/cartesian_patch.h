@@ -72,6 +72,8 @@ namespace granhydro
   class VirtualCells;
   template <int dim>
   class DilatedMask;
+  template <int dim>
+  class Forest;
 
   template <int dim>
   class CartesianPatch
@@ -209,8 +211,18 @@ namespace granhydro
     /// the partition and numbering
     long long leaf_key(const unsigned int s) const;
 
-    const dealii::parallel::TriangulationBase<dim> &triangulation() const { return *tria; }
-    const dealii::DoFHandler<dim> &dof_handler() const { return *dofh; }
+    /// deal.II's mesh and DoFs of the current leaves (on adaptive meshes brought up to date
+    /// from the forest on demand: see sync_dealii())
+    const dealii::parallel::TriangulationBase<dim> &triangulation() const
+    {
+      sync_dealii();
+      return *tria;
+    }
+    const dealii::DoFHandler<dim> &dof_handler() const
+    {
+      sync_dealii();
+      return *dofh;
+    }
     std::shared_ptr<const dealii::Utilities::MPI::Partitioner> partitioner() const { return part; }
     MPI_Comm communicator() const { return comm; }
 
@@ -261,7 +273,11 @@ namespace granhydro
                 std::vector<double>                                        &W) const;
 
     /// active_cell_index of each owned slot (for output only)
-    const std::vector<unsigned int> &owned_active_cell_index() const { return active_index_; }
+    const std::vector<unsigned int> &owned_active_cell_index() const
+    {
+      sync_dealii();
+      return active_index_;
+    }
 
   private:
     /// the triangulation of a box (coarse cells refined globally) or of a mesh file, and
@@ -287,11 +303,14 @@ namespace granhydro
     void make_gradient_table(Lattice<dim> &lattice, const SlotIndex &index,
                              const DilatedMask<dim> *mask);
     void make_faces(const std::vector<std::vector<unsigned int>> &lists);
+    /// adaptive meshes: bring deal.II's triangulation to the forest's leaves and number its
+    /// DoFs (the same partition and order as the slots: checked), if not done yet
+    void sync_dealii() const;
 
     MPI_Comm comm;
     std::unique_ptr<dealii::parallel::TriangulationBase<dim>> tria;
     std::unique_ptr<dealii::FESystem<dim>> fe;
-    std::unique_ptr<dealii::DoFHandler<dim>> dofh;
+    mutable std::unique_ptr<dealii::DoFHandler<dim>> dofh;
     std::shared_ptr<const dealii::Utilities::MPI::Partitioner> part;
 
     unsigned int G = 3;
@@ -306,7 +325,11 @@ namespace granhydro
     std::vector<BoundaryGhost> bghosts_;
     std::vector<signed char> slot_face_id_; ///< 2 dim per real-cell slot
     std::array<BoundaryType, 6> btype_{};
-    std::vector<unsigned int> active_index_;
+    mutable std::vector<unsigned int> active_index_;
+    /// adaptive boxes: the octree, adapted by p4est alone (mesh/forest.h); deal.II's mesh
+    /// and DoFs follow it only when asked for
+    std::unique_ptr<Forest<dim>> forest_;
+    mutable bool dealii_mesh_current_ = true, dealii_dofs_current_ = true;
 
     std::array<std::array<double, 3>, 6> wall_velocity_{}; ///< [m/s], per boundary id
     double velocity_unit_ = 1;
