@@ -11,6 +11,12 @@
 //   test_amr mpi-3d       : under mpirun -n N (4, 8): the adaptive 3D blast alone, bit for
 //                           bit (convection only: the same floating-point operations in the
 //                           same order on any partition).
+//   test_amr dealii-sync  : the adaptive forest is refined by p4est alone; deal.II's mesh and
+//                           DoFs (what VTU output writes) follow it on demand. After 60 steps
+//                           of the 3D blast (12 adaptations), every owned deal.II cell must
+//                           sit at its slot's centre and level, own the slot's DoFs, and its
+//                           DoF values be the slot's state, exactly (same cells, same
+//                           numbering: the copy is not an interpolation). Also under mpirun.
 //   test_amr sod DIM [refine coarsen buffer levels indicator interval max_error max_cells]
 //                         : Sod's problem along the diagonal of the unit square/cube with AMR
 //                           against the uniform mesh at the finest level: L1 density errors
@@ -324,6 +330,41 @@ int main(int argc, char **argv)
           // 1 and N ranks agree to ~1e-12, asserted with 1e-10 (the tolerance)
           compare_ranks<2, physics::GranularGas<2>>("2D granular gas with AMR, all effects",
                                                     parse_scene(granular_2d, "granular_2d"), chk, 1e-10);
+        }
+      else if (what == "dealii-sync")
+        {
+          Simulation<3> sim(parse_scene(blast_3d(60), "blast_3d"), world, std::cout);
+          sim.setup();
+          const auto                 sum   = sim.run();
+          const auto                &patch = sim.patch();
+          const auto                &dofh  = patch.dof_handler(); // brings deal.II's mesh up to date
+          const auto                &U     = sim.state();
+          constexpr unsigned int     NC    = 5;
+          std::vector<dealii::types::global_dof_index> dofs(NC);
+          unsigned int               n = 0, bad = 0;
+          double                     dx = 0;
+          for (const auto &cell : dofh.active_cell_iterators())
+            if (cell->is_locally_owned())
+              {
+                cell->get_dof_indices(dofs);
+                const unsigned int s = patch.partitioner()->global_to_local(dofs[0]) / NC;
+                dx = std::max(dx, (cell->center() - patch.center(s)).norm());
+                bool ok = s < patch.n_owned() && patch.owned_active_cell_index()[s] == cell->active_cell_index() &&
+                          std::abs(cell->diameter() / std::sqrt(3.) - patch.cell_size(s, 0)) <=
+                            1e-12 * patch.cell_size(s, 0);
+                for (unsigned int c = 0; c < NC; ++c)
+                  ok = ok && dofs[c] == dofs[0] + c && U[dofs[c]] == U.local_element(std::size_t(s) * NC + c);
+                bad += ok ? 0 : 1;
+                ++n;
+              }
+          n   = dealii::Utilities::MPI::sum(n, world);
+          bad = dealii::Utilities::MPI::sum(bad, world);
+          dx  = dealii::Utilities::MPI::max(dx, world);
+          std::ostringstream os;
+          os << "deal.II's mesh after " << sum.adaptations << " adaptations: " << n << " cells (forest "
+             << patch.n_global_cells() << "), " << bad << " not matching their slot, centre offset " << dx
+             << " (tolerance 1e-14: the same lattice arithmetic up to round-off)";
+          chk.check(sum.adaptations >= 10 && n == patch.n_global_cells() && bad == 0 && dx <= 1e-14, os.str());
         }
       else if (what == "mpi-3d")
         compare_ranks<3, physics::IdealGas<3>>("3D blast with AMR (bit for bit)",

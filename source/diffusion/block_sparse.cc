@@ -121,8 +121,20 @@ namespace granhydro::diffusion
 
   void BlockSparseMatrix::vmult(Vector &dst, const Vector &src) const
   {
-    src.update_ghost_values();
-    const double      *x = src.begin(); // owned values, then the ghosts
+    const bool own_ghosts = src.get_partitioner()->n_ghost_indices() > 0 || !ghosted ||
+                            ghosted->n_ghost_indices() == 0;
+    if (own_ghosts)
+      src.update_ghost_values();
+    else
+      {
+        AssertThrow(src.locally_owned_size() == ghosted->locally_owned_size(),
+                    ExcMessage("block vector does not match the matrix"));
+        if (work.get_partitioner() != ghosted)
+          work.reinit(ghosted);
+        std::copy(src.begin(), src.begin() + src.locally_owned_size(), work.begin());
+        work.update_ghost_values();
+      }
+    const double      *x = own_ghosts ? src.begin() : work.begin(); // owned values, then the ghosts
     double            *y = dst.begin();
     const unsigned int n = n_block_rows();
     dispatch(B, [&](auto BBc) {
@@ -136,7 +148,8 @@ namespace granhydro::diffusion
           std::copy(acc, acc + b, y + std::size_t(s) * b);
         }
     });
-    src.zero_out_ghost_values();
+    if (own_ghosts)
+      src.zero_out_ghost_values();
   }
 
   void BlockSparseMatrix::clear()
@@ -145,6 +158,7 @@ namespace granhydro::diffusion
     std::vector<unsigned int>().swap(col);
     std::vector<unsigned int>().swap(diag);
     std::vector<double>().swap(val);
+    work = Vector();
   }
 
   bool BlockILU::initialize(const BlockSparseMatrix &A)

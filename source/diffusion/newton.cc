@@ -56,7 +56,12 @@ namespace granhydro::diffusion
           bmat.assemble<dim + 2>(J, N, dt);
         }
         if (!block_part[stages])
-          block_part[stages] = block_partitioner(*patch.partitioner(), stages);
+          {
+            block_part[stages]       = block_partitioner(*patch.partitioner(), stages);
+            block_part_owned[stages] = std::make_shared<Utilities::MPI::Partitioner>(
+              block_part[stages]->locally_owned_range(), patch.communicator());
+          }
+        bmat.ghosted = block_part[stages];
         ++stats.jacobians;
         stats.jacobian_seconds += timer.wall_time();
         timer.restart();
@@ -150,8 +155,8 @@ namespace granhydro::diffusion
     TrilinosWrappers::MPI::Vector rhs, delta;
     if (blocks)
       {
-        brhs.reinit(block_part[stages]);
-        bdelta.reinit(block_part[stages]);
+        brhs.reinit(block_part_owned[stages]);
+        bdelta.reinit(block_part_owned[stages]);
       }
     else
       {

@@ -49,7 +49,9 @@ namespace granhydro::diffusion
     void assemble(const std::vector<std::vector<std::pair<unsigned int, std::array<double, NC * NC>>>> &J,
                   const std::vector<std::vector<double>> &N, const double dt);
 
-    /// dst = M src (src's ghost values are imported here)
+    /// dst = M src. src's ghost values are imported here: into src itself if it has ghost
+    /// storage, else (src owned-only, like GMRES's Krylov vectors) into a work vector on
+    /// the partitioner `ghosted`
     void vmult(Vector &dst, const Vector &src) const;
 
     unsigned int n_block_rows() const { return row_ptr.empty() ? 0 : row_ptr.size() - 1; }
@@ -58,6 +60,11 @@ namespace granhydro::diffusion
     unsigned int              B = 0;
     std::vector<unsigned int> row_ptr, col, diag; ///< CSR of blocks; diag: position of (s, s)
     std::vector<double>       val;                ///< B*B per block, row-major
+    /// the partitioner of block_partitioner() (owned cells, then the mesh's ghost cells)
+    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> ghosted;
+
+  private:
+    mutable Vector work; ///< src with ghosts, when src has none
   };
 
   /// block ILU(0) of the owned block rows of a BlockSparseMatrix

@@ -136,6 +136,8 @@ namespace granhydro::diffusion
         row[0] = row[1] = false;
       for (auto &p : block_part)
         p.reset();
+      for (auto &p : block_part_owned)
+        p.reset();
       bmat.clear();
       bilu.clear();
       Y.reinit(0);
@@ -230,7 +232,10 @@ namespace granhydro::diffusion
     /// partitioner with `stages` values per unknown (index: stages)
     BlockSparseMatrix bmat;
     BlockILU          bilu;
-    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> block_part[3];
+    /// per stage count: the block vectors' partitioner with the mesh's ghost cells (the
+    /// matrix's product imports them) and without (GMRES's Krylov vectors: the ghost
+    /// storage of 30 vectors would grow with the halo, i.e. with the number of ranks)
+    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> block_part[3], block_part_owned[3];
     Vector            brhs, bdelta;
     dealii::TrilinosWrappers::PreconditionAMG amg;
     std::vector<double>                    W, U0, f;
