@@ -25,9 +25,11 @@ namespace granhydro
   std::array<long long, 4> VirtualCells<dim>::key_of(const unsigned int k, const Position &q,
                                                      bool &inside) const
   {
+    // periodic directions wrapped also when q lies outside a wall: the same position
+    // reached across a periodic side and from inside must have one key
     Position w = q;
     inside     = lattice.wrap(k, w);
-    return {{k, inside ? w[0] : q[0], inside ? w[1] : q[1], inside ? w[2] : q[2]}};
+    return {{k, w[0], w[1], w[2]}};
   }
 
   template <int dim>
@@ -54,7 +56,7 @@ namespace granhydro
     else
       {
         v.ghost = true;
-        mq      = lattice.mirror(k, q, v.bg);
+        mq      = lattice.mirror(k, v.pos, v.bg);
       }
     const unsigned int i = virtuals.size();
     virtuals.push_back(v);
