@@ -180,12 +180,19 @@ namespace granhydro
     assign_slots(owned, needed, lattice, virtuals, owned_dofs, index);
     make_face_ids(lattice);
     make_neighbor_table(lattice, virtuals, index, mask.get(), full_box);
-    make_gradient_table(lattice, index, mask.get());
+    std::vector<char> incomplete; // per slot: a gradient neighbour lies beyond the fetched blocks
+    make_gradient_table(lattice, index, mask.get(), incomplete);
     std::vector<std::vector<unsigned int>> lists(face_keys.size());
     for (std::size_t f = 0; f < face_keys.size(); ++f)
       for (const long long t : face_keys[f])
         lists[f].push_back(index.slot_of.at(t));
     make_faces(lists);
+    // the diffusion step reads the gradient rows of the cells on faces: complete
+    for (unsigned int d = 0; d < dim; ++d)
+      for (const auto &f : faces_[d])
+        AssertThrow(!incomplete[f.l] && !incomplete[f.r],
+                    ExcMessage("internal error: a face cell's gradient neighbour lies beyond the part "
+                               "of the mesh this rank fetched (Lattice::reach() too small)"));
   }
 
   template <int dim>

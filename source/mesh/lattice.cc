@@ -316,14 +316,28 @@ namespace granhydro
   }
 
   template <int dim>
-  int Lattice<dim>::window_at(const long long fk) const
+  int Lattice<dim>::window_at(const long long fk, bool *missing) const
   {
-    return window_at_point({{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}});
+    return window_at_point({{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}}, missing);
   }
 
   template <int dim>
-  int Lattice<dim>::window_at_point(const Position &c) const
+  int Lattice<dim>::window_at_point(const Position &c, bool *missing) const
   {
+    if (missing)
+      {
+        for (unsigned int d = 0; d < 3; ++d)
+          if (c[d] < window_lo[d] || c[d] >= window_lo[d] + window_n[d])
+            {
+              *missing = true;
+              return -2;
+            }
+        if (window_level[window_index(c)] == -2)
+          {
+            *missing = true;
+            return -2;
+          }
+      }
     for (unsigned int d = 0; d < 3; ++d)
       AssertThrow(c[d] >= window_lo[d] && c[d] < window_lo[d] + window_n[d],
                   ExcMessage("internal error: a lattice point beyond the part of the mesh this rank "
@@ -336,10 +350,10 @@ namespace granhydro
   }
 
   template <int dim>
-  int Lattice<dim>::level_from(const long long fk, const unsigned int k) const
+  int Lattice<dim>::level_from(const long long fk, const unsigned int k, bool *missing) const
   {
     if (!window_level.empty())
-      return window_at(fk);
+      return window_at(fk, missing);
     const Leaf *e = leaves.find(fk * 8 + k);
     if (e)
       {
@@ -363,6 +377,11 @@ namespace granhydro
             AssertThrow(e->first >= 0, ExcMessage("mesh is not the expected octree"));
             return l;
           }
+      }
+    if (missing && !blocks.count(block_of(fk)))
+      {
+        *missing = true;
+        return -2;
       }
     AssertThrow(blocks.count(block_of(fk)),
                 ExcMessage("internal error: a lattice point beyond the part of the mesh this rank "
@@ -492,7 +511,7 @@ namespace granhydro
   }
 
   template <int dim>
-  long long Lattice<dim>::same_level(const unsigned int k, Position p)
+  long long Lattice<dim>::same_level(const unsigned int k, Position p, bool *missing)
   {
     if (wrap(k, p))
       {
@@ -502,7 +521,9 @@ namespace granhydro
             Position c{{0, 0, 0}};
             for (unsigned int d = 0; d < dim; ++d)
               c[d] = p[d] << (m - k);
-            const int l = window_at_point(c);
+            const int l = window_at_point(c, missing);
+            if (l == -2)
+              return no_slot_key; // beyond the fetched blocks (*missing set)
             if (l == int(k))
               return fine_key(c) * 8 + k;
             if (l >= 0)
@@ -513,7 +534,8 @@ namespace granhydro
             const long long fk = corner_key(k, p);
             if (const Leaf *e = leaves.find(fk * 8 + k))
               return e->first >= 0 ? fk * 8 + k : no_slot_key; // a leaf, or refined
-            if (level_from(fk, k) >= 0)                          // coarser
+            const int l = level_from(fk, k, missing);
+            if (l >= 0 || l == -2) // coarser, or beyond the fetched blocks (*missing set)
               return no_slot_key;
           }
       }
@@ -528,7 +550,7 @@ namespace granhydro
     WallGhost       gi;
     const Position  q  = mirror(k, p, gi.bg);
     const long long qk = corner_key(k, q);
-    if (level_from(qk, k) != int(k)) // throws if qk lies beyond the fetched blocks
+    if (level_from(qk, k, missing) != int(k)) // beyond the fetched blocks: throws or sets *missing
       return no_slot_key;
     gi.source_key = qk * 8 + k;
     for (unsigned int d = 0; d < 3; ++d)
@@ -558,12 +580,12 @@ namespace granhydro
   }
 
   template <int dim>
-  long long Lattice<dim>::covering(const unsigned int k, Position p) const
+  long long Lattice<dim>::covering(const unsigned int k, Position p, bool *missing) const
   {
     if (!wrap(k, p))
       return no_slot_key;
     const long long fk = corner_key(k, p);
-    const int       lv = level_from(fk, k);
+    const int       lv = level_from(fk, k, missing);
     if (lv < 0)
       return no_slot_key;
     const unsigned int l = lv;
@@ -574,16 +596,16 @@ namespace granhydro
   }
 
   template <int dim>
-  long long Lattice<dim>::gradient_key(const long long key, const unsigned int j, const int o)
+  long long Lattice<dim>::gradient_key(const long long key, const unsigned int j, const int o, bool *missing)
   {
     unsigned int k;
     Position     p;
     decode(key, k, p);
     p[j] += o;
-    const long long t = same_level(k, p);
-    if (t != no_slot_key)
+    const long long t = same_level(k, p, missing);
+    if (t != no_slot_key || (missing && *missing))
       return t;
-    const long long c = covering(k, p);
+    const long long c = covering(k, p, missing);
     return (c != no_slot_key && int(c & 7) < int(k)) ? c : no_slot_key;
   }
 

@@ -111,9 +111,16 @@ namespace granhydro
                                                 const std::vector<char> &full_box)
   {
     using Position = typename Lattice<dim>::Position;
-    // the slot at position q of level k: a leaf or wall ghost of that level, or a virtual cell
+    // the slot at position q of level k: a leaf or wall ghost of that level, or a virtual
+    // cell. Every slot gets a row, also the far ones (the sources of virtual cells, MPI
+    // ghosts reached by gradients) whose rows no stencil reads; their entries beyond the
+    // lattice blocks this rank fetched are -1 (a stencil that needs one stops the
+    // convection operator's setup with an internal error, it is never read silently)
     auto slot_at = [&](const unsigned int k, const Position &q) -> int {
-      const long long t = lattice.same_level(k, q);
+      bool            missing = false;
+      const long long t       = lattice.same_level(k, q, &missing);
+      if (missing)
+        return -1;
       if (t != no_slot_key)
         return index(t);
       const int v = virtuals.find(k, q);
@@ -151,10 +158,11 @@ namespace granhydro
 
   template <int dim>
   void CartesianPatch<dim>::make_gradient_table(Lattice<dim> &lattice, const SlotIndex &index,
-                                                const DilatedMask<dim> *mask)
+                                                const DilatedMask<dim> *mask, std::vector<char> &incomplete)
   {
     using Position        = typename Lattice<dim>::Position;
     const unsigned int ns = lattice_.size();
+    incomplete.assign(ns, 0);
     gnb_.assign(std::size_t(ns) * dim * 2, -1);
     goff_.assign(std::size_t(ns) * dim * 2, 0.);
     for (unsigned int s = 0; s < index.first_virtual; ++s)
@@ -170,7 +178,13 @@ namespace granhydro
                 if (!mask->contains(p))
                   continue;
               }
-            const int t = index(lattice.gradient_key(index.keys[s], j, side ? 1 : -1));
+            // far slots (the sources of virtual cells, ghosts reached by gradients) may
+            // reach beyond the fetched blocks: their rows are not read, rebuild() checks
+            // that no face cell's row is incomplete
+            bool      missing = false;
+            const int t       = index(lattice.gradient_key(index.keys[s], j, side ? 1 : -1, &missing));
+            if (missing)
+              incomplete[s] = 1;
             gnb_[(std::size_t(s) * dim + j) * 2 + side] = t;
             if (t >= 0)
               goff_[(std::size_t(s) * dim + j) * 2 + side] =
@@ -229,7 +243,7 @@ namespace granhydro
                                                        const SlotIndex &, const DilatedMask<d> *,    \
                                                        const std::vector<char> &);                   \
   template void CartesianPatch<d>::make_gradient_table(Lattice<d> &, const SlotIndex &,              \
-                                                       const DilatedMask<d> *);                      \
+                                                       const DilatedMask<d> *, std::vector<char> &); \
   template void CartesianPatch<d>::make_faces(const std::vector<std::vector<unsigned int>> &);
   GRANHYDRO_INSTANTIATE(1)
   GRANHYDRO_INSTANTIATE(2)

@@ -301,7 +301,7 @@ namespace granhydro
                              const SlotIndex &index, const DilatedMask<dim> *mask,
                              const std::vector<char> &full_box);
     void make_gradient_table(Lattice<dim> &lattice, const SlotIndex &index,
-                             const DilatedMask<dim> *mask);
+                             const DilatedMask<dim> *mask, std::vector<char> &incomplete);
     void make_faces(const std::vector<std::vector<unsigned int>> &lists);
     /// adaptive meshes: bring deal.II's triangulation to the forest's leaves and number its
     /// DoFs (the same partition and order as the slots: checked), if not done yet

@@ -104,15 +104,18 @@ namespace granhydro
     long long first_dof(const long long key) const { return leaf(key).first; }
 
     /// the key of the leaf or wall ghost of level k at p, or no_slot_key (the
-    /// neighbourhood is refined or coarser there)
-    long long same_level(const unsigned int k, Position p);
+    /// neighbourhood is refined or coarser there). A position whose leaf (or, for a wall
+    /// ghost, whose mirror's leaf) lies beyond the fetched blocks throws, unless `missing`
+    /// is given: then *missing is set and no_slot_key returned
+    long long same_level(const unsigned int k, Position p, bool *missing = nullptr);
     /// the leaf covering position p of level k (any level), or no_slot_key outside
-    long long covering(const unsigned int k, Position p) const;
+    /// (`missing`: as for same_level())
+    long long covering(const unsigned int k, Position p, bool *missing = nullptr) const;
     /// level and position of a key (a leaf or a registered wall ghost)
     void decode(const long long key, unsigned int &k, Position &p) const;
     /// gradient neighbour of key along j at offset o: same level, else a coarser leaf,
     /// else no_slot_key
-    long long gradient_key(const long long key, const unsigned int j, const int o);
+    long long gradient_key(const long long key, const unsigned int j, const int o, bool *missing = nullptr);
     /// the mirror inside the lattice of a position p of level k without a cell, with the
     /// wall reflections that map its state to p's
     Position mirror(const unsigned int k, const Position &p, BoundaryGhost &bg) const;
@@ -132,11 +135,13 @@ namespace granhydro
     bool     fluid(const Position &e) const;
     /// the level of the leaf covering the position of level k whose fine corner key is
     /// fk (inside the lattice), -1: solid; throws if its block was not fetched
-    int level_from(const long long fk, const unsigned int k) const;
-    /// the window's entry of fine key fk (throws outside the fetched blocks)
-    int       window_at(const long long fk) const;
+    /// (with `missing`: sets it instead of throwing, and returns -2)
+    int level_from(const long long fk, const unsigned int k, bool *missing = nullptr) const;
+    /// the window's entry of fine key fk (throws outside the fetched blocks; with
+    /// `missing`: sets it and returns -2)
+    int       window_at(const long long fk, bool *missing = nullptr) const;
     /// the same for fine lattice coordinates c
-    int       window_at_point(const Position &c) const;
+    int       window_at_point(const Position &c, bool *missing = nullptr) const;
     long long window_index(const Position &c) const;
     /// the leaf of a key (throws if unknown)
     const Leaf &leaf(const long long key) const;
