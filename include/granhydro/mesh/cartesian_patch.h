@@ -5,7 +5,8 @@
  *
  * deal.II/p4est own the mesh, the partition and the DoF numbering (DG0
  * FESystem with dim+2 components: one value per cell and conserved
- * variable). deal.II gives one ghost layer; WENO5 with transverse Gauss-point
+ * variable); on adaptive boxes a p4est forest of its own (mesh/forest.h)
+ * does, and deal.II's mesh follows it only for output. deal.II gives one ghost layer; WENO5 with transverse Gauss-point
  * reconstruction needs every cell within Chebyshev distance r+1 (r = stencil
  * half width) of an owned cell. This class builds that wider ghost set from
  * the cells' lattice indices, a Utilities::MPI::Partitioner for the state
