@@ -62,11 +62,11 @@ namespace granhydro
         // offsets of the 2^dim children sum to zero: conservative to round-off.
         constexpr unsigned int NC     = n_components;
         const bool             linear = bool(admissible);
-        std::vector<double>    W;
-        gather(U, W);
-        std::vector<double> slopes; // per owned slot: dim x NC
+        std::vector<double>    slopes; // per owned slot: dim x NC
         if (linear)
           {
+            std::vector<double> W;
+            gather(U, W);
             slopes.assign(std::size_t(n_owned_) * dim * NC, 0.);
             for (unsigned int s = 0; s < n_owned_; ++s)
               for (unsigned int d = 0; d < dim; ++d)
@@ -92,7 +92,8 @@ namespace granhydro
               P[ch][c] = fe->get_prolongation_matrix(ch)(c, c);
               R[ch][c] = fe->get_restriction_matrix(ch)(c, c);
             }
-        const std::vector<unsigned char> old_level = level_;
+        // (fill() runs inside the forest's adapt(), before rebuild(): level_ is still the
+        // old leaves')
         auto fill = [&](const typename Forest<dim>::Source &src, double *out) {
           using Source = typename Forest<dim>::Source;
           const double *u = &U.local_element(std::size_t(src.first) * NC);
@@ -114,7 +115,7 @@ namespace granhydro
               std::copy(v, v + NC, out);
               if (!linear)
                 return;
-              const unsigned int k = old_level[src.first] + 1;
+              const unsigned int k = level_[src.first] + 1;
               auto sibling = [&](const unsigned int sib, double *child) {
                 for (unsigned int c = 0; c < NC; ++c)
                   {
@@ -193,13 +194,7 @@ namespace granhydro
             tria->execute_coarsening_and_refinement();
           }
         if (forest_)
-          {
-            forest_.reset();
-            forest_ = std::make_unique<Forest<dim>>(
-              dynamic_cast<const parallel::distributed::Triangulation<dim> &>(*tria), base_tria_level_, lo_, h_,
-              n_components);
-            dealii_mesh_current_ = true;
-          }
+          make_forest();
         rebuild();
       }
   }

@@ -75,13 +75,20 @@ namespace granhydro
       make_file_mesh(settings);
     else
       make_box_mesh(settings);
-    if constexpr (dim > 1)
-      if (max_level_ > 0)
-        forest_ = std::make_unique<Forest<dim>>(
-          dynamic_cast<const parallel::distributed::Triangulation<dim> &>(*tria), base_tria_level_, lo_, h_,
-          n_components);
+    if (max_level_ > 0)
+      make_forest();
     dealii_mesh_current_ = true;
     rebuild();
+  }
+
+  template <int dim>
+  void CartesianPatch<dim>::make_forest()
+  {
+    forest_.reset();
+    if constexpr (dim > 1)
+      forest_ = std::make_unique<Forest<dim>>(dynamic_cast<const parallel::distributed::Triangulation<dim> &>(*tria),
+                                              base_tria_level_, lo_, h_, n_components);
+    dealii_mesh_current_ = true;
   }
 
   template <int dim>

@@ -324,25 +324,15 @@ namespace granhydro
   template <int dim>
   int Lattice<dim>::window_at_point(const Position &c, bool *missing) const
   {
-    if (missing)
-      {
-        for (unsigned int d = 0; d < 3; ++d)
-          if (c[d] < window_lo[d] || c[d] >= window_lo[d] + window_n[d])
-            {
-              *missing = true;
-              return -2;
-            }
-        if (window_level[window_index(c)] == -2)
-          {
-            *missing = true;
-            return -2;
-          }
-      }
+    bool inside = true;
     for (unsigned int d = 0; d < 3; ++d)
-      AssertThrow(c[d] >= window_lo[d] && c[d] < window_lo[d] + window_n[d],
-                  ExcMessage("internal error: a lattice point beyond the part of the mesh this rank "
-                             "fetched (Lattice::reach() too small)"));
-    const int l = window_level[window_index(c)];
+      inside = inside && c[d] >= window_lo[d] && c[d] < window_lo[d] + window_n[d];
+    const int l = inside ? window_level[window_index(c)] : -2;
+    if (l == -2 && missing)
+      {
+        *missing = true;
+        return -2;
+      }
     AssertThrow(l != -2, ExcMessage("internal error: a lattice point beyond the part of the mesh this rank "
                                     "fetched (Lattice::reach() too small)"));
     AssertThrow(l >= 0 || subset_, ExcMessage("mesh is not the expected octree"));

@@ -304,6 +304,8 @@ namespace granhydro
     void make_gradient_table(Lattice<dim> &lattice, const SlotIndex &index,
                              const DilatedMask<dim> *mask, std::vector<char> &incomplete);
     void make_faces(const std::vector<std::vector<unsigned int>> &lists);
+    /// adaptive boxes (2, 3 dimensions): the forest, a copy of deal.II's current one
+    void make_forest();
     /// adaptive meshes: bring deal.II's triangulation to the forest's leaves and number its
     /// DoFs (the same partition and order as the slots: checked), if not done yet
     void sync_dealii() const;
