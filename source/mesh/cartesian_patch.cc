@@ -189,11 +189,10 @@ namespace granhydro
     make_neighbor_table(lattice, virtuals, index, mask.get(), full_box);
     std::vector<char> incomplete; // per slot: a gradient neighbour lies beyond the fetched blocks
     make_gradient_table(lattice, index, mask.get(), incomplete);
-    std::vector<std::vector<unsigned int>> lists(face_keys.size());
-    for (std::size_t f = 0; f < face_keys.size(); ++f)
-      for (const long long t : face_keys[f])
-        lists[f].push_back(index.slot_of.at(t));
-    make_faces(lists);
+    std::vector<unsigned int> face_slots(face_keys.keys.size());
+    for (std::size_t i = 0; i < face_slots.size(); ++i)
+      face_slots[i] = index.slot_of.at(face_keys.keys[i]);
+    make_faces(face_keys.start, face_slots);
     // the diffusion step reads the gradient rows of the cells on faces: complete
     for (unsigned int d = 0; d < dim; ++d)
       for (const auto &f : faces_[d])

@@ -37,21 +37,23 @@ namespace granhydro
   } // namespace
 
   template <int dim>
-  std::vector<std::vector<long long>> face_neighbour_keys(const std::vector<OwnedCell> &owned,
-                                                          Lattice<dim>                 &lattice)
+  FaceKeys face_neighbour_keys(const std::vector<OwnedCell> &owned, Lattice<dim> &lattice)
   {
     using Position = typename Lattice<dim>::Position;
-    std::vector<std::vector<long long>> face_keys(owned.size() * dim * 2);
+    FaceKeys face_keys;
+    face_keys.start.reserve(owned.size() * dim * 2 + 1);
+    face_keys.keys.reserve(owned.size() * dim * 2 + owned.size());
+    face_keys.start.push_back(0);
+    auto &fk = face_keys.keys;
     for (std::size_t i = 0; i < owned.size(); ++i)
       {
         const unsigned int k = owned[i].level;
         const Position     p0{{owned[i].ijk[0], owned[i].ijk[1], owned[i].ijk[2]}};
         // faces: same level, one coarser leaf, or 2^(dim-1) finer leaves
         for (unsigned int d = 0; d < dim; ++d)
-          for (unsigned int side = 0; side < 2; ++side)
+          for (unsigned int side = 0; side < 2; ++side, face_keys.start.push_back(fk.size()))
             {
-              auto    &fk = face_keys[(i * dim + d) * 2 + side];
-              Position q  = p0;
+              Position q = p0;
               q[d] += side ? 1 : -1;
               const long long t = lattice.same_level(k, q);
               if (t != no_slot_key)
@@ -94,28 +96,29 @@ namespace granhydro
 
   template <int dim>
   std::vector<long long> stencil_closure(const std::vector<OwnedCell>              &owned,
-                                         const std::vector<std::vector<long long>> &face_keys,
+                                         const FaceKeys                            &face_keys,
                                          Lattice<dim> &lattice, VirtualCells<dim> &virtuals,
                                          const int r, std::vector<char> &uniform)
   {
     using Position = typename Lattice<dim>::Position;
-    std::vector<long long> needed;
-    for (const auto &fk : face_keys)
-      for (const long long t : fk)
-        needed.push_back(t);
+    std::vector<long long> needed(face_keys.keys);
     // the face cells: owned cells and their face neighbours (they need reconstruction
-    // boxes and gradient stencils)
+    // boxes and gradient stencils); the repetitions (each face neighbour is met from
+    // several cells) go through a hash set, the distinct keys are sorted
     std::vector<long long> face_cells; // sorted, unique
-    face_cells.reserve(owned.size() * 3);
-    for (std::size_t i = 0; i < owned.size(); ++i)
-      {
-        face_cells.push_back(owned[i].key);
-        for (unsigned int f = 0; f < dim * 2; ++f)
-          for (const long long t : face_keys[i * dim * 2 + f])
-            face_cells.push_back(t);
-      }
-    std::sort(face_cells.begin(), face_cells.end());
-    face_cells.erase(std::unique(face_cells.begin(), face_cells.end()), face_cells.end());
+    {
+      FlatKeyMap<char> seen;
+      seen.reserve(2 * owned.size());
+      face_cells.reserve(2 * owned.size());
+      for (const auto &o : owned)
+        if (seen.insert(o.key, 1).second)
+          face_cells.push_back(o.key);
+      for (const long long t : face_keys.keys)
+        if (seen.insert(t, 1).second)
+          face_cells.push_back(t);
+      std::sort(face_cells.begin(), face_cells.end());
+    }
+    needed.reserve(needed.size() + face_cells.size() * (2 * dim + 4));
     std::vector<std::pair<long long, unsigned int>> owned_sorted(owned.size()); // (key, index)
     for (unsigned int i = 0; i < owned.size(); ++i)
       owned_sorted[i] = {owned[i].key, i};
@@ -147,7 +150,7 @@ namespace granhydro
         cells_at[k].push_back(p0);
         keys_at[k].push_back(u);
       }
-    virtuals.reserve(4 * face_cells.size());
+    virtuals.reserve(face_cells.size() / 2);
     long long box_volume = 1; // (2 r + 1)^dim
     for (unsigned int d = 0; d < dim; ++d)
       box_volume *= 2 * r + 1;
@@ -291,7 +294,7 @@ namespace granhydro
     // times, sorting the distinct ones only is cheaper
     auto make_unique = [&]() {
       FlatKeyMap<char> seen;
-      seen.reserve(needed.size() / 4);
+      seen.reserve(needed.size() / 8); // about the distinct keys: a smaller table misses the cache less
       std::size_t n = 0;
       for (const long long t : needed)
         if (seen.insert(t, 1).second)
@@ -307,10 +310,9 @@ namespace granhydro
   }
 
 #define GRANHYDRO_INSTANTIATE(d)                                                                   \
-  template std::vector<std::vector<long long>> face_neighbour_keys(const std::vector<OwnedCell> &, \
-                                                                   Lattice<d> &);                  \
+  template FaceKeys face_neighbour_keys(const std::vector<OwnedCell> &, Lattice<d> &);             \
   template std::vector<long long> stencil_closure(const std::vector<OwnedCell> &,                  \
-                                                  const std::vector<std::vector<long long>> &,     \
+                                                  const FaceKeys &,                                \
                                                   Lattice<d> &, VirtualCells<d> &, const int,      \
                                                   std::vector<char> &);                            \
   template class DilatedMask<d>;                                                                   \

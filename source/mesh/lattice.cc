@@ -531,10 +531,9 @@ namespace granhydro
       }
     // outside the lattice or a solid point: a wall (or outflow) ghost, the mirror (copy)
     // of the same-level cell inside
-    long long ek = 0;
-    for (int d = dim - 1; d >= 0; --d)
-      ek = ek * (n(k, d) + 2 * E) + (p[d] + E);
-    const long long key = -1 - (ek * 8 + k);
+    const long long pk = position_key(k, p);
+    AssertThrow(pk >= 0, ExcMessage("internal error: a wall ghost farther outside than the lattice keys reach"));
+    const long long key = -1 - pk;
     if (ghosts.count(key))
       return key;
     WallGhost       gi;

@@ -111,24 +111,93 @@ namespace granhydro
                                                 const std::vector<char> &full_box)
   {
     using Position = typename Lattice<dim>::Position;
+    const unsigned int ns = lattice_.size();
     // the slot at position q of level k: a leaf or wall ghost of that level, or a virtual
     // cell. Every slot gets a row, also the far ones (the sources of virtual cells, MPI
     // ghosts reached by gradients) whose rows no stencil reads; their entries beyond the
     // lattice blocks this rank fetched are -1 (a stencil that needs one stops the
-    // convection operator's setup with an internal error, it is never read silently)
-    auto slot_at = [&](const unsigned int k, const Position &q) -> int {
-      bool            missing = false;
-      const long long t       = lattice.same_level(k, q, &missing);
-      if (missing)
-        return -1;
-      if (t != no_slot_key)
-        return index(t);
-      const int v = virtuals.find(k, q);
-      return v < 0 ? -1 : int(index.first_virtual + v);
+    // convection operator's setup with an internal error, it is never read silently).
+    // The slots are found by position: every slot has one position (periodic directions
+    // wrapped) at its level, and a position without a slot gives -1 -- what the lattice
+    // and the virtual cells would answer (a leaf or wall ghost without a slot, a position
+    // beyond the fetched blocks, a refined or coarser neighbourhood without a virtual
+    // cell). Per level a dense grid over the bounding box of that level's slots, or a
+    // hash map where the box would be much larger than the slots (a scattered level).
+    struct Grid
+    {
+      Position                 lo{{0, 0, 0}}, n{{0, 0, 0}};
+      std::size_t              count = 0;
+      std::vector<int>         dense;
+      FlatKeyMap<unsigned int> sparse;
+    };
+    std::vector<Grid> grids(max_level_ + 1);
+    for (unsigned int s = 0; s < ns; ++s)
+      {
+        Grid &g = grids[level_[s]];
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            const long long x = lattice_[s][d];
+            if (g.count == 0)
+              {
+                g.lo[d] = x;
+                g.n[d]  = 1;
+              }
+            else if (x < g.lo[d])
+              {
+                g.n[d] += g.lo[d] - x;
+                g.lo[d] = x;
+              }
+            else if (x >= g.lo[d] + g.n[d])
+              g.n[d] = x - g.lo[d] + 1;
+          }
+        ++g.count;
+      }
+    for (auto &g : grids)
+      {
+        for (unsigned int d = dim; d < 3; ++d)
+          g.n[d] = 1;
+        const long long vol = g.count ? g.n[0] * g.n[1] * g.n[2] : 0;
+        if (g.count && vol <= 8 * (long long)(g.count) + 4096)
+          g.dense.assign(vol, -1);
+        else
+          g.sparse.reserve(g.count);
+      }
+    for (unsigned int s = 0; s < ns; ++s)
+      {
+        Grid          &g = grids[level_[s]];
+        const Position p{{lattice_[s][0], lattice_[s][1], lattice_[s][2]}};
+        if (!g.dense.empty())
+          g.dense[(p[0] - g.lo[0]) + g.n[0] * ((p[1] - g.lo[1]) + g.n[1] * (p[2] - g.lo[2]))] = s;
+        else
+          g.sparse.insert(lattice.position_key(level_[s], p), s);
+      }
+    auto slot_at = [&](const unsigned int k, Position q) -> int {
+      if (mask) // a mesh file: the lattice and the index (rows within the dilated mask)
+        {
+          bool            missing = false;
+          const long long t       = lattice.same_level(k, q, &missing);
+          if (missing)
+            return -1;
+          if (t != no_slot_key)
+            return index(t);
+          const int v = virtuals.find(k, q);
+          return v < 0 ? -1 : int(index.first_virtual + v);
+        }
+      lattice.wrap(k, q);
+      const Grid &g = grids[k];
+      if (!g.dense.empty())
+        {
+          for (unsigned int d = 0; d < dim; ++d)
+            if (q[d] < g.lo[d] || q[d] >= g.lo[d] + g.n[d])
+              return -1;
+          return g.dense[(q[0] - g.lo[0]) + g.n[0] * ((q[1] - g.lo[1]) + g.n[1] * (q[2] - g.lo[2]))];
+        }
+      const long long pk = lattice.position_key(k, q);
+      const unsigned int *t = pk >= 0 ? g.sparse.find(pk) : nullptr;
+      return t ? int(*t) : -1;
     };
     const int          r  = int(G) - 1;
     const unsigned int W  = 2 * G + 1;
-    const unsigned int ns = lattice_.size();
     nb_.assign(std::size_t(ns) * dim * W, -1);
     uniform_.assign(ns, 0);
     for (unsigned int s = 0; s < ns; ++s)
@@ -193,7 +262,8 @@ namespace granhydro
   }
 
   template <int dim>
-  void CartesianPatch<dim>::make_faces(const std::vector<std::vector<unsigned int>> &lists)
+  void CartesianPatch<dim>::make_faces(const std::vector<unsigned int> &start,
+                                       const std::vector<unsigned int> &slots)
   {
     const double sub = 1. / double(1u << (dim - 1)); // share of a fine sub-face
     for (unsigned int d = 0; d < dim; ++d)
@@ -207,8 +277,9 @@ namespace granhydro
           {
             cell_face_start_[d][s] = cell_face_[d].size();
             for (unsigned int side = 0; side < 2; ++side)
-              for (const unsigned int t : lists[(std::size_t(s) * dim + d) * 2 + side])
+              for (unsigned int e = (std::size_t(s) * dim + d) * 2 + side, i = start[e]; i < start[e + 1]; ++i)
                 {
+                  const unsigned int t = slots[i];
                   const unsigned int l = side ? s : t, r = side ? t : s;
                   const auto [f, fresh] = index.insert((long long)(l) << 32 | r, faces_[d].size());
                   if (fresh)
@@ -244,7 +315,8 @@ namespace granhydro
                                                        const std::vector<char> &);                   \
   template void CartesianPatch<d>::make_gradient_table(Lattice<d> &, const SlotIndex &,              \
                                                        const DilatedMask<d> *, std::vector<char> &); \
-  template void CartesianPatch<d>::make_faces(const std::vector<std::vector<unsigned int>> &);
+  template void CartesianPatch<d>::make_faces(const std::vector<unsigned int> &,                     \
+                                              const std::vector<unsigned int> &);
   GRANHYDRO_INSTANTIATE(1)
   GRANHYDRO_INSTANTIATE(2)
   GRANHYDRO_INSTANTIATE(3)

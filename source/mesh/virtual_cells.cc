@@ -5,6 +5,8 @@
 
 namespace granhydro
 {
+  using namespace dealii;
+
   namespace
   {
     /// add w to key's weight in a short (key, weight) list, weights of equal keys summed
@@ -22,34 +24,39 @@ namespace granhydro
   } // namespace
 
   template <int dim>
-  std::array<long long, 4> VirtualCells<dim>::key_of(const unsigned int k, const Position &q,
-                                                     bool &inside) const
+  long long VirtualCells<dim>::key_of(const unsigned int k, const Position &q, bool &inside, Position &w) const
   {
     // periodic directions wrapped also when q lies outside a wall: the same position
     // reached across a periodic side and from inside must have one key
-    Position w = q;
-    inside     = lattice.wrap(k, w);
-    return {{k, w[0], w[1], w[2]}};
+    w      = q;
+    inside = lattice.wrap(k, w);
+    return lattice.position_key(k, w);
   }
 
   template <int dim>
   int VirtualCells<dim>::find(const unsigned int k, const Position &q) const
   {
-    bool       inside;
-    const auto it = index.find(key_of(k, q, inside));
-    return it == index.end() ? -1 : int(it->second);
+    bool            inside;
+    Position        w;
+    const long long key = key_of(k, q, inside, w);
+    if (key < 0) // farther out than any virtual cell
+      return -1;
+    const unsigned int *i = index.find(key);
+    return i ? int(*i) : -1;
   }
 
   template <int dim>
   unsigned int VirtualCells<dim>::add(const unsigned int k, const Position &q)
   {
-    bool       inside;
-    const auto key = key_of(k, q, inside);
-    if (const auto it = index.find(key); it != index.end())
-      return it->second;
+    bool            inside;
+    Position        w;
+    const long long key = key_of(k, q, inside, w);
+    AssertThrow(key >= 0, ExcMessage("internal error: a virtual cell farther outside than the lattice keys reach"));
+    if (const unsigned int *i = index.find(key))
+      return *i;
     Virtual v;
     v.level = k;
-    v.pos   = {{key[1], key[2], key[3]}};
+    v.pos   = w;
     Position mq{{0, 0, 0}};
     if (inside)
       v.sources = region_sources(k, v.pos);
@@ -59,8 +66,8 @@ namespace granhydro
         mq      = lattice.mirror(k, v.pos, v.bg);
       }
     const unsigned int i = virtuals.size();
-    virtuals.push_back(v);
-    index[key] = i;
+    virtuals.push_back(std::move(v));
+    index.insert(key, i);
     if (!inside)
       {
         const unsigned int mi = add(k, mq);

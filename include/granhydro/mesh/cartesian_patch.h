@@ -303,7 +303,7 @@ namespace granhydro
                              const std::vector<char> &full_box);
     void make_gradient_table(Lattice<dim> &lattice, const SlotIndex &index,
                              const DilatedMask<dim> *mask, std::vector<char> &incomplete);
-    void make_faces(const std::vector<std::vector<unsigned int>> &lists);
+    void make_faces(const std::vector<unsigned int> &start, const std::vector<unsigned int> &slots);
     /// adaptive boxes (2, 3 dimensions): the forest, a copy of deal.II's current one
     void make_forest();
     /// adaptive meshes: bring deal.II's triangulation to the forest's leaves and number its

@@ -19,17 +19,24 @@
 namespace granhydro
 {
   /// the face neighbour keys of every owned cell i along d on side s (entry
-  /// (i dim + d) 2 + s): the same-level leaf or wall ghost, one coarser leaf, or the
-  /// 2^(dim-1) finer leaves of a hanging face (first transverse direction fastest)
+  /// e = (i dim + d) 2 + s holds keys[start[e]] .. keys[start[e + 1] - 1]): the
+  /// same-level leaf or wall ghost, one coarser leaf, or the 2^(dim-1) finer leaves of a
+  /// hanging face (first transverse direction fastest). One flat array: the lists are
+  /// short and rebuilt at every adaptation
+  struct FaceKeys
+  {
+    std::vector<unsigned int> start;
+    std::vector<long long>    keys;
+    std::size_t               size() const { return start.size() - 1; }
+  };
   template <int dim>
-  std::vector<std::vector<long long>> face_neighbour_keys(const std::vector<OwnedCell> &owned,
-                                                          Lattice<dim>                 &lattice);
+  FaceKeys face_neighbour_keys(const std::vector<OwnedCell> &owned, Lattice<dim> &lattice);
 
   /// the keys of the stencil closure (with repetitions), creating the virtual cells;
   /// uniform[i]: owned cell i's box of radius r holds leaves and wall ghosts of its level only
   template <int dim>
   std::vector<long long> stencil_closure(const std::vector<OwnedCell>              &owned,
-                                         const std::vector<std::vector<long long>> &face_keys,
+                                         const FaceKeys                            &face_keys,
                                          Lattice<dim> &lattice, VirtualCells<dim> &virtuals,
                                          const int r, std::vector<char> &uniform);
 

@@ -100,6 +100,21 @@ namespace granhydro
     long long corner_key(const unsigned int k, const Position &p) const;
     /// wrap the periodic directions of p; false if p lies outside a non-periodic side
     bool wrap(const unsigned int k, Position &p) const;
+    /// a non-negative number naming position p of level k (lattice coordinates at level
+    /// k, periodic directions wrapped) up to E = 2 G + 2 outside the lattice, distinct
+    /// for distinct (k, p); -1 farther out. A wall ghost's key is -1 - position_key()
+    long long position_key(const unsigned int k, const Position &p) const
+    {
+      long long ek = 0;
+      for (int d = dim - 1; d >= 0; --d)
+        {
+          const long long e = p[d] + E, ne = n(k, d) + 2 * E;
+          if (e < 0 || e >= ne)
+            return -1;
+          ek = ek * ne + e;
+        }
+      return ek * 8 + k;
+    }
     /// the first DoF of a leaf key
     long long first_dof(const long long key) const { return leaf(key).first; }
 

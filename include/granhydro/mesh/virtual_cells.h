@@ -12,7 +12,6 @@
 #include <granhydro/mesh/lattice.h>
 
 #include <array>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -49,21 +48,11 @@ namespace granhydro
     /// restriction or prolongation weights of position q of level k inside the lattice,
     /// sorted by leaf key
     std::vector<std::pair<long long, double>> region_sources(const unsigned int k, const Position &q);
-    /// the index key of q of level k (wrapped inside the lattice, as given outside)
-    std::array<long long, 4> key_of(const unsigned int k, const Position &q, bool &inside) const;
+    /// the index key of q of level k (periodic directions wrapped; Lattice::position_key)
+    long long key_of(const unsigned int k, const Position &q, bool &inside, Position &w) const;
 
-    struct KeyHash
-    {
-      std::size_t operator()(const std::array<long long, 4> &a) const
-      {
-        std::size_t h = 0;
-        for (const long long v : a)
-          h = h * 0x9E3779B97F4A7C15ull + std::hash<long long>()(v);
-        return h;
-      }
-    };
-    Lattice<dim>                                                        &lattice;
-    std::vector<Virtual>                                                 virtuals;
-    std::unordered_map<std::array<long long, 4>, unsigned int, KeyHash> index;
+    Lattice<dim>                &lattice;
+    std::vector<Virtual>         virtuals;
+    FlatKeyMap<unsigned int>     index;
   };
 } // namespace granhydro
