@@ -180,6 +180,7 @@ namespace granhydro
         if (vol <= 4 * box_volume * (long long)P.size() + 4096)
           {
             std::vector<char> in(vol, 0);
+            needed.reserve(needed.size() + vol);
             for (const auto &p : P)
               in[idx(p)] = 1;
             dilate_box(in, bn, dim, r);

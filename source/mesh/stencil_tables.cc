@@ -198,21 +198,42 @@ namespace granhydro
     };
     const int          r  = int(G) - 1;
     const unsigned int W  = 2 * G + 1;
-    nb_.assign(std::size_t(ns) * dim * W, -1);
+    if (mask)
+      nb_.assign(std::size_t(ns) * dim * W, -1);
+    else
+      nb_.resize(std::size_t(ns) * dim * W); // every entry is written below
     uniform_.assign(ns, 0);
     for (unsigned int s = 0; s < ns; ++s)
       {
         const unsigned int k = level_[s];
         const Position     p0{{lattice_[s][0], lattice_[s][1], lattice_[s][2]}};
         const bool         row = !mask || mask->contains(p0);
+        const Grid        &g   = grids[k];
         for (unsigned int d = 0; d < dim && row; ++d)
-          for (int o = -int(G); o <= int(G); ++o)
-            {
-              Position q = p0;
-              q[d] += o;
-              if (!mask || mask->contains(q))
-                nb_[(std::size_t(s) * dim + d) * W + (o + int(G))] = slot_at(k, q);
-            }
+          {
+            int            *out = &nb_[(std::size_t(s) * dim + d) * W];
+            const long long a = p0[d] - int(G), b = p0[d] + int(G);
+            if (!mask && !g.dense.empty() && a >= g.lo[d] && b < g.lo[d] + g.n[d] &&
+                (!periodic_[d] || (a >= 0 && b < lattice.n(k, d))))
+              {
+                // the whole row inside the grid and nothing to wrap: a strided copy
+                const long long stride = d == 0 ? 1 : d == 1 ? g.n[0] : g.n[0] * g.n[1];
+                const int *in = &g.dense[(a - g.lo[d]) * stride +
+                                         (d == 0 ? 0 : (p0[0] - g.lo[0])) +
+                                         (d == 1 ? 0 : g.n[0] * (p0[1] - g.lo[1])) +
+                                         (d == 2 ? 0 : g.n[0] * g.n[1] * (p0[2] - g.lo[2]))];
+                for (unsigned int o = 0; o < W; ++o)
+                  out[o] = in[o * stride];
+                continue;
+              }
+            for (int o = -int(G); o <= int(G); ++o)
+              {
+                Position q = p0;
+                q[d] += o;
+                if (!mask || mask->contains(q))
+                  out[o + int(G)] = slot_at(k, q);
+              }
+          }
         bool ok = s < n_owned_; // the flag is for owned cells (output) only
         if (ok && !full_box.empty())
           ok = full_box[s] != 0; // slots of owned cells are in owned order
@@ -232,6 +253,10 @@ namespace granhydro
     using Position        = typename Lattice<dim>::Position;
     const unsigned int ns = lattice_.size();
     incomplete.assign(ns, 0);
+    std::vector<std::array<double, 3>> size(max_level_ + 1); // cell_size() per level
+    for (unsigned int k = 0; k <= max_level_; ++k)
+      for (unsigned int j = 0; j < dim; ++j)
+        size[k][j] = h_[j] / double(1u << k);
     gnb_.assign(std::size_t(ns) * dim * 2, -1);
     goff_.assign(std::size_t(ns) * dim * 2, 0.);
     for (unsigned int s = 0; s < index.first_virtual; ++s)
@@ -257,7 +282,7 @@ namespace granhydro
             gnb_[(std::size_t(s) * dim + j) * 2 + side] = t;
             if (t >= 0)
               goff_[(std::size_t(s) * dim + j) * 2 + side] =
-                (side ? 0.5 : -0.5) * (cell_size(s, j) + cell_size(t, j));
+                (side ? 0.5 : -0.5) * (size[level_[s]][j] + size[level_[t]][j]);
           }
   }
 
@@ -266,13 +291,16 @@ namespace granhydro
                                        const std::vector<unsigned int> &slots)
   {
     const double sub = 1. / double(1u << (dim - 1)); // share of a fine sub-face
+    // a face is made where its (left, right) pair is met first (owned cells in order,
+    // lower side first); met again from an owned cell t it already visited (t < s, or
+    // s itself across a periodic side one cell wide), the face is the one t's list
+    // entry on the opposite side got
+    std::vector<unsigned int> face_of(slots.size());
     for (unsigned int d = 0; d < dim; ++d)
       {
         faces_[d].clear();
         cell_face_[d].clear();
         cell_face_start_[d].assign(n_owned_ + 1, 0);
-        FlatKeyMap<unsigned int> index; // (left slot, right slot) -> face
-        index.reserve(std::size_t(n_owned_) * 2);
         for (unsigned int s = 0; s < n_owned_; ++s)
           {
             cell_face_start_[d][s] = cell_face_[d].size();
@@ -281,9 +309,18 @@ namespace granhydro
                 {
                   const unsigned int t = slots[i];
                   const unsigned int l = side ? s : t, r = side ? t : s;
-                  const auto [f, fresh] = index.insert((long long)(l) << 32 | r, faces_[d].size());
-                  if (fresh)
+                  if (t < s || (t == s && side == 1))
                     {
+                      const unsigned int e2 = (std::size_t(t) * dim + d) * 2 + (1 - side);
+                      unsigned int       j  = start[e2];
+                      while (j < start[e2 + 1] && slots[j] != s)
+                        ++j;
+                      AssertThrow(j < start[e2 + 1], ExcMessage("internal error: face neighbours not mutual"));
+                      face_of[i] = face_of[j];
+                    }
+                  else
+                    {
+                      face_of[i] = faces_[d].size();
                       const double fl = level_[l] < level_[r] ? sub : 1.;
                       const double fr = level_[r] < level_[l] ? sub : 1.;
                       // a hanging face: the fine cell's quadrant of the coarse face, which
@@ -298,7 +335,7 @@ namespace granhydro
                         }
                       faces_[d].push_back({l, r, fl, fr, q});
                     }
-                  cell_face_[d].push_back({*f, side == 1});
+                  cell_face_[d].push_back({face_of[i], side == 1});
                 }
           }
         cell_face_start_[d][n_owned_] = cell_face_[d].size();

@@ -42,7 +42,11 @@ namespace granhydro
     int find(const unsigned int k, const Position &q) const;
     /// the virtual cells in the order of creation
     const std::vector<Virtual> &cells() const { return virtuals; }
-    void reserve(const std::size_t n) { index.reserve(n); }
+    void reserve(const std::size_t n)
+    {
+      index.reserve(n);
+      virtuals.reserve(n);
+    }
 
   private:
     /// restriction or prolongation weights of position q of level k inside the lattice,
