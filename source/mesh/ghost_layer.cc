@@ -101,65 +101,84 @@ namespace granhydro
                                          const int r, std::vector<char> &uniform)
   {
     using Position = typename Lattice<dim>::Position;
-    std::vector<long long> needed(face_keys.keys);
-    // the face cells: owned cells and their face neighbours (they need reconstruction
-    // boxes and gradient stencils); the repetitions (each face neighbour is met from
-    // several cells) go through a hash set, the distinct keys are sorted
-    std::vector<long long> face_cells; // sorted, unique
+    // the keys found, each once: the face cells (owned cells and their face neighbours,
+    // which need reconstruction boxes and gradient stencils; each face neighbour is met
+    // from several cells), then what their stencils reach. A hash set drops the
+    // repetitions as they come; only the distinct keys are kept and sorted
+    FlatKeyMap<char>       seen;
+    std::vector<long long> needed;
+    seen.reserve(2 * owned.size());
+    needed.reserve(2 * owned.size());
+    auto need = [&](const long long t) {
+      if (seen.insert(t, 1).second)
+        needed.push_back(t);
+    };
+    for (const auto &o : owned)
+      need(o.key);
+    for (const long long t : face_keys.keys)
+      need(t);
+    const std::size_t n_face_cells = needed.size(); // needed[0, n_face_cells): the face cells
+    // the gradient stencils of the face cells. An owned cell's gradient neighbours (the
+    // same-level leaf or wall ghost, else a coarser leaf) are among its face neighbours
+    // already: only the other face cells are looked at
     {
-      FlatKeyMap<char> seen;
-      seen.reserve(2 * owned.size());
-      face_cells.reserve(2 * owned.size());
+      FlatKeyMap<char> is_owned;
+      is_owned.reserve(owned.size());
       for (const auto &o : owned)
-        if (seen.insert(o.key, 1).second)
-          face_cells.push_back(o.key);
-      for (const long long t : face_keys.keys)
-        if (seen.insert(t, 1).second)
-          face_cells.push_back(t);
-      std::sort(face_cells.begin(), face_cells.end());
+        is_owned.insert(o.key, 1);
+      for (std::size_t i = 0; i < n_face_cells; ++i)
+        if (const long long c = needed[i]; !is_owned.count(c))
+          for (unsigned int j = 0; j < dim; ++j)
+            for (const int o : {-1, 1})
+              {
+                const long long t = lattice.gradient_key(c, j, o);
+                if (t != no_slot_key)
+                  need(t);
+              }
     }
-    needed.reserve(needed.size() + face_cells.size() * (2 * dim + 4));
-    std::vector<std::pair<long long, unsigned int>> owned_sorted(owned.size()); // (key, index)
-    for (unsigned int i = 0; i < owned.size(); ++i)
-      owned_sorted[i] = {owned[i].key, i};
-    std::sort(owned_sorted.begin(), owned_sorted.end());
-    for (const long long c : face_cells)
-      for (unsigned int j = 0; j < dim; ++j)
-        for (const int o : {-1, 1})
-          {
-            const long long t = lattice.gradient_key(c, j, o);
-            if (t != no_slot_key)
-              needed.push_back(t);
-          }
     // the reconstruction boxes (Chebyshev radius r of each face cell, at its level):
     // leaves, wall ghosts, virtual cells. The boxes overlap (each position lies in up to
     // (2 r + 1)^dim of them): per level, the union of the boxes is marked on a dense
     // grid over the face cells' bounding box (positions unwrapped, as the boxes have
     // them) and each of its positions is looked at once; where that grid would be much
-    // larger than the boxes themselves (a scattered level), box by box. A cell's box is
-    // full when it holds no virtual cell: the positions with none, dilated by r.
+    // larger than the boxes themselves (a scattered level), box by box, the face cells
+    // in key order. A cell's box is full when it holds no virtual cell: the positions
+    // with none, dilated by r.
     uniform.assign(owned.size(), 0);
-    const unsigned int                 m = lattice.max_level();
-    std::vector<std::vector<Position>> cells_at(m + 1);
+    const unsigned int                  m = lattice.max_level();
     std::vector<std::vector<long long>> keys_at(m + 1);
-    for (const long long u : face_cells)
-      {
-        unsigned int k;
-        Position     p0;
-        lattice.decode(u, k, p0);
-        cells_at[k].push_back(p0);
-        keys_at[k].push_back(u);
-      }
-    virtuals.reserve(face_cells.size() / 2);
+    for (std::size_t i = 0; i < n_face_cells; ++i)
+      keys_at[needed[i] >= 0 ? needed[i] & 7 : lattice.ghost(needed[i]).level].push_back(needed[i]);
+    virtuals.reserve(n_face_cells / 8);
     long long box_volume = 1; // (2 r + 1)^dim
     for (unsigned int d = 0; d < dim; ++d)
       box_volume *= 2 * r + 1;
+    // per level: the dense grid (lo, bn, positions with a virtual cell dilated by r) or
+    // the face cells' keys, sorted, and whether each one's box is full
+    struct Level
+    {
+      Position           lo{{0, 0, 0}}, bn{{1, 1, 1}};
+      std::vector<char>  bad, full;
+      bool               dense = false;
+      std::size_t        idx(const Position &q) const
+      {
+        return std::size_t((q[0] - lo[0]) + bn[0] * ((q[1] - lo[1]) + bn[1] * (q[2] - lo[2])));
+      }
+    };
+    std::vector<Level> levels(m + 1);
+    std::vector<Position> P;
     for (unsigned int k = 0; k <= m; ++k)
       {
-        const auto &P = cells_at[k];
-        if (P.empty())
+        auto &keys = keys_at[k];
+        if (keys.empty())
           continue;
-        Position lo{{0, 0, 0}}, bn{{1, 1, 1}};
+        Level &L = levels[k];
+        P.resize(keys.size());
+        for (std::size_t c = 0; c < keys.size(); ++c)
+          {
+            unsigned int kk;
+            lattice.decode(keys[c], kk, P[c]);
+          }
         for (unsigned int d = 0; d < dim; ++d)
           {
             long long mn = P[0][d], mx = P[0][d];
@@ -168,77 +187,82 @@ namespace granhydro
                 mn = std::min(mn, p[d]);
                 mx = std::max(mx, p[d]);
               }
-            lo[d] = mn - r;
-            bn[d] = mx - mn + 1 + 2 * r;
+            L.lo[d] = mn - r;
+            L.bn[d] = mx - mn + 1 + 2 * r;
           }
-        const long long vol = bn[0] * bn[1] * bn[2];
-        auto idx = [&](const Position &q) {
-          return std::size_t((q[0] - lo[0]) + bn[0] * ((q[1] - lo[1]) + bn[1] * (q[2] - lo[2])));
-        };
-        std::vector<char> bad; // dense: the positions without a slot (virtual cells)
-        FlatKeyMap<char>  seen; // box by box: a leaf is pushed once
+        const long long vol = L.bn[0] * L.bn[1] * L.bn[2];
         if (vol <= 4 * box_volume * (long long)P.size() + 4096)
           {
+            L.dense = true;
             std::vector<char> in(vol, 0);
-            needed.reserve(needed.size() + vol);
             for (const auto &p : P)
-              in[idx(p)] = 1;
-            dilate_box(in, bn, dim, r);
-            bad.assign(vol, 0);
+              in[L.idx(p)] = 1;
+            dilate_box(in, L.bn, dim, r);
+            L.bad.assign(vol, 0);
             std::size_t i = 0;
-            for (long long z = 0; z < bn[2]; ++z)
-              for (long long y = 0; y < bn[1]; ++y)
-                for (long long x = 0; x < bn[0]; ++x, ++i)
+            for (long long z = 0; z < L.bn[2]; ++z)
+              for (long long y = 0; y < L.bn[1]; ++y)
+                for (long long x = 0; x < L.bn[0]; ++x, ++i)
                   if (in[i])
                     {
-                      const Position  q{{lo[0] + x, lo[1] + y, lo[2] + z}};
+                      const Position  q{{L.lo[0] + x, L.lo[1] + y, L.lo[2] + z}};
                       const long long t = lattice.same_level(k, q);
                       if (t == no_slot_key)
                         {
                           virtuals.add(k, q);
-                          bad[i] = 1;
+                          L.bad[i] = 1;
                         }
                       else
-                        needed.push_back(t); // periodic images repeat: add_wall_sources drops them
+                        need(t); // periodic images repeat
                     }
-            dilate_box(bad, bn, dim, r);
+            dilate_box(L.bad, L.bn, dim, r);
+            continue;
           }
-        else
-          seen.reserve(4 * P.size());
-        for (std::size_t c = 0; c < P.size(); ++c)
+        // box by box, in key order (the order of the virtual cells made)
+        std::vector<std::size_t> order(keys.size());
+        for (std::size_t c = 0; c < order.size(); ++c)
+          order[c] = c;
+        std::sort(order.begin(), order.end(), [&](const std::size_t a, const std::size_t b) { return keys[a] < keys[b]; });
+        std::vector<long long> sorted_keys(keys.size());
+        L.full.assign(keys.size(), 1);
+        for (std::size_t c = 0; c < order.size(); ++c)
           {
-            const Position &p0   = P[c];
-            bool            full = true;
-            if (!bad.empty())
-              full = !bad[idx(p0)];
-            else
-              for (int z = (dim > 2 ? -r : 0); z <= (dim > 2 ? r : 0); ++z)
-                for (int y = (dim > 1 ? -r : 0); y <= (dim > 1 ? r : 0); ++y)
-                  for (int x = -r; x <= r; ++x)
-                    {
-                      const Position  q{{p0[0] + x, p0[1] + y, p0[2] + z}};
-                      const long long t = lattice.same_level(k, q);
-                      if (t == no_slot_key)
-                        {
-                          virtuals.add(k, q);
-                          full = false;
-                        }
-                      else if (t < 0)
-                        needed.push_back(t);
-                      else if (seen.insert(t, 1).second)
-                        needed.push_back(t);
-                    }
-            // owned cells: their place in DoF order
-            if (full)
-              if (const auto it = std::lower_bound(owned_sorted.begin(), owned_sorted.end(),
-                                                   std::make_pair(keys_at[k][c], 0u));
-                  it != owned_sorted.end() && it->first == keys_at[k][c])
-                uniform[it->second] = 1;
+            sorted_keys[c]     = keys[order[c]];
+            const Position &p0 = P[order[c]];
+            for (int z = (dim > 2 ? -r : 0); z <= (dim > 2 ? r : 0); ++z)
+              for (int y = (dim > 1 ? -r : 0); y <= (dim > 1 ? r : 0); ++y)
+                for (int x = -r; x <= r; ++x)
+                  {
+                    const Position  q{{p0[0] + x, p0[1] + y, p0[2] + z}};
+                    const long long t = lattice.same_level(k, q);
+                    if (t == no_slot_key)
+                      {
+                        virtuals.add(k, q);
+                        L.full[c] = 0;
+                      }
+                    else
+                      need(t);
+                  }
+          }
+        keys.swap(sorted_keys);
+      }
+    // the owned cells' flags
+    for (std::size_t i = 0; i < owned.size(); ++i)
+      {
+        const Level   &L = levels[owned[i].level];
+        const Position p{{owned[i].ijk[0], owned[i].ijk[1], owned[i].ijk[2]}};
+        if (L.dense)
+          uniform[i] = !L.bad[L.idx(p)];
+        else
+          {
+            const auto &keys = keys_at[owned[i].level];
+            const auto  it   = std::lower_bound(keys.begin(), keys.end(), owned[i].key);
+            uniform[i]       = L.full[it - keys.begin()];
           }
       }
     for (const auto &v : virtuals.cells())
       for (const auto &[t, w] : v.sources)
-        needed.push_back(t);
+        need(t);
     return needed;
   }
 
