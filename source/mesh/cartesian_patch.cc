@@ -197,10 +197,11 @@ namespace granhydro
     { auto t1 = now_(); T_[5] += std::chrono::duration<double>(t1 - t0_).count(); t0_ = t1; }
     make_face_ids(lattice);
     { auto t1 = now_(); T_[6] += std::chrono::duration<double>(t1 - t0_).count(); t0_ = t1; }
-    make_neighbor_table(lattice, virtuals, index, mask.get(), full_box);
+    const SlotGrid<dim> grid(lattice, lattice_, level_);
+    make_neighbor_table(lattice, virtuals, index, grid, mask.get(), full_box);
     { auto t1 = now_(); T_[7] += std::chrono::duration<double>(t1 - t0_).count(); t0_ = t1; }
     std::vector<char> incomplete; // per slot: a gradient neighbour lies beyond the fetched blocks
-    make_gradient_table(lattice, index, mask.get(), incomplete);
+    make_gradient_table(lattice, index, grid, mask.get(), incomplete);
     { auto t1 = now_(); T_[8] += std::chrono::duration<double>(t1 - t0_).count(); t0_ = t1; }
     std::vector<unsigned int> face_slots(face_keys.keys.size());
     for (std::size_t i = 0; i < face_slots.size(); ++i)

@@ -107,8 +107,8 @@ namespace granhydro
 
   template <int dim>
   void CartesianPatch<dim>::make_neighbor_table(Lattice<dim> &lattice, const VirtualCells<dim> &virtuals,
-                                                const SlotIndex &index, const DilatedMask<dim> *mask,
-                                                const std::vector<char> &full_box)
+                                                const SlotIndex &index, const SlotGrid<dim> &grid,
+                                                const DilatedMask<dim> *mask, const std::vector<char> &full_box)
   {
     using Position = typename Lattice<dim>::Position;
     const unsigned int ns = lattice_.size();
@@ -117,60 +117,9 @@ namespace granhydro
     // ghosts reached by gradients) whose rows no stencil reads; their entries beyond the
     // lattice blocks this rank fetched are -1 (a stencil that needs one stops the
     // convection operator's setup with an internal error, it is never read silently).
-    // The slots are found by position: every slot has one position (periodic directions
-    // wrapped) at its level, and a position without a slot gives -1 -- what the lattice
-    // and the virtual cells would answer (a leaf or wall ghost without a slot, a position
-    // beyond the fetched blocks, a refined or coarser neighbourhood without a virtual
-    // cell). Per level a dense grid over the bounding box of that level's slots, or a
-    // hash map where the box would be much larger than the slots (a scattered level).
-    struct Grid
-    {
-      Position                 lo{{0, 0, 0}}, n{{0, 0, 0}};
-      std::size_t              count = 0;
-      std::vector<int>         dense;
-      FlatKeyMap<unsigned int> sparse;
-    };
-    std::vector<Grid> grids(max_level_ + 1);
-    for (unsigned int s = 0; s < ns; ++s)
-      {
-        Grid &g = grids[level_[s]];
-        for (unsigned int d = 0; d < dim; ++d)
-          {
-            const long long x = lattice_[s][d];
-            if (g.count == 0)
-              {
-                g.lo[d] = x;
-                g.n[d]  = 1;
-              }
-            else if (x < g.lo[d])
-              {
-                g.n[d] += g.lo[d] - x;
-                g.lo[d] = x;
-              }
-            else if (x >= g.lo[d] + g.n[d])
-              g.n[d] = x - g.lo[d] + 1;
-          }
-        ++g.count;
-      }
-    for (auto &g : grids)
-      {
-        for (unsigned int d = dim; d < 3; ++d)
-          g.n[d] = 1;
-        const long long vol = g.count ? g.n[0] * g.n[1] * g.n[2] : 0;
-        if (g.count && vol <= 8 * (long long)(g.count) + 4096)
-          g.dense.assign(vol, -1);
-        else
-          g.sparse.reserve(g.count);
-      }
-    for (unsigned int s = 0; s < ns; ++s)
-      {
-        Grid          &g = grids[level_[s]];
-        const Position p{{lattice_[s][0], lattice_[s][1], lattice_[s][2]}};
-        if (!g.dense.empty())
-          g.dense[(p[0] - g.lo[0]) + g.n[0] * ((p[1] - g.lo[1]) + g.n[1] * (p[2] - g.lo[2]))] = s;
-        else
-          g.sparse.insert(lattice.position_key(level_[s], p), s);
-      }
+    // The slots are found by position (SlotGrid): what the lattice and the virtual
+    // cells would answer (a leaf or wall ghost without a slot, a position beyond the
+    // fetched blocks, a refined or coarser neighbourhood without a virtual cell: -1).
     auto slot_at = [&](const unsigned int k, Position q) -> int {
       if (mask) // a mesh file: the lattice and the index (rows within the dilated mask)
         {
@@ -183,18 +132,7 @@ namespace granhydro
           const int v = virtuals.find(k, q);
           return v < 0 ? -1 : int(index.first_virtual + v);
         }
-      lattice.wrap(k, q);
-      const Grid &g = grids[k];
-      if (!g.dense.empty())
-        {
-          for (unsigned int d = 0; d < dim; ++d)
-            if (q[d] < g.lo[d] || q[d] >= g.lo[d] + g.n[d])
-              return -1;
-          return g.dense[(q[0] - g.lo[0]) + g.n[0] * ((q[1] - g.lo[1]) + g.n[1] * (q[2] - g.lo[2]))];
-        }
-      const long long pk = lattice.position_key(k, q);
-      const unsigned int *t = pk >= 0 ? g.sparse.find(pk) : nullptr;
-      return t ? int(*t) : -1;
+      return grid(k, q);
     };
     const int          r  = int(G) - 1;
     const unsigned int W  = 2 * G + 1;
@@ -208,7 +146,7 @@ namespace granhydro
         const unsigned int k = level_[s];
         const Position     p0{{lattice_[s][0], lattice_[s][1], lattice_[s][2]}};
         const bool         row = !mask || mask->contains(p0);
-        const Grid        &g   = grids[k];
+        const auto        &g   = grid.level(k);
         for (unsigned int d = 0; d < dim && row; ++d)
           {
             int            *out = &nb_[(std::size_t(s) * dim + d) * W];
@@ -248,7 +186,8 @@ namespace granhydro
 
   template <int dim>
   void CartesianPatch<dim>::make_gradient_table(Lattice<dim> &lattice, const SlotIndex &index,
-                                                const DilatedMask<dim> *mask, std::vector<char> &incomplete)
+                                                const SlotGrid<dim> &grid, const DilatedMask<dim> *mask,
+                                                std::vector<char> &incomplete)
   {
     using Position        = typename Lattice<dim>::Position;
     const unsigned int ns = lattice_.size();
@@ -272,13 +211,27 @@ namespace granhydro
                 if (!mask->contains(p))
                   continue;
               }
-            // far slots (the sources of virtual cells, ghosts reached by gradients) may
+            // the same-level leaf or wall ghost: the slot at that position (a virtual
+            // cell is none); else the lattice's answer (a coarser leaf, or none). Far
+            // slots (the sources of virtual cells, ghosts reached by gradients) may
             // reach beyond the fetched blocks: their rows are not read, rebuild() checks
             // that no face cell's row is incomplete
-            bool      missing = false;
-            const int t       = index(lattice.gradient_key(index.keys[s], j, side ? 1 : -1, &missing));
-            if (missing)
-              incomplete[s] = 1;
+            int t = -1;
+            if (!mask)
+              {
+                Position q{{lattice_[s][0], lattice_[s][1], lattice_[s][2]}};
+                q[j] += side ? 1 : -1;
+                t = grid(level_[s], q);
+                if (t >= int(index.first_virtual))
+                  t = -1;
+              }
+            if (t < 0)
+              {
+                bool missing = false;
+                t            = index(lattice.gradient_key(index.keys[s], j, side ? 1 : -1, &missing));
+                if (missing)
+                  incomplete[s] = 1;
+              }
             gnb_[(std::size_t(s) * dim + j) * 2 + side] = t;
             if (t >= 0)
               goff_[(std::size_t(s) * dim + j) * 2 + side] =
@@ -348,10 +301,12 @@ namespace granhydro
                                                 const VirtualCells<d> &, const IndexSet &, SlotIndex &); \
   template void CartesianPatch<d>::make_face_ids(const Lattice<d> &);                                \
   template void CartesianPatch<d>::make_neighbor_table(Lattice<d> &, const VirtualCells<d> &,        \
-                                                       const SlotIndex &, const DilatedMask<d> *,    \
+                                                       const SlotIndex &, const SlotGrid<d> &,       \
+                                                       const DilatedMask<d> *,                       \
                                                        const std::vector<char> &);                   \
   template void CartesianPatch<d>::make_gradient_table(Lattice<d> &, const SlotIndex &,              \
-                                                       const DilatedMask<d> *, std::vector<char> &); \
+                                                       const SlotGrid<d> &, const DilatedMask<d> *,  \
+                                                       std::vector<char> &);                         \
   template void CartesianPatch<d>::make_faces(const std::vector<unsigned int> &,                     \
                                               const std::vector<unsigned int> &);
   GRANHYDRO_INSTANTIATE(1)

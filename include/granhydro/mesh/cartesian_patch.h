@@ -74,6 +74,8 @@ namespace granhydro
   template <int dim>
   class DilatedMask;
   template <int dim>
+  class SlotGrid;
+  template <int dim>
   class Forest;
 
   template <int dim>
@@ -290,8 +292,9 @@ namespace granhydro
     void rebuild();
     /// the table builders rebuild() calls (source/mesh/stencil_tables.cc): slots of the
     /// owned cells and needed keys; boundary ids of the real cells' faces; neighbour
-    /// table and uniform flags (full_box: the stencil closure's flags per owned cell, or
-    /// empty to look); gradient neighbours (mask: the positions whose neighbour
+    /// table and uniform flags (grid: the slot at each position; full_box: the stencil
+    /// closure's flags per owned cell, or empty to look); gradient neighbours (mask: the
+    /// positions whose neighbour
     /// rows are filled, nullptr for all); faces from each owned cell's neighbour lists
     /// per direction and side
     void assign_slots(const std::vector<OwnedCell> &owned, const std::vector<long long> &needed,
@@ -299,9 +302,9 @@ namespace granhydro
                       const dealii::IndexSet &owned_dofs, SlotIndex &index);
     void make_face_ids(const Lattice<dim> &lattice);
     void make_neighbor_table(Lattice<dim> &lattice, const VirtualCells<dim> &virtuals,
-                             const SlotIndex &index, const DilatedMask<dim> *mask,
-                             const std::vector<char> &full_box);
-    void make_gradient_table(Lattice<dim> &lattice, const SlotIndex &index,
+                             const SlotIndex &index, const SlotGrid<dim> &grid,
+                             const DilatedMask<dim> *mask, const std::vector<char> &full_box);
+    void make_gradient_table(Lattice<dim> &lattice, const SlotIndex &index, const SlotGrid<dim> &grid,
                              const DilatedMask<dim> *mask, std::vector<char> &incomplete);
     void make_faces(const std::vector<unsigned int> &start, const std::vector<unsigned int> &slots);
     /// adaptive boxes (2, 3 dimensions): the forest, a copy of deal.II's current one

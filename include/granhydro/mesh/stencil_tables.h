@@ -26,4 +26,97 @@ namespace granhydro
       return s ? int(*s) : -1;
     }
   };
+
+  /**
+   * The slot at each position (level k, lattice coordinates at level k, periodic
+   * directions wrapped): every slot has one such position, and a position without a
+   * slot gives -1. Per level a dense grid over the bounding box of that level's slots,
+   * or a hash map (Lattice::position_key) where that box would be much larger than the
+   * slots (a scattered level).
+   */
+  template <int dim>
+  class SlotGrid
+  {
+  public:
+    using Position = typename Lattice<dim>::Position;
+    struct Level
+    {
+      Position                 lo{{0, 0, 0}}, n{{1, 1, 1}};
+      std::size_t              count = 0;
+      std::vector<int>         dense;
+      FlatKeyMap<unsigned int> sparse;
+      std::size_t idx(const Position &q) const
+      {
+        return std::size_t((q[0] - lo[0]) + n[0] * ((q[1] - lo[1]) + n[1] * (q[2] - lo[2])));
+      }
+      bool inside(const Position &q) const
+      {
+        for (unsigned int d = 0; d < dim; ++d)
+          if (q[d] < lo[d] || q[d] >= lo[d] + n[d])
+            return false;
+        return true;
+      }
+    };
+
+    SlotGrid(const Lattice<dim> &lattice, const std::vector<std::array<int, 3>> &pos,
+             const std::vector<unsigned char> &level)
+      : lattice(lattice)
+      , levels(lattice.max_level() + 1)
+    {
+      for (std::size_t s = 0; s < pos.size(); ++s)
+        {
+          Level &g = levels[level[s]];
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              const long long x = pos[s][d];
+              if (g.count == 0)
+                {
+                  g.lo[d] = x;
+                  g.n[d]  = 1;
+                }
+              else if (x < g.lo[d])
+                {
+                  g.n[d] += g.lo[d] - x;
+                  g.lo[d] = x;
+                }
+              else if (x >= g.lo[d] + g.n[d])
+                g.n[d] = x - g.lo[d] + 1;
+            }
+          ++g.count;
+        }
+      for (auto &g : levels)
+        {
+          const long long vol = g.n[0] * g.n[1] * g.n[2];
+          if (g.count && vol <= 8 * (long long)(g.count) + 4096)
+            g.dense.assign(vol, -1);
+          else
+            g.sparse.reserve(g.count);
+        }
+      for (std::size_t s = 0; s < pos.size(); ++s)
+        {
+          Level         &g = levels[level[s]];
+          const Position p{{pos[s][0], pos[s][1], pos[s][2]}};
+          if (!g.dense.empty())
+            g.dense[g.idx(p)] = s;
+          else
+            g.sparse.insert(lattice.position_key(level[s], p), s);
+        }
+    }
+    /// the slot at q of level k (wrapped here), or -1
+    int operator()(const unsigned int k, Position q) const
+    {
+      lattice.wrap(k, q);
+      const Level &g = levels[k];
+      if (!g.dense.empty())
+        return g.inside(q) ? g.dense[g.idx(q)] : -1;
+      const long long     pk = lattice.position_key(k, q);
+      const unsigned int *t  = pk >= 0 ? g.sparse.find(pk) : nullptr;
+      return t ? int(*t) : -1;
+    }
+    const Level &level(const unsigned int k) const { return levels[k]; }
+
+  private:
+    const Lattice<dim> &lattice;
+    std::vector<Level>  levels;
+  };
 } // namespace granhydro
