@@ -11,9 +11,6 @@
 #include <deal.II/fe/fe_dgq.h>
 
 #include <memory>
-#include <chrono>
-namespace { double T_[16]; struct TP { ~TP(){ if (getenv("GH_DBG")) for (int i=0;i<12;++i) fprintf(stderr,"phase %d %.3f\n",i,T_[i]); } } tp_; 
- auto now_() { return std::chrono::steady_clock::now(); } }
 
 namespace granhydro
 {
@@ -130,7 +127,6 @@ namespace granhydro
   void CartesianPatch<dim>::rebuild()
   {
     AssertThrow(max_level_ <= 7, ExcMessage("at most 7 refinement levels"));
-    auto t0_ = now_();
     for (unsigned int c = 0; c < n_components; ++c)
       AssertThrow(fe->system_to_component_index(c).first == c, ExcInternalError());
     Lattice<dim> lattice(N_, periodic_, max_level_, G, {btype_, wall_velocity_, velocity_unit_}, subset_);
@@ -170,13 +166,10 @@ namespace granhydro
         n_global_ = tria->n_global_active_cells();
         owned     = lattice.owned_cells(*dofh, lo_, h_, base_tria_level_);
       }
-    { auto t1 = now_(); T_[0] += std::chrono::duration<double>(t1 - t0_).count(); t0_ = t1; }
     n_owned_ = owned.size();
-    { auto t1 = now_(); T_[1] += std::chrono::duration<double>(t1 - t0_).count(); t0_ = t1; }
     lattice.distribute(owned, n_global_, comm);
 
     // the positions needed besides the owned cells, then the slots and tables
-    { auto t1 = now_(); T_[2] += std::chrono::duration<double>(t1 - t0_).count(); t0_ = t1; }
     const auto face_keys = face_neighbour_keys(owned, lattice);
     VirtualCells<dim>                  virtuals(lattice);
     std::unique_ptr<DilatedMask<dim>>  mask;
@@ -189,26 +182,18 @@ namespace granhydro
       }
     else
       needed = stencil_closure(owned, face_keys, lattice, virtuals, int(G) - 1, full_box);
-    { auto t1 = now_(); T_[3] += std::chrono::duration<double>(t1 - t0_).count(); t0_ = t1; }
     add_wall_sources(needed, lattice);
-    { auto t1 = now_(); T_[4] += std::chrono::duration<double>(t1 - t0_).count(); t0_ = t1; }
     SlotIndex index;
     assign_slots(owned, needed, lattice, virtuals, owned_dofs, index);
-    { auto t1 = now_(); T_[5] += std::chrono::duration<double>(t1 - t0_).count(); t0_ = t1; }
     make_face_ids(lattice);
-    { auto t1 = now_(); T_[6] += std::chrono::duration<double>(t1 - t0_).count(); t0_ = t1; }
     const SlotGrid<dim> grid(lattice, lattice_, level_);
     make_neighbor_table(lattice, virtuals, index, grid, mask.get(), full_box);
-    { auto t1 = now_(); T_[7] += std::chrono::duration<double>(t1 - t0_).count(); t0_ = t1; }
     std::vector<char> incomplete; // per slot: a gradient neighbour lies beyond the fetched blocks
     make_gradient_table(lattice, index, grid, mask.get(), incomplete);
-    { auto t1 = now_(); T_[8] += std::chrono::duration<double>(t1 - t0_).count(); t0_ = t1; }
     std::vector<unsigned int> face_slots(face_keys.keys.size());
     for (std::size_t i = 0; i < face_slots.size(); ++i)
       face_slots[i] = index.slot_of.at(face_keys.keys[i]);
     make_faces(face_keys.start, face_slots);
-    if (getenv("GH_DBG")) fprintf(stderr, "owned %u slots %u virt %zu needed %zu facekeys %zu\n", n_owned_, n_slots(), virtuals.cells().size(), needed.size(), face_keys.keys.size());
-    { auto t1 = now_(); T_[9] += std::chrono::duration<double>(t1 - t0_).count(); t0_ = t1; }
     // the diffusion step reads the gradient rows of the cells on faces: complete
     for (unsigned int d = 0; d < dim; ++d)
       for (const auto &f : faces_[d])
