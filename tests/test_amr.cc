@@ -23,6 +23,11 @@
 //                           sit at its slot's centre and level, own the slot's DoFs, and its
 //                           DoF values be the slot's state, exactly (same cells, same
 //                           numbering: the copy is not an interpolation). Also under mpirun.
+//   test_amr slot-grid    : the table builders find slots by position (SlotGrid: a dense
+//                           grid per level, or a hash map for a scattered level). Both
+//                           variants must give, for every position of every level within
+//                           the lattice keys' reach (periodic sides unwrapped), the slot a
+//                           plain std::map of the wrapped positions holds, or -1.
 //   test_amr sod DIM [refine coarsen buffer levels indicator interval max_error max_cells]
 //                         : Sod's problem along the diagonal of the unit square/cube with AMR
 //                           against the uniform mesh at the finest level: L1 density errors
@@ -35,8 +40,11 @@
 #include "common/exact_riemann.h"
 #include "common/test_common.h"
 
+#include <granhydro/mesh/stencil_tables.h>
+
 #include <iomanip>
 #include <map>
+#include <random>
 #include <sstream>
 
 using namespace granhydro;
@@ -420,6 +428,57 @@ int main(int argc, char **argv)
           if (dealii::Utilities::MPI::n_mpi_processes(world) > 1)
             compare_ranks<3, physics::IdealGas<3>>("3D blast between walls (bit for bit)",
                                                    parse_scene(blast_3d_walls(40), "blast_3d_walls"), chk, 0.);
+        }
+      else if (what == "slot-grid")
+        {
+          // a 4 x 3 x 5 lattice, 2 levels, periodic in x and z, walls in y (slots up to
+          // G = 3 outside, as wall ghosts and virtual cells outside a wall lie)
+          const unsigned int G = 3, m = 2;
+          const Lattice<3>   lattice({{4, 3, 5}}, {{true, false, true}}, m, G, WallTable{}, false);
+          using Position = Lattice<3>::Position;
+          std::mt19937                         rng(7);
+          std::vector<std::array<int, 3>>      pos;
+          std::vector<unsigned char>           level;
+          std::map<std::array<long long, 4>, int> reference; // (level, wrapped position) -> slot
+          for (int i = 0; i < 4000; ++i)
+            {
+              const unsigned int k = rng() % (m + 1);
+              Position           p{{0, 0, 0}};
+              for (unsigned int d = 0; d < 3; ++d)
+                {
+                  const long long n = lattice.n(k, d), lo = d == 1 ? -long(G) : 0, hi = d == 1 ? n + G : n;
+                  p[d]                = lo + long(rng() % (hi - lo));
+                }
+              if (reference.emplace(std::array<long long, 4>{{k, p[0], p[1], p[2]}}, int(pos.size())).second)
+                {
+                  pos.push_back({{int(p[0]), int(p[1]), int(p[2])}});
+                  level.push_back(k);
+                }
+            }
+          const SlotGrid<3> dense(lattice, pos, level), sparse(lattice, pos, level, -1);
+          unsigned long long looked = 0, found = 0, wrong_dense = 0, wrong_sparse = 0;
+          for (unsigned int k = 0; k <= m; ++k)
+            {
+              const long long R = 2 * G + 4; // past the lattice keys' reach (2 G + 2)
+              for (long long z = -R; z < lattice.n(k, 2) + R; ++z)
+                for (long long y = -R; y < lattice.n(k, 1) + R; ++y)
+                  for (long long x = -R; x < lattice.n(k, 0) + R; ++x)
+                    {
+                      Position q{{x, y, z}};
+                      lattice.wrap(k, q);
+                      const auto it     = reference.find({{k, q[0], q[1], q[2]}});
+                      const int  expect = it == reference.end() ? -1 : it->second;
+                      wrong_dense += dense(k, {{x, y, z}}) != expect;
+                      wrong_sparse += sparse(k, {{x, y, z}}) != expect;
+                      found += expect >= 0;
+                      ++looked;
+                    }
+            }
+          std::ostringstream os;
+          os << "SlotGrid: " << pos.size() << " slots on 3 levels, " << looked << " positions looked at ("
+             << found << " with a slot): " << wrong_dense << " wrong answers (dense grids), " << wrong_sparse
+             << " (hash maps); reference: std::map of the wrapped positions, exact";
+          chk.check(pos.size() > 1000 && wrong_dense == 0 && wrong_sparse == 0 && found >= 2 * pos.size(), os.str()); // periodic images found too
         }
       else if (what == "dealii-sync")
         {

@@ -97,6 +97,8 @@ add_test(NAME mpi.amr_walls_3d_2ranks COMMAND ${DEAL_II_MPIEXEC} -n 2 $<TARGET_F
 set_tests_properties(mpi.amr_walls_3d_2ranks PROPERTIES LABELS mpi TIMEOUT 300 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)
 add_test(NAME mpi.amr_open_2d_3ranks COMMAND ${DEAL_II_MPIEXEC} -n 3 --oversubscribe $<TARGET_FILE:test_amr> mpi-open-2d)
 set_tests_properties(mpi.amr_open_2d_3ranks PROPERTIES LABELS mpi TIMEOUT 300 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)
+add_test(NAME verify.amr_slot_grid COMMAND test_amr slot-grid)
+set_tests_properties(verify.amr_slot_grid PROPERTIES LABELS verify TIMEOUT 60)
 add_test(NAME verify.amr_dealii_sync COMMAND test_amr dealii-sync)
 set_tests_properties(verify.amr_dealii_sync PROPERTIES LABELS verify TIMEOUT 300)
 add_test(NAME mpi.amr_dealii_sync_2ranks COMMAND ${DEAL_II_MPIEXEC} -n 2 $<TARGET_FILE:test_amr> dealii-sync)

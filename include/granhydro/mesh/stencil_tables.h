@@ -58,8 +58,11 @@ namespace granhydro
       }
     };
 
+    /// pos, level: each slot's position and level; a level's grid is dense when its box
+    /// holds at most dense_factor x its slots + 4096 points (dense_factor < 0: never,
+    /// for tests)
     SlotGrid(const Lattice<dim> &lattice, const std::vector<std::array<int, 3>> &pos,
-             const std::vector<unsigned char> &level)
+             const std::vector<unsigned char> &level, const long long dense_factor = 8)
       : lattice(lattice)
       , levels(lattice.max_level() + 1)
     {
@@ -87,7 +90,7 @@ namespace granhydro
       for (auto &g : levels)
         {
           const long long vol = g.n[0] * g.n[1] * g.n[2];
-          if (g.count && vol <= 8 * (long long)(g.count) + 4096)
+          if (g.count && dense_factor >= 0 && vol <= dense_factor * (long long)(g.count) + 4096)
             g.dense.assign(vol, -1);
           else
             g.sparse.reserve(g.count);
