@@ -120,22 +120,16 @@ namespace granhydro
     const std::size_t n_face_cells = needed.size(); // needed[0, n_face_cells): the face cells
     // the gradient stencils of the face cells. An owned cell's gradient neighbours (the
     // same-level leaf or wall ghost, else a coarser leaf) are among its face neighbours
-    // already: only the other face cells are looked at
-    {
-      FlatKeyMap<char> is_owned;
-      is_owned.reserve(owned.size());
-      for (const auto &o : owned)
-        is_owned.insert(o.key, 1);
-      for (std::size_t i = 0; i < n_face_cells; ++i)
-        if (const long long c = needed[i]; !is_owned.count(c))
-          for (unsigned int j = 0; j < dim; ++j)
-            for (const int o : {-1, 1})
-              {
-                const long long t = lattice.gradient_key(c, j, o);
-                if (t != no_slot_key)
-                  need(t);
-              }
-    }
+    // already: only the other face cells (after the owned ones, which are distinct) are
+    // looked at
+    for (std::size_t i = owned.size(); i < n_face_cells; ++i)
+      for (unsigned int j = 0; j < dim; ++j)
+        for (const int o : {-1, 1})
+          {
+            const long long t = lattice.gradient_key(needed[i], j, o);
+            if (t != no_slot_key)
+              need(t);
+          }
     // the reconstruction boxes (Chebyshev radius r of each face cell, at its level):
     // leaves, wall ghosts, virtual cells. The boxes overlap (each position lies in up to
     // (2 r + 1)^dim of them): per level, the union of the boxes is marked on a dense

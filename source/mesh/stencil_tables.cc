@@ -156,10 +156,7 @@ namespace granhydro
               {
                 // the whole row inside the grid and nothing to wrap: a strided copy
                 const long long stride = d == 0 ? 1 : d == 1 ? g.n[0] : g.n[0] * g.n[1];
-                const int *in = &g.dense[(a - g.lo[d]) * stride +
-                                         (d == 0 ? 0 : (p0[0] - g.lo[0])) +
-                                         (d == 1 ? 0 : g.n[0] * (p0[1] - g.lo[1])) +
-                                         (d == 2 ? 0 : g.n[0] * g.n[1] * (p0[2] - g.lo[2]))];
+                const int *in = &g.dense[g.idx(p0) - std::size_t(G * stride)];
                 for (unsigned int o = 0; o < W; ++o)
                   out[o] = in[o * stride];
                 continue;

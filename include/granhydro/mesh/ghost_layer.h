@@ -27,12 +27,12 @@ namespace granhydro
   {
     std::vector<unsigned int> start;
     std::vector<long long>    keys;
-    std::size_t               size() const { return start.size() - 1; }
   };
   template <int dim>
   FaceKeys face_neighbour_keys(const std::vector<OwnedCell> &owned, Lattice<dim> &lattice);
 
-  /// the keys of the stencil closure (with repetitions), creating the virtual cells;
+  /// the keys of the stencil closure (each once, the owned cells' first, in owned order),
+  /// creating the virtual cells;
   /// uniform[i]: owned cell i's box of radius r holds leaves and wall ghosts of its level only
   template <int dim>
   std::vector<long long> stencil_closure(const std::vector<OwnedCell>              &owned,

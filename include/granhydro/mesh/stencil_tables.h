@@ -6,6 +6,7 @@
  */
 #include <granhydro/mesh/lattice.h>
 
+#include <algorithm>
 #include <vector>
 
 namespace granhydro
@@ -66,29 +67,22 @@ namespace granhydro
       : lattice(lattice)
       , levels(lattice.max_level() + 1)
     {
+      std::vector<Position> hi(levels.size(), Position{{0, 0, 0}}); // the boxes' last points
       for (std::size_t s = 0; s < pos.size(); ++s)
         {
           Level &g = levels[level[s]];
           for (unsigned int d = 0; d < dim; ++d)
             {
-              const long long x = pos[s][d];
-              if (g.count == 0)
-                {
-                  g.lo[d] = x;
-                  g.n[d]  = 1;
-                }
-              else if (x < g.lo[d])
-                {
-                  g.n[d] += g.lo[d] - x;
-                  g.lo[d] = x;
-                }
-              else if (x >= g.lo[d] + g.n[d])
-                g.n[d] = x - g.lo[d] + 1;
+              g.lo[d]            = g.count ? std::min<long long>(g.lo[d], pos[s][d]) : pos[s][d];
+              hi[level[s]][d] = g.count ? std::max<long long>(hi[level[s]][d], pos[s][d]) : pos[s][d];
             }
           ++g.count;
         }
-      for (auto &g : levels)
+      for (std::size_t k = 0; k < levels.size(); ++k)
         {
+          Level &g = levels[k];
+          for (unsigned int d = 0; d < dim; ++d)
+            g.n[d] = hi[k][d] - g.lo[d] + 1;
           const long long vol = g.n[0] * g.n[1] * g.n[2];
           if (g.count && dense_factor >= 0 && vol <= dense_factor * (long long)(g.count) + 4096)
             g.dense.assign(vol, -1);
