@@ -18,7 +18,10 @@ Inputs, measured on this machine:
   message time: tools/cluster/pingpong.c between 2 ranks (median of 7 bursts), the
                  one-way time per message size 8 B .. 8 MiB, interpolated log-log at the
                  halo message size (latency = 8..128 B, bandwidth = 8 MiB are printed);
-  n_exchanges  = halo exchanges of the run from the 1-rank log: 3 per SSP-RK3 step, one
+  n_exchanges  = halo exchanges of the run from the 1-rank log: per SSP-RK3 stage one of
+                 the state and one per reconstruction stage (dim of them with WENO5: the
+                 owners send the stage values of the halo's cells, which no rank
+                 recomputes; charged as large as the state's), so 3 (1 + dim) per step; one
                  per RKL2 stage and per GMRES iteration of the diffusion step;
   n_reductions = one per time step (the global time step) plus one per GMRES iteration.
 Computed from the mesh geometry, not measured:
@@ -32,7 +35,8 @@ Computed from the mesh geometry, not measured:
   msgs(P)      = neighbouring ranks of the most loaded rank.
 Assumptions (where it is wrong, the measurement says by how much): the work per cell is
 the same on every rank (no load imbalance beyond the leaf count), messages to different
-neighbours do not overlap, ghost cells cost no compute, the part a of the adaptation
+neighbours do not overlap, ghost cells cost no compute (the convection's stages of the
+halo come from their owners; virtual cells next to level changes are not charged), the part a of the adaptation
 scales as 1/P and the rest is replicated on every rank (a = 1 unless told), the setup before the time loop is not
 counted (the run summary's wall time starts with the time loop).
 
@@ -148,7 +152,7 @@ def predict(f, ranks, latency, rows, adapt_parallel=1.):
     c_cell = (f['wall'] - f['adapt']) / (f['cells'] * f['steps'])
     ghost_trees, neighbours = halo(f['trees'], f['periodic'], ranks)
     ghost = ghost_trees * f['cells'] / np.prod(f['trees'])
-    exchanges = 3 * f['rk_steps'] + f['rkl2_stages'] + f['gmres']
+    exchanges = 3 * (1 + f['dim']) * f['rk_steps'] + f['rkl2_stages'] + f['gmres']
     reductions = f['steps'] + f['gmres']
     halo_bytes = ghost * (f['dim'] + 2) * 8
     parts = {

@@ -61,6 +61,14 @@ namespace granhydro::convection
           v.push_back(s);
     }
 
+    /// a piece of a slot list
+    struct SlotRange
+    {
+      const unsigned int *b, *e;
+      const unsigned int *begin() const { return b; }
+      const unsigned int *end() const { return e; }
+    };
+
     // GCC vectors of doubles (element-wise IEEE arithmetic, no contraction on the default
     // target): lanes are independent stencils, each bit for bit the scalar result
     typedef double v2d __attribute__((vector_size(16), aligned(8)));
@@ -119,7 +127,7 @@ namespace granhydro::convection
     template <class V, class Recon, int dim>
     __attribute__((always_inline)) inline void
     reconstruct_stage(const Recon &rec, const CartesianPatch<dim> &patch,
-                      const std::vector<unsigned int> &list, const unsigned int dir,
+                      const SlotRange &list, const unsigned int dir,
                       const double *in, const unsigned int m, const unsigned int NC,
                       const unsigned int p, double *outbase)
     {
@@ -228,7 +236,7 @@ namespace granhydro::convection
     template <class Recon, int dim>
     __attribute__((target("avx2"))) void
     reconstruct_stage_avx2(const Recon &rec, const CartesianPatch<dim> &patch,
-                           const std::vector<unsigned int> &list, const unsigned int dir,
+                           const SlotRange &list, const unsigned int dir,
                            const double *in, const unsigned int m, const unsigned int NC,
                            const unsigned int p, double *outbase)
     {
@@ -238,7 +246,7 @@ namespace granhydro::convection
 
     template <class Recon, int dim>
     void reconstruct(const Recon &rec, const CartesianPatch<dim> &patch,
-                     const std::vector<unsigned int> &list, const unsigned int dir,
+                     const SlotRange &list, const unsigned int dir,
                      const double *in, const unsigned int m, const unsigned int NC,
                      const unsigned int p, double *outbase)
     {
@@ -269,6 +277,13 @@ namespace granhydro::convection
         for (unsigned int s = 0; s < n_owned; ++s)
           inv_h[d][s] = length_unit / patch.cell_size(s, d);
       }
+    // on several ranks the halo's cells (MPI ghosts) take their stage values from their
+    // owners, who compute every stage of every owned cell: the same formula on the same
+    // inputs, so the result is bitwise that of one rank, and no rank redoes the
+    // reconstructions of the cells next to its partition boundary
+    halo_exchange = Utilities::MPI::n_mpi_processes(patch.communicator()) > 1;
+    const unsigned int         ghost_lo = n_owned, ghost_hi = n_owned + patch.n_mpi_ghosts();
+    std::vector<std::uint16_t> need(patch.n_mpi_ghosts(), 0); // channels per MPI ghost
     for (unsigned int d = 0; d < dim; ++d)
       {
         const auto &faces = patch.faces(d);
@@ -290,6 +305,22 @@ namespace granhydro::convection
           for (const unsigned int s : {f.l, f.r})
             fin.push_back(s);
         unique_sort(fin, patch.n_slots());
+        // stage j of direction d on several ranks: the MPI ghosts among its slots get
+        // their values from their owners (channel(d, j)), so they leave the list and the
+        // previous stage is not needed around them
+        auto strip = [&](std::vector<unsigned int> &L, const unsigned int j) {
+          if (!halo_exchange)
+            return;
+          AssertThrow(n_owned == 0 || (L.size() >= n_owned && L[n_owned - 1] == n_owned - 1),
+                      ExcMessage("internal error: a stage list lacks owned cells (sorted and unique, "
+                                 "it holds all of them iff its n_owned-th entry is n_owned - 1)"));
+          for (const unsigned int s : L)
+            if (s >= ghost_lo && s < ghost_hi)
+              need[s - ghost_lo] |= std::uint16_t(1u << channel(d, j));
+          L.erase(std::remove_if(L.begin(), L.end(),
+                                 [&](const unsigned int s) { return s >= ghost_lo && s < ghost_hi; }),
+                  L.end());
+        };
         auto widen = [&](const std::vector<unsigned int> &in, unsigned int dir) {
           std::vector<unsigned int> out;
           for (const unsigned int s : in)
@@ -298,32 +329,50 @@ namespace granhydro::convection
           unique_sort(out, patch.n_slots());
           return out;
         };
-        listA[d].clear();
-        listB[d].clear();
-        listC[d].clear();
-        if (transverse && dim == 3)
+        std::vector<unsigned int> *L[3] = {&listA[d], &listB[d], &listC[d]};
+        for (auto *l : L)
+          l->clear();
+        const unsigned int ns = n_stages();
+        *L[ns - 1] = fin;
+        strip(*L[ns - 1], ns - 1);
+        for (int j = int(ns) - 2; j >= 0; --j)
           {
-            listC[d] = fin;
-            listB[d] = widen(listC[d], (d + 2) % 3);
-            listA[d] = widen(listB[d], (d + 1) % 3);
+            // stage j + 1 reads stage j along its direction
+            *L[j] = widen(*L[j + 1], stage_direction(d, j + 1));
+            strip(*L[j], j);
           }
-        else if (transverse && dim == 2)
-          {
-            listB[d] = fin;
-            listA[d] = widen(listB[d], 1 - d);
-          }
-        else
-          listA[d] = fin;
         for (const unsigned int s : listA[d]) // the normal stencil must exist
           for (int o = -r; o <= r; ++o)
             nb(s, d, o);
       }
+    if (halo_exchange)
+      {
+        halo.setup(*patch.partitioner(), NC, n_owned, need);
+        // the slots a neighbour waits for come first in each list: their values are sent
+        // before the rest of the stage is computed
+        std::vector<char> sent(patch.n_slots());
+        for (unsigned int d = 0; d < dim; ++d)
+          for (unsigned int j = 0; j < n_stages(); ++j)
+            {
+              std::fill(sent.begin(), sent.end(), 0);
+              halo.mark_sent(channel(d, j), sent);
+              auto &l = j == 0 ? listA[d] : (j == 1 ? listB[d] : listC[d]);
+              split[d][j] = std::stable_partition(l.begin(), l.end(), [&](const unsigned int s) { return sent[s] != 0; }) - l.begin();
+            }
+      }
+    else
+      for (unsigned int d = 0; d < dim; ++d)
+        for (unsigned int j = 0; j < 3; ++j)
+          split[d][j] = (j == 0 ? listA[d] : (j == 1 ? listB[d] : listC[d])).size();
     const std::size_t ns = patch.n_slots();
-    A.assign(ns * 2 * NC, 0.);
-    if (transverse)
-      B.assign(ns * 2 * P * NC, 0.);
-    if (transverse && dim == 3)
-      C.assign(ns * 2 * P * P * NC, 0.);
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        A[d].assign(ns * 2 * NC, 0.);
+        if (transverse)
+          B[d].assign(ns * 2 * P * NC, 0.);
+        if (transverse && dim == 3)
+          C[d].assign(ns * 2 * P * P * NC, 0.);
+      }
   }
 
   template <int dim, class Description>
@@ -377,56 +426,69 @@ namespace granhydro::convection
               }
         }
     };
+    // positivity: if a point value of slot s is inadmissible, all its 2 npts point values
+    // in this direction fall back to the cell average
+    auto positivity_fallback = [&](const SlotRange &range, double *vals_all) {
+      for (const unsigned int s : range)
+        {
+          double *vals = vals_all + std::size_t(s) * 2 * npts * NC;
+          bool    ok   = true;
+          for (unsigned int q = 0; q < 2 * npts && ok; ++q)
+            {
+              physics::State<dim> U;
+              for (unsigned int c = 0; c < NC; ++c)
+                U[c] = vals[q * NC + c];
+              ok = desc.convectively_admissible(U);
+            }
+          if (!ok)
+            {
+              for (unsigned int q = 0; q < 2 * npts; ++q)
+                for (unsigned int c = 0; c < NC; ++c)
+                  vals[q * NC + c] = Wp[std::size_t(s) * NC + c];
+              if (s < n_owned)
+                ++stats.limited_cells;
+            }
+        }
+    };
+    // stage A along d to the two faces of each cell (face averages); with transverse stages,
+    // B along the first transverse direction to its P points (Gauss pair or centre), C
+    // along the second. Stage j runs for all directions at once: first on the slots other
+    // ranks wait for, whose values are then sent, then on the rest, and only then are the
+    // halo's values received (one wait per stage, overlapped with the rest). The last
+    // stage's values are checked for positivity before they leave.
+    const unsigned int ns       = n_stages();
+    const unsigned int m_out[3] = {2 * NC, 2 * P * NC, 2 * P * P * NC};
+    auto stage_array = [&](const unsigned int d, const unsigned int j) {
+      return j == 0 ? A[d].data() : (j == 1 ? B[d].data() : C[d].data());
+    };
+    for (unsigned int j = 0; j < ns; ++j)
+      {
+        for (unsigned int part = 0; part < 2; ++part)
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              const auto        &L = j == 0 ? listA[d] : (j == 1 ? listB[d] : listC[d]);
+              const unsigned int t = stage_direction(d, j);
+              double *const      out = stage_array(d, j);
+              const SlotRange    range{L.data() + (part == 0 ? 0 : split[d][j]),
+                                    L.data() + (part == 0 ? split[d][j] : L.size())};
+              if (j == 0)
+                reconstruct(rec, patch, range, d, Wp, NC, NC, 0, out);
+              else if (P == 2)
+                reconstruct(rec, patch, range, t, stage_array(d, j - 1), m_out[j - 1], NC, 1, out);
+              else
+                centre_stage(range, t, stage_array(d, j - 1), out);
+              if (j + 1 == ns && Recon::r > 0)
+                positivity_fallback(range, out);
+              if (halo_exchange && part == 0)
+                halo.start(channel(d, j), out, m_out[j]);
+            }
+        if (halo_exchange)
+          for (unsigned int d = 0; d < dim; ++d)
+            halo.finish(channel(d, j), stage_array(d, j), m_out[j]);
+      }
     for (unsigned int d = 0; d < dim; ++d)
       {
-        // stage A: along d to the two faces
-        reconstruct(rec, patch, listA[d], d, Wp, NC, NC, 0, A.data());
-        const double *fin = A.data();
-        if (transverse)
-          {
-            // stage B: first transverse direction to its P points (Gauss pair or centre)
-            const unsigned int t1 = dim == 3 ? (d + 1) % 3 : 1 - d;
-            if (P == 2)
-              reconstruct(rec, patch, listB[d], t1, A.data(), 2 * NC, NC, 1, B.data());
-            else
-              centre_stage(listB[d], t1, A.data(), B.data());
-            fin = B.data();
-            if (dim == 3)
-              {
-                // stage C: second transverse direction
-                const unsigned int t2 = (d + 2) % 3;
-                if (P == 2)
-                  reconstruct(rec, patch, listC[d], t2, B.data(), 4 * NC, NC, 1, C.data());
-                else
-                  centre_stage(listC[d], t2, B.data(), C.data());
-                fin = C.data();
-              }
-          }
-        // positivity: fall back to the cell average in direction d
-        double *finw = const_cast<double *>(fin);
-        const std::vector<unsigned int> &finlist =
-          (transverse && dim == 3) ? listC[d] : (transverse ? listB[d] : listA[d]);
-        if (Recon::r > 0)
-          for (const unsigned int s : finlist)
-            {
-              double *vals = finw + std::size_t(s) * 2 * npts * NC;
-              bool    ok   = true;
-              for (unsigned int q = 0; q < 2 * npts && ok; ++q)
-                {
-                  physics::State<dim> U;
-                  for (unsigned int c = 0; c < NC; ++c)
-                    U[c] = vals[q * NC + c];
-                  ok = desc.convectively_admissible(U);
-                }
-              if (!ok)
-                {
-                  for (unsigned int q = 0; q < 2 * npts; ++q)
-                    for (unsigned int c = 0; c < NC; ++c)
-                      vals[q * NC + c] = Wp[std::size_t(s) * NC + c];
-                  if (s < n_owned)
-                    ++stats.limited_cells;
-                }
-            }
+        const double *fin = stage_array(d, ns - 1);
         // fluxes per face (a hanging face is a fine sub-face); each owned cell then sums
         // its faces in a fixed geometric order, so the result does not depend on the
         // numbering (1 rank and N ranks agree bit for bit)

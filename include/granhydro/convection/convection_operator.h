@@ -27,6 +27,7 @@
 #include <granhydro/convection/numerical_flux.h>
 #include <granhydro/convection/reconstruction.h>
 #include <granhydro/mesh/cartesian_patch.h>
+#include <granhydro/mesh/slot_exchange.h>
 
 #include <deal.II/lac/la_parallel_vector.h>
 
@@ -100,8 +101,23 @@ namespace granhydro::convection
     Weno3                      rec3;
     Weno5                      rec5;
 
-    // slot lists per direction
+    // slot lists per direction (on several ranks without the MPI ghosts, whose stage
+    // values come from their owners through halo)
     std::vector<unsigned int> listA[dim], listB[dim], listC[dim];
+    bool                      halo_exchange = false;
+    SlotExchange              halo;
+    /// the exchange channel of stage j (0: A, 1: B, 2: C) of direction d
+    static unsigned int channel(const unsigned int d, const unsigned int j) { return 3 * d + j; }
+    /// per direction and stage: the first split entries of the list are the slots other
+    /// ranks read (computed and sent first), the rest follow
+    std::size_t split[dim][3] = {};
+    /// reconstruction stages per direction: A, then B and C (3D) with transverse stages
+    unsigned int n_stages() const { return transverse ? dim : 1; }
+    /// the direction stage j of the faces normal to d reconstructs along
+    static unsigned int stage_direction(const unsigned int d, const unsigned int j)
+    {
+      return j == 0 ? d : (dim == 3 ? (d + j) % 3 : 1 - d);
+    }
     /// per face of patch.faces(d): 1 if it lies on a (slip or no-slip) wall; walls do not move normally, so
     /// the mass and energy fluxes there are exactly 0 whatever the ghost state (at concave
     /// corners of a mesh file the nearest-fluid ghost is not an exact mirror for every
@@ -121,7 +137,7 @@ namespace granhydro::convection
             F[1 + j] = 0.;
     }
 
-    mutable std::vector<double> A, B, C; // stage arrays (one direction at a time)
+    mutable std::vector<double> A[dim], B[dim], C[dim]; // stage arrays per direction
     mutable std::vector<double> Fp[dim];  // flux per face of patch.faces(d)
     mutable std::vector<double> cand;
     mutable Vector              flags;
