@@ -365,14 +365,10 @@ namespace granhydro::convection
         for (unsigned int j = 0; j < 3; ++j)
           split[d][j] = (j == 0 ? listA[d] : (j == 1 ? listB[d] : listC[d])).size();
     const std::size_t ns = patch.n_slots();
-    for (unsigned int d = 0; d < dim; ++d)
-      {
-        A[d].assign(ns * 2 * NC, 0.);
-        if (transverse)
-          B[d].assign(ns * 2 * P * NC, 0.);
-        if (transverse && dim == 3)
-          C[d].assign(ns * 2 * P * P * NC, 0.);
-      }
+    // every value a stage reads is written first (by this rank, or received): no zeroing
+    A.resize(ns * 2 * NC);
+    B.resize(transverse ? ns * 2 * P * NC : 0);
+    C.resize(transverse && dim == 3 ? ns * 2 * P * P * NC : 0);
   }
 
   template <int dim, class Description>
@@ -452,53 +448,55 @@ namespace granhydro::convection
     };
     // stage A along d to the two faces of each cell (face averages); with transverse stages,
     // B along the first transverse direction to its P points (Gauss pair or centre), C
-    // along the second. Stage j runs for all directions at once: first on the slots other
-    // ranks wait for, whose values are then sent, then on the rest, and only then are the
-    // halo's values received (one wait per stage, overlapped with the rest). The last
-    // stage's values are checked for positivity before they leave.
+    // along the second; the last stage's values are checked for positivity
     const unsigned int ns       = n_stages();
     const unsigned int m_out[3] = {2 * NC, 2 * P * NC, 2 * P * P * NC};
-    auto stage_array = [&](const unsigned int d, const unsigned int j) {
-      return j == 0 ? A[d].data() : (j == 1 ? B[d].data() : C[d].data());
+    // the stage arrays serve one direction at a time
+    auto stage_array = [&](const unsigned int j) {
+      return j == 0 ? A.data() : (j == 1 ? B.data() : C.data());
     };
-    for (unsigned int j = 0; j < ns; ++j)
-      {
-        for (unsigned int part = 0; part < 2; ++part)
-          for (unsigned int d = 0; d < dim; ++d)
-            {
-              const auto        &L = j == 0 ? listA[d] : (j == 1 ? listB[d] : listC[d]);
-              const unsigned int t = stage_direction(d, j);
-              double *const      out = stage_array(d, j);
-              const SlotRange    range{L.data() + (part == 0 ? 0 : split[d][j]),
-                                    L.data() + (part == 0 ? split[d][j] : L.size())};
-              if (j == 0)
-                reconstruct(rec, patch, range, d, Wp, NC, NC, 0, out);
-              else if (P == 2)
-                reconstruct(rec, patch, range, t, stage_array(d, j - 1), m_out[j - 1], NC, 1, out);
-              else
-                centre_stage(range, t, stage_array(d, j - 1), out);
-              if (j + 1 == ns && Recon::r > 0)
-                positivity_fallback(range, out);
-              if (halo_exchange && part == 0)
-                halo.start(channel(d, j), out, m_out[j]);
-            }
-        if (halo_exchange)
-          for (unsigned int d = 0; d < dim; ++d)
-            halo.finish(channel(d, j), stage_array(d, j), m_out[j]);
-      }
+    auto run_stage = [&](const unsigned int d, const unsigned int j, const unsigned int part) {
+      const auto        &L   = j == 0 ? listA[d] : (j == 1 ? listB[d] : listC[d]);
+      const unsigned int t   = stage_direction(d, j);
+      double *const      out = stage_array(j);
+      const SlotRange    range{L.data() + (part == 0 ? 0 : split[d][j]),
+                            L.data() + (part == 0 ? split[d][j] : L.size())};
+      if (j == 0)
+        reconstruct(rec, patch, range, d, Wp, NC, NC, 0, out);
+      else if (P == 2)
+        reconstruct(rec, patch, range, t, stage_array(j - 1), m_out[j - 1], NC, 1, out);
+      else
+        centre_stage(range, t, stage_array(j - 1), out);
+      if (j + 1 == ns && Recon::r > 0)
+        positivity_fallback(range, out);
+    };
+    // fluxes per face (a hanging face is a fine sub-face); each owned cell then sums its
+    // faces in a fixed geometric order, so the result does not depend on the numbering
+    // (1 rank and N ranks agree bit for bit)
+    auto fluxes = [&](const unsigned int d) {
+      const auto          &faces = patch.faces(d);
+      std::vector<double> &Fpd   = Fp[d];
+      Fpd.resize(faces.size() * NC);
+      face_fluxes(numflux, patch, d, stage_array(ns - 1), npts, wq, Fpd.data(), stats.flux);
+      for (std::size_t k = 0; k < faces.size(); ++k)
+        if (wall[d][k])
+          wall_flux(wall[d][k], d, &Fpd[k * NC]);
+    };
+    // on several ranks each stage runs first on the slots other ranks wait for, whose values
+    // are then sent, then on the rest, and only then are the halo's values received (the
+    // wait overlaps the rest of the stage)
     for (unsigned int d = 0; d < dim; ++d)
       {
-        const double *fin = stage_array(d, ns - 1);
-        // fluxes per face (a hanging face is a fine sub-face); each owned cell then sums
-        // its faces in a fixed geometric order, so the result does not depend on the
-        // numbering (1 rank and N ranks agree bit for bit)
-        const auto          &faces = patch.faces(d);
-        std::vector<double> &Fpd   = Fp[d];
-        Fpd.resize(faces.size() * NC);
-        face_fluxes(numflux, patch, d, fin, npts, wq, Fpd.data(), stats.flux);
-        for (std::size_t k = 0; k < faces.size(); ++k)
-          if (wall[d][k])
-            wall_flux(wall[d][k], d, &Fpd[k * NC]);
+        for (unsigned int j = 0; j < ns; ++j)
+          {
+            run_stage(d, j, 0);
+            if (halo_exchange)
+              halo.start(channel(d, j), stage_array(j), m_out[j]);
+            run_stage(d, j, 1);
+            if (halo_exchange)
+              halo.finish(channel(d, j), stage_array(j), m_out[j]);
+          }
+        fluxes(d);
       }
     assemble_rhs(rhs);
   }

@@ -137,7 +137,7 @@ namespace granhydro::convection
             F[1 + j] = 0.;
     }
 
-    mutable std::vector<double> A[dim], B[dim], C[dim]; // stage arrays per direction
+    mutable std::vector<double> A, B, C; // stage arrays (one direction at a time)
     mutable std::vector<double> Fp[dim];  // flux per face of patch.faces(d)
     mutable std::vector<double> cand;
     mutable Vector              flags;
