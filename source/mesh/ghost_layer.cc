@@ -141,8 +141,13 @@ namespace granhydro
     uniform.assign(owned.size(), 0);
     const unsigned int                  m = lattice.max_level();
     std::vector<std::vector<long long>> keys_at(m + 1);
+    // a face neighbour that is another rank's leaf (after the owned cells, a key >= 0) gets
+    // no box: its reconstructions come from its owner (the convective operator's halo
+    // exchange), so the halo is the face neighbours, their gradient stencils and what the
+    // boxes of the owned cells and wall ghosts reach
     for (std::size_t i = 0; i < n_face_cells; ++i)
-      keys_at[needed[i] >= 0 ? needed[i] & 7 : lattice.ghost(needed[i]).level].push_back(needed[i]);
+      if (i < owned.size() || needed[i] < 0)
+        keys_at[needed[i] >= 0 ? needed[i] & 7 : lattice.ghost(needed[i]).level].push_back(needed[i]);
     virtuals.reserve(n_face_cells / 8);
     long long box_volume = 1; // (2 r + 1)^dim
     for (unsigned int d = 0; d < dim; ++d)

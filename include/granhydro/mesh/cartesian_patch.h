@@ -7,11 +7,13 @@
  * FESystem with dim+2 components: one value per cell and conserved
  * variable); on adaptive boxes a p4est forest of its own (mesh/forest.h)
  * does, and deal.II's mesh follows it only for output. deal.II gives one ghost layer; WENO5 with transverse Gauss-point
- * reconstruction needs every cell within Chebyshev distance r+1 (r = stencil
- * half width) of an owned cell. This class builds that wider ghost set from
- * the cells' lattice indices, a Utilities::MPI::Partitioner for the state
- * vector with those ghosts, and flat neighbour tables (no cell iterators in
- * hot loops). Walls are represented by boundary-ghost slots whose state is a
+ * reconstruction reaches the cells within Chebyshev distance r (r = stencil
+ * half width) of an owned cell, and the face neighbours' gradient stencils
+ * reach one further (the reconstruction stages of a face neighbour owned by
+ * another rank come from that rank: ghost_layer.h, slot_exchange.h). This
+ * class builds that wider ghost set from the cells' lattice indices, a
+ * Utilities::MPI::Partitioner for the state vector with those ghosts, and
+ * flat neighbour tables (no cell iterators in hot loops). Walls are represented by boundary-ghost slots whose state is a
  * mirror (slip wall) or a copy (outflow) of an interior cell.
  *
  * Slot numbering: [0, n_owned) owned cells in DoF order, then [n_owned,

@@ -6,8 +6,11 @@
  * and, through them, the leaves their states come from.
  *
  * Box and adaptive meshes take the stencil closure: the owned cells' face neighbours,
- * the gradient stencils and reconstruction boxes (Chebyshev radius r = G - 1) of those
- * face cells, and the leaves the virtual cells are made of. Mesh-file lattices take
+ * the gradient stencils of those face cells, the reconstruction boxes (Chebyshev radius
+ * r = G - 1) of the owned cells and of the wall ghosts among the face neighbours, and
+ * the leaves the virtual cells are made of. A face neighbour owned by another rank gets
+ * no box: the convective operator receives its reconstruction stages from its owner
+ * (slot_exchange.h). Mesh-file lattices take
  * every position within Chebyshev distance G of an owned cell (the dilated mask); their
  * neighbour tables cover the mask only.
  */
