@@ -29,8 +29,9 @@ Computed from the mesh geometry, not measured:
                  the coarse cells (trees) of 'Domain/Cells' lexicographically (x fastest)
                  and gives each rank an equal share of the leaves in that order, so rank r
                  owns trees [r N/P, (r+1) N/P); its ghost cells are the cells of other ranks
-                 within Chebyshev distance 3 (the WENO5 stencil plus its transverse reach;
-                 periodic directions wrap). Adaptive meshes: the ghost fraction of the tree
+                 within Chebyshev distance 2 (the WENO5 boxes of the owned cells and the
+                 face neighbours' gradient stencils; the halo's transverse stages come
+                 from their owners; periodic directions wrap). Adaptive meshes: the ghost fraction of the tree
                  lattice times the mean leaves per tree (uniform leaf density assumed);
   msgs(P)      = neighbouring ranks of the most loaded rank.
 Assumptions (where it is wrong, the measurement says by how much): the work per cell is
@@ -122,7 +123,7 @@ def message_time(rows, nbytes):
     return float(np.exp(np.interp(np.log(max(nbytes, rows[0][0])), b, t)))
 
 
-def halo(trees, periodic, ranks, width=3):
+def halo(trees, periodic, ranks, width=2):
     """(ghost cells, neighbour ranks) of the rank with the most ghost cells, on the tree lattice"""
     n = int(np.prod(trees))
     # lexicographic tree index, x fastest -> numpy array indexed [z, y, x]

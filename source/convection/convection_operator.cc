@@ -2,6 +2,7 @@
 #include <granhydro/convection/convection_operator.h>
 #include <granhydro/physics/granular_gas.h>
 
+#include <deal.II/base/array_view.h>
 #include <deal.II/base/mpi.h>
 
 #include <algorithm>
@@ -62,12 +63,7 @@ namespace granhydro::convection
     }
 
     /// a piece of a slot list
-    struct SlotRange
-    {
-      const unsigned int *b, *e;
-      const unsigned int *begin() const { return b; }
-      const unsigned int *end() const { return e; }
-    };
+    using SlotRange = ArrayView<const unsigned int>;
 
     // GCC vectors of doubles (element-wise IEEE arithmetic, no contraction on the default
     // target): lanes are independent stencils, each bit for bit the scalar result
@@ -459,8 +455,8 @@ namespace granhydro::convection
       const auto        &L   = j == 0 ? listA[d] : (j == 1 ? listB[d] : listC[d]);
       const unsigned int t   = stage_direction(d, j);
       double *const      out = stage_array(j);
-      const SlotRange    range{L.data() + (part == 0 ? 0 : split[d][j]),
-                            L.data() + (part == 0 ? split[d][j] : L.size())};
+      const SlotRange    range = part == 0 ? SlotRange(L.data(), split[d][j])
+                                           : SlotRange(L.data() + split[d][j], L.size() - split[d][j]);
       if (j == 0)
         reconstruct(rec, patch, range, d, Wp, NC, NC, 0, out);
       else if (P == 2)

@@ -165,19 +165,4 @@ namespace granhydro
         mark[s] = 1;
   }
 
-  std::size_t SlotExchange::n_received(const unsigned int k) const
-  {
-    std::size_t n = 0;
-    for (const auto &p : recv_)
-      n += p.slots[k].size();
-    return n;
-  }
-
-  std::size_t SlotExchange::n_sent(const unsigned int k) const
-  {
-    std::size_t n = 0;
-    for (const auto &p : send_)
-      n += p.slots[k].size();
-    return n;
-  }
 } // namespace granhydro

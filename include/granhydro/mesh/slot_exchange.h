@@ -55,10 +55,6 @@ namespace granhydro
     /// set mark[s] = 1 for the owned slots s this rank sends on channel k
     void mark_sent(const unsigned int k, std::vector<char> &mark) const;
 
-    /// ghosts received per call of channel k on this rank, and owned slots sent
-    std::size_t n_received(const unsigned int k) const;
-    std::size_t n_sent(const unsigned int k) const;
-
   private:
     struct Peer
     {
