@@ -2,7 +2,7 @@
 # tools/bitwise_guard.sh OLD_BUILD_DIR NEW_BUILD_DIR: the bit-for-bit guard for refactors.
 # Each dir holds granhydro + libgranhydro_core.so. Runs scenes on 1 and 2 ranks
 # (shortened), compares log key lines, checkpoint digests and md5 of csv/vtu.
-# env: OLD_RESULTS (a folder that caches the old runs between calls), SCENES (space list, relative to REPO/parameters), GUARD_DIR (/tmp/guard), REPO (this checkout)
+# env: GUARD_OLD_PARTITION=1 when the old build predates Adaptivity/Load balance; OLD_RESULTS (a folder that caches the old runs between calls), SCENES (space list, relative to REPO/parameters), GUARD_DIR (/tmp/guard), REPO (this checkout)
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 OLD=$(readlink -f $1); NEW=$(readlink -f $2)
 REPO=${REPO:-$(cd "$(dirname "$0")/.." && pwd)}
@@ -23,6 +23,10 @@ for s in $SCENES; do
       mkdir -p prm; ln -sfn $REPO/meshes meshes; cp $REPO/parameters/$s.prm prm/scene.prm
       if [ -n "${ENDT[$n]:-}" ]; then printf 'subsection Time\n  set End time = %s\nend\n' ${ENDT[$n]} >> prm/scene.prm; fi
       if [ $n = amr_blast_3d ]; then printf 'subsection Time\n  set Maximum steps = 60\nend\n' >> prm/scene.prm; fi
+      # the new build partitions by cell count like the old ones (the default weighs cells by
+      # measured cost, a timing-dependent partition: the state is the same, but the profiles'
+      # parallel sums may round differently); builds before this option: GUARD_OLD_PARTITION=1
+      if [ $n = amr_blast_3d ] && { [ $which = new ] || [ -z "${GUARD_OLD_PARTITION:-}" ]; }; then printf 'subsection Adaptivity\n  set Load balance = cells\nend\n' >> prm/scene.prm; fi
       printf 'subsection Output\n  set Directory = out\n  set Write checkpoint = true\n  set Write profiles = true\nend\n' >> prm/scene.prm
       LD_LIBRARY_PATH=$B timeout 900 mpirun --oversubscribe -n $np $B/granhydro prm/scene.prm > log 2>&1; echo "rc=$?" >> log
       grep -E "steps|mass drift|positiv|Newton|MUSTA|rc=|run summary|drift|error" log | grep -v -E "steps/s|ETA" | sed -E 's/[-+0-9.e]+ s\b/X s/g; s/[-+0-9.e]+ s\/step/X s\/step/g; s/[-+0-9.e]+ cell-updates/X cell-updates/' > key.txt

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <vector>
 
 namespace granhydro
@@ -98,8 +99,28 @@ namespace granhydro
       std::copy(u, u + NC, S.begin());
       return desc.admissible(S);
     };
-    if (!patch_->adapt(flags, U, admissible))
+    // the partition (Adaptivity/Load balance): with the measured cost, each rank's cells
+    // weigh its convective seconds per cell since the last adaptation (waits for other
+    // ranks excluded) relative to the mean over the ranks, within 1/2 .. 2; p4est then
+    // gives every rank the same sum of weights, so a rank that was slower per cell (a
+    // busier core, more coarse/fine interfaces) hands cells to its neighbours. Until every
+    // rank has measured (the first steps), equal numbers of cells.
+    int                leaf_weight = 0;
+    const unsigned int n_ranks     = Utilities::MPI::n_mpi_processes(comm);
+    if (n_ranks > 1 && scene.balance_by_measured_cost(scene.diffusion_active()))
+      {
+        const double busy = conv ? conv->busy_seconds() - busy_at_adapt_ : 0.;
+        const double cost = fixed_cost_ > 0 ? fixed_cost_ : (n_owned > 0 && busy > 0 ? busy / n_owned : 0.);
+        const std::vector<double> costs = Utilities::MPI::all_gather(comm, cost); // O(ranks)
+        if (std::all_of(costs.begin(), costs.end(), [](const double c) { return c > 0; }))
+          {
+            const double mean = std::accumulate(costs.begin(), costs.end(), 0.) / n_ranks;
+            leaf_weight       = int(std::lround(1000. * std::clamp(cost / mean, 0.5, 2.)));
+          }
+      }
+    if (!patch_->adapt(flags, U, admissible, leaf_weight))
       return false;
+    busy_at_adapt_ = conv ? conv->busy_seconds() : 0.;
     mesh_changed();
     ++adaptations;
     refined_cells += patch_->last_refined();

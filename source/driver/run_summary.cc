@@ -84,6 +84,11 @@ namespace granhydro
             << " cells refined, " << sum.coarsened_cells << " coarsened; " << sum.cells
             << " cells at the end, at most " << sum.max_cells << "; adaptation " << sum.adaptation_seconds
             << " s\n";
+    if (scene.max_level > 0 && sum.ranks > 1)
+      pcout << "  partition: " << sum.min_rank_cells << " to " << sum.max_rank_cells
+            << " cells per rank at the end, "
+            << (sum.balance_by_cost ? "cells weighted by each rank's measured cost per cell" : "equal numbers of cells")
+            << " (Adaptivity/Load balance = " << scene.load_balance << ")\n";
     if (sum.temperature_repairs > 0)
       pcout << "  temperature floor: " << sum.temperature_repairs
             << " cell updates of a cooling dense pile ended with T < " << physics::GranularGas<dim>::temperature_floor

@@ -28,13 +28,15 @@ namespace granhydro
   template <int dim>
   bool CartesianPatch<dim>::adapt(const std::vector<signed char> &flags,
                                   LinearAlgebra::distributed::Vector<double> &U,
-                                  const std::function<bool(const double *)> &admissible)
+                                  const std::function<bool(const double *)> &admissible,
+                                  const int leaf_weight)
   {
     if constexpr (dim == 1)
       {
         (void)flags;
         (void)U;
         (void)admissible;
+        (void)leaf_weight;
         AssertThrow(false, ExcMessage("adaptive meshes need 2 or 3 dimensions"));
         return false;
       }
@@ -136,7 +138,7 @@ namespace granhydro
             }
         };
         unsigned long long nr = 0, nc = 0;
-        const std::vector<double> values = forest_->adapt(f, fill, nr, nc);
+        const std::vector<double> values = forest_->adapt(f, fill, nr, nc, leaf_weight);
         dealii_mesh_current_ = false;
         rebuild();
         U.reinit(part);
@@ -201,7 +203,7 @@ namespace granhydro
 
 #define GRANHYDRO_INSTANTIATE(d)                                                                   \
   template bool CartesianPatch<d>::adapt(const std::vector<signed char> &, Vector &,               \
-                                         const std::function<bool(const double *)> &);             \
+                                         const std::function<bool(const double *)> &, int);        \
   template void CartesianPatch<d>::refine_to(const std::vector<long long> &);
   GRANHYDRO_INSTANTIATE(1)
   GRANHYDRO_INSTANTIATE(2)

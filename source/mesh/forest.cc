@@ -31,11 +31,18 @@ namespace granhydro
       return static_cast<double *>(q->p.user_data);
     }
 
-    /// the number of doubles of a payload is in the forest's user pointer
+    /// the number of doubles of a payload and the leaves' partition weight are in the
+    /// forest's user pointer (ForestUserData)
     template <int dim>
     unsigned int payload_size(p4forest<dim> *f)
     {
-      return *static_cast<unsigned int *>(f->user_pointer);
+      return static_cast<ForestUserData *>(f->user_pointer)->n_values;
+    }
+
+    template <int dim>
+    int weigh_leaf(p4forest<dim> *f, topidx_t<dim>, quadrant_t<dim> *)
+    {
+      return static_cast<ForestUserData *>(f->user_pointer)->leaf_weight;
     }
 
     template <int dim>
@@ -88,11 +95,11 @@ namespace granhydro
                       const std::array<double, 3> &lower, const std::array<double, 3> &h,
                       const unsigned int n_values)
     : base_level(base_level)
-    , n_values(n_values)
+    , user{n_values, 1}
   {
     forest = p4<dim>::copy_forest(const_cast<p4forest<dim> *>(tria.get_p4est()), /*copy_data=*/0);
-    forest->user_pointer = &this->n_values;
-    p4<dim>::reset_data(forest, sizeof(double) * (n_values + 1), &init_zero<dim>, &this->n_values);
+    forest->user_pointer = &user;
+    p4<dim>::reset_data(forest, sizeof(double) * (n_values + 1), &init_zero<dim>, &user);
     // each tree is a coarse cell of the box; its vertex 0 is its lower corner and its
     // axes are the box's (GridGenerator::subdivided_hyper_rectangle, checked against
     // deal.II's cells in CartesianPatch::sync_dealii())
@@ -146,8 +153,11 @@ namespace granhydro
   template <int dim>
   std::vector<double> Forest<dim>::adapt(const std::vector<signed char>                       &flags,
                                          const std::function<void(const Source &, double *)> &fill,
-                                         unsigned long long &refined, unsigned long long &coarsened)
+                                         unsigned long long &refined, unsigned long long &coarsened,
+                                         const int leaf_weight)
   {
+    const unsigned int n_values = user.n_values;
+    AssertThrow(leaf_weight >= 0, ExcMessage("leaf weights are positive (0: unweighted partition)"));
     AssertThrow(flags.size() == std::size_t(forest->local_num_quadrants),
                 ExcMessage("one flag per local leaf"));
     // the leaves before, with their flags
@@ -203,7 +213,9 @@ namespace granhydro
 
     // families stay on one rank (the next adaptation may coarsen them); p4est moves the
     // payloads along
-    p4<dim>::partition(forest, /*partition_for_coarsening=*/1, /*weight=*/nullptr);
+    // (the weights are the same kind on every rank: all 0 or all > 0)
+    user.leaf_weight = leaf_weight;
+    p4<dim>::partition(forest, /*partition_for_coarsening=*/1, leaf_weight > 0 ? &weigh_leaf<dim> : nullptr);
     std::vector<double> values;
     values.reserve(std::size_t(forest->local_num_quadrants) * n_values);
     for_each_local<dim>(forest, [&](const topidx_t<dim>, quadrant_t<dim> *q) {

@@ -35,6 +35,18 @@ namespace granhydro
       prm.declare_entry("Buffer", "2", Patterns::Integer(0, 8),
                         "Layers of cells around a cell flagged for refinement that are refined too, "
                         "so that a shock stays in the fine region until the next adaptation.");
+      prm.declare_entry("Load balance", "auto", Patterns::Selection("auto|cells|measured cost"),
+                        "How the cells are split among the MPI ranks at each adaptation (the "
+                        "results do not depend on it): 'cells' = equal numbers of cells per rank "
+                        "(p4est's partition along the octree order); 'measured cost' = each "
+                        "rank's cells weighted by the time it spent per cell in the convective "
+                        "step since the last adaptation (waits for other ranks excluded; "
+                        "1/2 to 2 times the mean), so a rank on a slower or busier core, or "
+                        "with more coarse/fine interfaces, hands cells to its neighbours in the "
+                        "order; 'auto' = measured cost without the implicit step, cells with it "
+                        "(GMRES + block ILU of the implicit step depend on the partition to "
+                        "~1e-12, and a partition that depends on timings would make two runs "
+                        "of the same scene differ at that level).");
     }
     prm.leave_subsection();
   }
@@ -48,6 +60,7 @@ namespace granhydro
     coarsen_threshold = prm.get_double("Coarsen threshold");
     adapt_interval    = prm.get_integer("Interval");
     adapt_buffer      = prm.get_integer("Buffer");
+    load_balance      = prm.get("Load balance");
     prm.leave_subsection();
   }
 

@@ -77,6 +77,11 @@ namespace granhydro::convection
 
     const ConvectionStatistics &statistics() const { return stats; }
 
+    /// seconds this rank spent computing convective right-hand sides (apply()), without
+    /// the waits for other ranks' halo values: the measured cost that 'Adaptivity/Load
+    /// balance = measured cost' weighs this rank's cells with
+    double busy_seconds() const { return busy_seconds_; }
+
     /// where the last rejected SSP-RK3 step failed (this rank; empty if elsewhere)
     const std::string &failure() const { return last_failure; }
     ConvectionStatistics global_statistics() const;
@@ -143,6 +148,7 @@ namespace granhydro::convection
     mutable Vector              flags;
     mutable std::vector<double> W, rhs0, U0;
     mutable ConvectionStatistics stats;
+    mutable double               busy_seconds_ = 0;
     mutable std::string          last_failure;
   };
 } // namespace granhydro::convection

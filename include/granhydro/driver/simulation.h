@@ -114,6 +114,11 @@ namespace granhydro
     /// number of mesh adaptations so far
     unsigned int n_adaptations() const { return adaptations; }
 
+    /// for tests: the cost per cell this rank reports at each adaptation instead of the
+    /// measured one, when the partition weighs the ranks' cells by their cost
+    /// (Adaptivity/Load balance); 0 = measure
+    void set_cost_per_cell(const double c) { fixed_cost_ = c; }
+
   private:
     /// SSP-RK3 over convective time h in `pieces` equal steps, then the temperature
     /// repair; false if a stage failed or the result is inadmissible
@@ -191,6 +196,8 @@ namespace granhydro
     unsigned int start_step_ = 0;
     Vector                    U;
     unsigned int              adaptations = 0;
+    double                    busy_at_adapt_ = 0; ///< conv->busy_seconds() at the last adaptation
+    double                    fixed_cost_    = 0; ///< set_cost_per_cell()
     unsigned long long        max_cells = 0, refined_cells = 0, coarsened_cells = 0;
   };
 

@@ -198,11 +198,13 @@ namespace granhydro
      * if `admissible` is given, the parent's value plus its minmod-limited slopes times
      * their offsets, when all 2^dim siblings' states pass `admissible`: conservative
      * either way), repartition and rebuild all tables. U is reinitialised on the new
-     * partitioner(). Returns true if the mesh changed.
+     * partitioner(). Returns true if the mesh changed. leaf_weight: 0 (on every rank) =
+     * equal numbers of cells per rank; > 0 (on every rank) = the weight of each of this
+     * rank's cells in the partition (Forest::adapt()). The results do not depend on it.
      */
     bool adapt(const std::vector<signed char> &flags,
                dealii::LinearAlgebra::distributed::Vector<double> &U,
-               const std::function<bool(const double *)> &admissible = {});
+               const std::function<bool(const double *)> &admissible = {}, int leaf_weight = 0);
     /// cells refined and coarsened (global) by the last adapt(), after 2:1 balance
     unsigned long long last_refined() const { return last_refined_; }
     unsigned long long last_coarsened() const { return last_coarsened_; }

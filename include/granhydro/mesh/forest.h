@@ -40,6 +40,13 @@ namespace granhydro
     using type = void;
   };
 
+  /// what p4est's callbacks read through the forest's user pointer
+  struct ForestUserData
+  {
+    unsigned int n_values;    ///< doubles of payload per leaf (the refine/coarsen flag follows them)
+    int          leaf_weight; ///< partition weight of each local leaf
+  };
+
   template <int dim>
   class Forest
   {
@@ -87,15 +94,20 @@ namespace granhydro
      * call fill(source, values) for each new local leaf (n_values doubles to write),
      * partition (families kept on one rank) and return the values of the leaves this rank
      * owns afterwards (n_values each, in order). refined/coarsened: local counts of new
-     * families and of the leaves merged into parents.
+     * families and of the leaves merged into parents. leaf_weight: 0 on every rank = equal
+     * numbers of leaves per rank (p4est's partition, deal.II's); otherwise (> 0 on every
+     * rank) each of this rank's leaves weighs leaf_weight and the ranks get equal sums of
+     * weights, so a rank with heavier leaves hands some to its neighbours in the order.
      */
     std::vector<double> adapt(const std::vector<signed char>                          &flags,
                               const std::function<void(const Source &, double *)>    &fill,
-                              unsigned long long &refined, unsigned long long &coarsened);
+                              unsigned long long &refined, unsigned long long &coarsened,
+                              int leaf_weight = 0);
 
   private:
-    forest_t                     *forest = nullptr;
-    unsigned int                  base_level, n_values;
+    forest_t *forest = nullptr;
+    unsigned int base_level;
+    ForestUserData user{0, 1};
     /// lattice index of each tree's lower corner in units of base-level cells
     std::vector<std::array<int, 3>> tree_origin;
   };

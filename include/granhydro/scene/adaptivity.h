@@ -20,6 +20,15 @@ namespace granhydro
     double       coarsen_threshold = 0.01; ///< coarsen where it stays below this
     unsigned int adapt_interval    = 5;    ///< steps between adaptations
     unsigned int adapt_buffer      = 2;    ///< the refine flag spreads over this many cell layers
+    std::string  load_balance      = "auto"; ///< auto | cells | measured cost (MPI partition)
+
+    /// weigh each rank's cells by its measured cost at each adaptation ('Load balance'
+    /// resolved: 'auto' = when no implicit step runs, whose GMRES + block ILU iterates
+    /// depend on the partition)
+    bool balance_by_measured_cost(bool implicit_step) const
+    {
+      return load_balance == "measured cost" || (load_balance == "auto" && !implicit_step);
+    }
 
     static void declare_parameters(dealii::ParameterHandler &prm);
     void parse_parameters(dealii::ParameterHandler &prm);
