@@ -484,6 +484,17 @@ namespace granhydro::convection
     // on several ranks each stage runs first on the slots other ranks wait for, whose values
     // are then sent, then on the rest, and only then are the halo's values received (the
     // wait overlaps the rest of the stage)
+    auto finish = [&](const unsigned int d, const unsigned int j) {
+      // the wait for the other ranks is not this rank's cost (busy_seconds())
+      const auto t0 = std::chrono::steady_clock::now();
+      halo.finish(channel(d, j), stage_array(j), m_out[j]);
+      busy_seconds_ -= std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
+    // with several stages, the last stage's values of direction d are received (and its
+    // fluxes computed) only after stage A of direction d + 1 has run: stage A writes
+    // another array, and the other rank's lag is absorbed by a whole stage instead of
+    // stopping this rank at once
+    const bool defer_last = halo_exchange && ns > 1;
     for (unsigned int d = 0; d < dim; ++d)
       {
         for (unsigned int j = 0; j < ns; ++j)
@@ -492,15 +503,21 @@ namespace granhydro::convection
             if (halo_exchange)
               halo.start(channel(d, j), stage_array(j), m_out[j]);
             run_stage(d, j, 1);
-            if (halo_exchange)
+            if (defer_last && j == 0 && d > 0)
               {
-                // the wait for the other ranks is not this rank's cost (busy_seconds())
-                const auto t0 = std::chrono::steady_clock::now();
-                halo.finish(channel(d, j), stage_array(j), m_out[j]);
-                busy_seconds_ -= std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+                finish(d - 1, ns - 1);
+                fluxes(d - 1);
               }
+            if (halo_exchange && !(defer_last && j == ns - 1))
+              finish(d, j);
           }
-        fluxes(d);
+        if (!defer_last)
+          fluxes(d);
+      }
+    if (defer_last)
+      {
+        finish(dim - 1, ns - 1);
+        fluxes(dim - 1);
       }
     assemble_rhs(rhs);
   }
