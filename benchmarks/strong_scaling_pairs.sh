@@ -1,0 +1,43 @@
+#!/bin/bash
+# benchmarks/strong_scaling_pairs.sh BUILD_DIR [PAIRS] [SCENE]: 2-rank strong-scaling
+# efficiency of a scene (default parameters/amr_blast_3d.prm) from PAIRS (default 10)
+# alternated runs on 1 and 2 ranks: the efficiency T1 / (2 T2) per pair and of the medians,
+# and the pairs in which both runs are within 5 % of their best time ("undisturbed": on a
+# shared or virtual machine a foreign load slows single runs by 10-40 %, and a pair run
+# back to back sees about the same host). Also the adaptation's share of the 1-rank wall
+# time (the run summary's "adaptation" and "wall"). Both cores should be otherwise idle.
+set -e
+B=$(readlink -f ${1:-build}); PAIRS=${2:-10}
+REPO=$(cd "$(dirname "$0")/.." && pwd)
+SCENE=$(readlink -f ${3:-$REPO/parameters/amr_blast_3d.prm})
+[ -x $B/granhydro ] || { echo "no granhydro in $B" >&2; exit 1; }
+[ -f $SCENE ] || { echo "no scene file $SCENE" >&2; exit 1; }
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+W=$(mktemp -d /tmp/pairs.XXXX)
+cp $SCENE $W/scene.prm
+cd $W
+printf "%5s %10s %10s %11s %14s\n" pair "1 rank s" "2 ranks s" efficiency "adaptation 1r"
+for i in $(seq 1 $PAIRS); do
+  for np in 1 2; do
+    mpirun -np $np $B/granhydro scene.prm > log.$np 2>&1 || { echo "run failed (log in $W/log.$np)" >&2; exit 1; }
+    grep -E "^  wall" log.$np | awk '{print $2}' > wall.$np
+    grep -E "adaptation [0-9.e+-]+ s" log.$np | sed 's/.*adaptation //; s/ s$//' > adapt.$np || echo 0 > adapt.$np
+  done
+  t1=$(cat wall.1); t2=$(cat wall.2); a1=$(cat adapt.1); a1=${a1:-0}
+  echo "$t1 $t2 $a1" >> pairs.txt
+  awk -v i=$i '{printf "%5d %10.2f %10.2f %11.3f %14.2f\n", i, $1, $2, $1 / (2 * $2), $3}' <(tail -1 pairs.txt)
+done
+awk '
+  function median(a, n,   i, j, t) { for (i = 1; i <= n; ++i) for (j = i + 1; j <= n; ++j) if (a[j] < a[i]) { t = a[i]; a[i] = a[j]; a[j] = t }
+                                     return n % 2 ? a[(n + 1) / 2] : 0.5 * (a[n / 2] + a[n / 2 + 1]) }
+  { n++; t1[n] = $1; t2[n] = $2; e[n] = $1 / (2 * $2); s[n] = $3 / $1; if (n == 1 || $1 < b1) b1 = $1; if (n == 1 || $2 < b2) b2 = $2 }
+  END {
+    for (i = 1; i <= n; ++i) { c1[i] = t1[i]; c2[i] = t2[i]; ce[i] = e[i]; cs[i] = s[i] }
+    m1 = median(c1, n); m2 = median(c2, n)
+    printf "medians: 1 rank %.2f s, 2 ranks %.2f s, efficiency %.3f; per-pair median %.3f; adaptation %.1f %% of the 1-rank wall (median)\n", m1, m2, m1 / (2 * m2), median(ce, n), 100 * median(cs, n)
+    k = 0; list = ""
+    for (i = 1; i <= n; ++i) if (t1[i] <= 1.05 * b1 && t2[i] <= 1.05 * b2) { k++; u[k] = e[i]; list = list sprintf(" %.3f", e[i]) }
+    if (k > 0) printf "undisturbed pairs (both within 5 %% of their best): %d:%s, median %.3f\n", k, list, median(u, k)
+    else print "no undisturbed pair"
+  }' pairs.txt
+rm -rf $W
