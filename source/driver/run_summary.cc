@@ -87,7 +87,7 @@ namespace granhydro
     if (scene.max_level > 0 && sum.ranks > 1)
       pcout << "  partition: " << sum.min_rank_cells << " to " << sum.max_rank_cells
             << " cells per rank at the end, "
-            << (sum.balance_by_cost ? "cells weighted by each rank's measured cost per cell" : "equal numbers of cells")
+            << (scene.balance_by_measured_cost(scene.diffusion_active()) ? "cells weighted by each rank's measured cost per cell" : "equal numbers of cells")
             << " (Adaptivity/Load balance = " << scene.load_balance << ")\n";
     if (sum.temperature_repairs > 0)
       pcout << "  temperature floor: " << sum.temperature_repairs

@@ -398,7 +398,6 @@ namespace granhydro
     sum.coarsened_cells    = coarsened_cells;
     sum.min_rank_cells     = Utilities::MPI::min<unsigned long long>(patch_->n_owned(), comm);
     sum.max_rank_cells     = Utilities::MPI::max<unsigned long long>(patch_->n_owned(), comm);
-    sum.balance_by_cost    = scene.balance_by_measured_cost(scene.diffusion_active());
     sum.temperature_repairs    = Utilities::MPI::sum(temperature_repairs, comm);
     sum.convective_steps       = convective_pieces; // the same on every rank
     sum.max_temperature_repair = Utilities::MPI::max(max_repair, comm);

@@ -33,10 +33,8 @@ namespace granhydro
     unsigned int       adaptations = 0;
     /// cells flagged for refinement and coarsening over the run
     unsigned long long refined_cells = 0, coarsened_cells = 0;
-    /// the fewest and most cells a rank owns at the end, and whether the partition weighs
-    /// the ranks' cells by their measured cost (Adaptivity/Load balance)
+    /// the fewest and most cells a rank owns at the end
     unsigned long long min_rank_cells = 0, max_rank_cells = 0;
-    bool               balance_by_cost = false;
     /// cell updates of a cooling dense pile set to the temperature floor, and the largest
     /// thermal-energy deficit repaired per grain (scaled)
     unsigned long long temperature_repairs = 0;

@@ -15,8 +15,8 @@
  *
  * The operations are those deal.II performs (refine and coarsen one level,
  * 2:1 balance across faces, edges and corners, partition keeping families
- * together), so the leaves, their order and the partition are the ones the
- * deal.II path gives; the values are moved with the finite element's own
+ * together), so the leaves, their order and (unweighted) the partition are the
+ * ones the deal.II path gives; the values are moved with the finite element's own
  * interpolation matrices (see CartesianPatch::adapt()).
  */
 #include <deal.II/distributed/p4est_wrappers.h>
