@@ -30,6 +30,13 @@
 //                           variants must give, for every position of every level within
 //                           the lattice keys' reach (periodic sides unwrapped), the slot a
 //                           plain std::map of the wrapped positions holds, or -1.
+//   test_amr balance      : random refine and coarsen flags on adaptive boxes (2D, 3D;
+//                           periodic in x, walls elsewhere; 3 levels), 24 adaptations each:
+//                           after each one the forest must be 2:1 balanced across faces,
+//                           edges and corners (p4est's own check), whether p4est balanced
+//                           it or the patch proved that the changes kept the balance and
+//                           skipped p4est's balance; both must occur. Also under mpirun
+//                           (ghost leaves' changes come from their owners).
 //   test_amr sod DIM [refine coarsen buffer levels indicator interval max_error max_cells]
 //                         : Sod's problem along the diagonal of the unit square/cube with AMR
 //                           against the uniform mesh at the finest level: L1 density errors
@@ -44,7 +51,13 @@
 
 #include <algorithm>
 
+#include <granhydro/mesh/cartesian_patch.h>
 #include <granhydro/mesh/stencil_tables.h>
+
+#include <deal.II/distributed/tria.h>
+
+#include <p4est_ghost.h>
+#include <p8est_ghost.h>
 
 #include <iomanip>
 #include <map>
@@ -397,6 +410,60 @@ end
        << diff << " (tolerance " << tol << ")";
     chk.check(same && diff <= tol && ss.adaptations > 0, os.str());
   }
+  /// random flags on an adaptive box: is the forest 2:1 balanced after every adaptation,
+  /// and did both the skipped and the full balance occur? The flags depend on the leaf's
+  /// key and the round only, so every partition sees the same adaptations.
+  template <int dim>
+  void balance_rounds(Checker &chk, const MPI_Comm comm)
+  {
+    MeshSettings ms;
+    ms.cells     = {{5, 4, 3}};
+    ms.max_level = 3;
+    ms.boundary  = {{BoundaryType::periodic, BoundaryType::periodic, BoundaryType::slip_wall,
+                     BoundaryType::no_slip_wall, BoundaryType::slip_wall, BoundaryType::outflow}};
+    CartesianPatch<dim> patch(comm);
+    patch.build(ms, 3);
+    constexpr unsigned int NC      = dim + 2;
+    unsigned int           bad     = 0;
+    const unsigned int     rounds  = 24;
+    unsigned long long     changed = 0;
+    for (unsigned int round = 0; round < rounds; ++round)
+      {
+        dealii::LinearAlgebra::distributed::Vector<double> U(patch.partitioner());
+        std::vector<signed char> flags(patch.n_owned(), 0);
+        for (unsigned int s = 0; s < patch.n_owned(); ++s)
+          {
+            // a hash of (leaf, round): refine 8 %, coarsen 40 % (families coarsen only
+            // when all their members are flagged); early rounds mostly refine
+            std::uint64_t h = std::uint64_t(patch.leaf_key(s)) * 0x9E3779B97F4A7C15ull + round * 0xBF58476D1CE4E5B9ull;
+            h ^= h >> 31;
+            h *= 0x94D049BB133111EBull;
+            h ^= h >> 29;
+            const unsigned int u = h % 100;
+            flags[s] = u < (round < 6 ? 20u : 8u) ? 1 : (u >= 60 ? -1 : 0);
+            for (unsigned int c = 0; c < NC; ++c)
+              U.local_element(std::size_t(s) * NC + c) = 1;
+          }
+        const auto before = patch.n_global_cells();
+        patch.adapt(flags, U, {});
+        changed += patch.n_global_cells() != before;
+        patch.dof_handler(); // deal.II's copy of the forest (its p4est) follows the leaves
+        const auto &tria = dynamic_cast<const dealii::parallel::distributed::Triangulation<dim> &>(patch.triangulation());
+        int         balanced;
+        if constexpr (dim == 2)
+          balanced = p4est_is_balanced(const_cast<p4est_t *>(tria.get_p4est()), P4EST_CONNECT_FULL);
+        else
+          balanced = p8est_is_balanced(const_cast<p8est_t *>(tria.get_p4est()), P8EST_CONNECT_FULL);
+        bad += balanced ? 0 : 1;
+      }
+    const auto [ran, skipped] = patch.balance_counts();
+    std::ostringstream os;
+    os << dim << "D box, " << rounds << " adaptations with random flags (" << changed << " changed the cell count, "
+       << patch.n_global_cells() << " cells at the end): p4est balanced in " << ran << ", skipped in " << skipped
+       << " (proved balanced); unbalanced forests after an adaptation: " << bad
+       << " (must be 0; both kinds of adaptation must occur)";
+    chk.check(bad == 0 && ran > 0 && skipped > 0 && ran + skipped == rounds, os.str());
+  }
 } // namespace
 
 int main(int argc, char **argv)
@@ -513,6 +580,11 @@ int main(int argc, char **argv)
              << found << " with a slot): " << wrong_dense << " wrong answers (dense grids), " << wrong_sparse
              << " (hash maps); reference: std::map of the wrapped positions, exact";
           chk.check(pos.size() > 1000 && wrong_dense == 0 && wrong_sparse == 0 && found >= 2 * pos.size(), os.str()); // periodic images found too
+        }
+      else if (what == "balance")
+        {
+          balance_rounds<2>(chk, world);
+          balance_rounds<3>(chk, world);
         }
       else if (what == "dealii-sync")
         {

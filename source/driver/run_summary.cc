@@ -82,8 +82,9 @@ namespace granhydro
     if (scene.max_level > 0)
       pcout << "  adaptive mesh: " << sum.adaptations << " adaptations, " << sum.refined_cells
             << " cells refined, " << sum.coarsened_cells << " coarsened; " << sum.cells
-            << " cells at the end, at most " << sum.max_cells << "; adaptation " << sum.adaptation_seconds
-            << " s\n";
+            << " cells at the end, at most " << sum.max_cells << "; 2:1 balance by p4est in "
+            << patch_->balance_counts().first << " (skipped in " << patch_->balance_counts().second
+            << ": the changes kept it); adaptation " << sum.adaptation_seconds << " s\n";
     if (scene.max_level > 0 && sum.ranks > 1)
       pcout << "  partition: " << sum.min_rank_cells << " to " << sum.max_rank_cells
             << " cells per rank at the end, "

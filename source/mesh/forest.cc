@@ -154,7 +154,8 @@ namespace granhydro
   std::vector<double> Forest<dim>::adapt(const std::vector<signed char>                       &flags,
                                          const std::function<void(const Source &, double *)> &fill,
                                          unsigned long long &refined, unsigned long long &coarsened,
-                                         const int leaf_weight)
+                                         const int leaf_weight,
+                                         const std::function<bool(const std::vector<signed char> &)> &balanced)
   {
     const unsigned int n_values = user.n_values;
     AssertThrow(leaf_weight >= 0, ExcMessage("leaf weights are positive (0: unweighted partition)"));
@@ -171,10 +172,43 @@ namespace granhydro
     // refinement): refine and coarsen one level, then balance faces, edges and corners
     p4<dim>::refine(forest, /*recursive=*/0, &refine_flagged<dim>, &init_zero<dim>);
     p4<dim>::coarsen(forest, /*recursive=*/0, &coarsen_flagged<dim>, &init_zero<dim>);
-    p4<dim>::balance(forest,
-                     typename internal::p4est::types<dim>::balance_type(
-                       dim == 2 ? int(P4EST_CONNECT_FULL) : int(P8EST_CONNECT_FULL)),
-                     &init_zero<dim>);
+    // the change of level of each former leaf (the leaves now are the former ones, their
+    // children or their parents, in the same order): whoever knows the neighbourhoods
+    // may prove that balance has nothing to do
+    bool skip_balance = false;
+    if (balanced)
+      {
+        std::vector<signed char> delta(old.size(), 0);
+        std::size_t              j = 0;
+        for_each_local<dim>(forest, [&](const topidx_t<dim> t, const quadrant_t<dim> *q) {
+          while (j < old.size() &&
+                 (old[j].first < t || (old[j].first == t && p4<dim>::quadrant_compare(&old[j].second, q) < 0 &&
+                                       !p4<dim>::quadrant_is_ancestor(&old[j].second, q))))
+            ++j;
+          AssertThrow(j < old.size() && old[j].first == t, ExcInternalError());
+          if (p4<dim>::quadrant_is_equal(&old[j].second, q))
+            ++j;
+          else if (p4<dim>::quadrant_is_ancestor(&old[j].second, q))
+            delta[j] = 1; // a child (the next ones skip past the parent)
+          else
+            for (unsigned int c = 0; c < (1u << dim); ++c, ++j)
+              {
+                AssertThrow(j < old.size(), ExcInternalError());
+                delta[j] = -1;
+              }
+        });
+        skip_balance = balanced(delta);
+      }
+    if (skip_balance)
+      ++n_balance_skipped;
+    else
+      {
+        p4<dim>::balance(forest,
+                         typename internal::p4est::types<dim>::balance_type(
+                           dim == 2 ? int(P4EST_CONNECT_FULL) : int(P8EST_CONNECT_FULL)),
+                         &init_zero<dim>);
+        ++n_balance_run;
+      }
 
     // each new leaf against the old ones (both in forest order, covering the same region:
     // refinement, coarsening and balance are local): the same, a child of one, or the

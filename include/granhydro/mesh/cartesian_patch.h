@@ -63,6 +63,7 @@
 #include <array>
 #include <functional>
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace granhydro
@@ -214,6 +215,9 @@ namespace granhydro
      * level, see leaf_key()), e.g. from a checkpoint; keys not matching a leaf are ignored.
      */
     void refine_to(const std::vector<long long> &cells);
+    /// adaptations so far in which p4est's 2:1 balance ran, and in which it was skipped
+    /// because the changes of level provably kept the balance (adaptive boxes; else 0, 0)
+    std::pair<unsigned int, unsigned int> balance_counts() const;
     /// fine-lattice corner key * 8 + level of owned slot s: names a leaf independently of
     /// the partition and numbering
     long long leaf_key(const unsigned int s) const;
@@ -339,6 +343,9 @@ namespace granhydro
     /// adaptive boxes: the octree, adapted by p4est alone (mesh/forest.h); deal.II's mesh
     /// and DoFs follow it only when asked for
     std::unique_ptr<Forest<dim>> forest_;
+    /// adapt(): true if the forest stays 2:1 balanced when each owned leaf changes its
+    /// level by delta (+1, 0, -1) and the MPI ghosts as their owners say (collective)
+    bool stays_balanced(const std::vector<signed char> &delta) const;
     mutable bool dealii_mesh_current_ = true, dealii_dofs_current_ = true;
 
     std::array<std::array<double, 3>, 6> wall_velocity_{}; ///< [m/s], per boundary id

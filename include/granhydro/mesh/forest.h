@@ -98,16 +98,27 @@ namespace granhydro
      * numbers of leaves per rank (p4est's partition, deal.II's); otherwise (> 0 on every
      * rank) each of this rank's leaves weighs leaf_weight and the ranks get equal sums of
      * weights, so a rank with heavier leaves hands some to its neighbours in the order.
+     *
+     * balanced (optional, called on every rank): after refining and coarsening, and
+     * given each former local leaf's change of level (+1 refined, -1 merged into its
+     * parent, 0 kept), true if the leaves are 2:1 balanced already (the same answer on
+     * every rank). p4est's balance is then skipped: it would change nothing, and it
+     * costs as much on 2 ranks as on 1. The answer may err only toward false.
      */
     std::vector<double> adapt(const std::vector<signed char>                          &flags,
                               const std::function<void(const Source &, double *)>    &fill,
                               unsigned long long &refined, unsigned long long &coarsened,
-                              int leaf_weight = 0);
+                              int leaf_weight = 0,
+                              const std::function<bool(const std::vector<signed char> &)> &balanced = {});
+    /// adaptations in which p4est's balance ran, and in which it was skipped (balanced)
+    unsigned int balances_run() const { return n_balance_run; }
+    unsigned int balances_skipped() const { return n_balance_skipped; }
 
   private:
     forest_t *forest = nullptr;
     unsigned int base_level;
     ForestUserData user{0, 1};
+    unsigned int   n_balance_run = 0, n_balance_skipped = 0;
     /// lattice index of each tree's lower corner in units of base-level cells
     std::vector<std::array<int, 3>> tree_origin;
   };
