@@ -6,6 +6,10 @@
 # shared or virtual machine a foreign load slows single runs by 10-40 %, and a pair run
 # back to back sees about the same host). Also the adaptation's share of the 1-rank wall
 # time (the run summary's "adaptation" and "wall"). Both cores should be otherwise idle.
+# TWO_AT_ONCE=1 adds to each pair two 1-rank runs started together: their mean wall T1c
+# is what the machine gives a core when both are busy (memory bandwidth, the host's
+# load on a virtual machine), so T1 / T1c is the machine's ceiling for the efficiency and
+# T1c / (2 T2) the code's share (the efficiency = ceiling x code share).
 set -e
 B=$(readlink -f ${1:-build}); PAIRS=${2:-10}
 REPO=$(cd "$(dirname "$0")/.." && pwd)
@@ -26,6 +30,14 @@ for i in $(seq 1 $PAIRS); do
   t1=$(cat wall.1); t2=$(cat wall.2); a1=$(cat adapt.1); a1=${a1:-0}
   echo "$t1 $t2 $a1" >> pairs.txt
   awk -v i=$i '{printf "%5d %10.2f %10.2f %11.3f %14.2f\n", i, $1, $2, $1 / (2 * $2), $3}' <(tail -1 pairs.txt)
+  if [ "${TWO_AT_ONCE:-0}" = 1 ]; then
+    mpirun -np 1 $B/granhydro scene.prm > log.a 2>&1 & pa=$!
+    mpirun -np 1 $B/granhydro scene.prm > log.b 2>&1 & pb=$!
+    wait $pa && wait $pb || { echo "run failed (logs in $W/log.a, log.b)" >&2; exit 1; }
+    tc=$(grep -hE "^  wall" log.a log.b | awk '{s += $2} END {print s / 2}')
+    echo "$t1 $t2 $tc" >> once.txt
+    awk -v i=$i '{printf "%5s two 1-rank runs at once: %.2f s; machine ceiling T1/T1c %.3f, code share T1c/(2 T2) %.3f\n", "", $3, $1 / $3, $3 / (2 * $2)}' <(tail -1 once.txt)
+  fi
 done
 awk '
   function median(a, n,   i, j, t) { for (i = 1; i <= n; ++i) for (j = i + 1; j <= n; ++j) if (a[j] < a[i]) { t = a[i]; a[i] = a[j]; a[j] = t }
@@ -40,4 +52,9 @@ awk '
     if (k > 0) printf "undisturbed pairs (both within 5 %% of their best): %d:%s, median %.3f\n", k, list, median(u, k)
     else print "no undisturbed pair"
   }' pairs.txt
+[ -f once.txt ] && awk '
+  function median(a, n,   i, j, t) { for (i = 1; i <= n; ++i) for (j = i + 1; j <= n; ++j) if (a[j] < a[i]) { t = a[i]; a[i] = a[j]; a[j] = t }
+                                     return n % 2 ? a[(n + 1) / 2] : 0.5 * (a[n / 2] + a[n / 2 + 1]) }
+  { n++; c[n] = $1 / $3; k[n] = $3 / (2 * $2) }
+  END { printf "two at once: machine ceiling T1/T1c median %.3f, code share T1c/(2 T2) median %.3f\n", median(c, n), median(k, n) }' once.txt
 rm -rf $W
