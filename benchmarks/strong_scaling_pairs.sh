@@ -31,8 +31,9 @@ for i in $(seq 1 $PAIRS); do
   echo "$t1 $t2 $a1" >> pairs.txt
   awk -v i=$i '{printf "%5d %10.2f %10.2f %11.3f %14.2f\n", i, $1, $2, $1 / (2 * $2), $3}' <(tail -1 pairs.txt)
   if [ "${TWO_AT_ONCE:-0}" = 1 ]; then
-    mpirun -np 1 $B/granhydro scene.prm > log.a 2>&1 & pa=$!
-    mpirun -np 1 $B/granhydro scene.prm > log.b 2>&1 & pb=$!
+    # (unbound: two separate `mpirun -np 1` would both bind their rank to core 0)
+    mpirun -np 1 --bind-to none $B/granhydro scene.prm > log.a 2>&1 & pa=$!
+    mpirun -np 1 --bind-to none $B/granhydro scene.prm > log.b 2>&1 & pb=$!
     wait $pa && wait $pb || { echo "run failed (logs in $W/log.a, log.b)" >&2; exit 1; }
     tc=$(grep -hE "^  wall" log.a log.b | awk '{s += $2} END {print s / 2}')
     echo "$t1 $t2 $tc" >> once.txt

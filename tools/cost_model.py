@@ -61,10 +61,13 @@ ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT='1', OMPI_ALLOW_RUN_AS_ROOT_CONFIR
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def run(build, scene, overrides, ranks, work):
-    """one run; returns the parsed log figures"""
+def run(build, scene, overrides, ranks, work, bind=True):
+    """one run; returns the parsed log figures. bind=False: no core binding (Open MPI binds
+    the ranks of each mpirun to cores from core 0 on, so separate 1-rank runs started
+    together would all share core 0)"""
     os.makedirs(work, exist_ok=True)
-    cmd = ['mpirun', '--oversubscribe', '-n', str(ranks), os.path.join(build, 'granhydro')]
+    cmd = ['mpirun', '--oversubscribe', '-n', str(ranks)] + ([] if bind else ['--bind-to', 'none'])
+    cmd += [os.path.join(build, 'granhydro')]
     for o in overrides + ['Output/Directory=' + os.path.join(work, 'out'), 'Output/Write VTU=false',
                           'Output/Write checkpoint=false', 'Output/Write profiles=false']:
         cmd += ['-p', o]
@@ -100,7 +103,8 @@ def run_concurrently(build, scene, overrides, copies, work):
     node's cores and memory bandwidth, as P ranks do (no communication)"""
     from concurrent.futures import ThreadPoolExecutor
     with ThreadPoolExecutor(copies) as pool:
-        return list(pool.map(lambda k: run(build, scene, overrides, 1, '%s-%d' % (work, k)), range(copies)))
+        return list(pool.map(lambda k: run(build, scene, overrides, 1, '%s-%d' % (work, k), bind=False),
+                             range(copies)))
 
 
 def network(build_dir):
