@@ -79,11 +79,11 @@ namespace granhydro
       pcout << "  frictional dissipation (dense closure, work of mu_f lost to heat): "
             << friction_dissipation_si(sum) << (dim == 3 ? " J" : dim == 2 ? " J/m" : " J/m^2")
             << "\n";
-    if (scene.max_level > 0)
+    if (const auto [balanced, balance_skipped] = patch_->balance_counts(); scene.max_level > 0)
       pcout << "  adaptive mesh: " << sum.adaptations << " adaptations, " << sum.refined_cells
             << " cells refined, " << sum.coarsened_cells << " coarsened; " << sum.cells
             << " cells at the end, at most " << sum.max_cells << "; 2:1 balance by p4est in "
-            << patch_->balance_counts().first << " (skipped in " << patch_->balance_counts().second
+            << balanced << " (skipped in " << balance_skipped
             << ": the changes kept it); adaptation " << sum.adaptation_seconds << " s\n";
     if (scene.max_level > 0 && sum.ranks > 1)
       pcout << "  partition: " << sum.min_rank_cells << " to " << sum.max_rank_cells

@@ -176,64 +176,61 @@ namespace granhydro
     // rank checks its own changed leaves against the 3^dim - 1 boxes of their level
     // around them, among the leaves it knows (owned and MPI ghosts, with the ghosts'
     // changes from their owners). Where it cannot tell (a neighbourhood beyond the
-    // fetched part, a mesh file's lattice), it answers false: p4est then balances.
+    // fetched part), it answers false: p4est then balances. (Only boxes are adaptive.)
     constexpr unsigned int NC = n_components;
-    bool                   ok = !subset_;
+    bool                   ok = true;
     LinearAlgebra::distributed::Vector<double> change(part);
     for (unsigned int s = 0; s < n_owned_; ++s)
       change.local_element(std::size_t(s) * NC) = delta[s];
     change.update_ghost_values();
     const unsigned int n_leaves = n_owned_ + n_mpi_ghost_;
     auto               moved    = [&](const int t) { return int(std::lround(change.local_element(std::size_t(t) * NC))); };
-    if (ok)
+    using Position = typename Lattice<dim>::Position;
+    const Lattice<dim> lattice(N_, periodic_, max_level_, G, {btype_, wall_velocity_, velocity_unit_}, subset_);
+    const std::vector<std::array<int, 3>> pos(lattice_.begin(), lattice_.begin() + n_leaves);
+    const std::vector<unsigned char>      lev(level_.begin(), level_.begin() + n_leaves);
+    const SlotGrid<dim>                   grid(lattice, pos, lev);
+    for (unsigned int s = 0; s < n_owned_ && ok; ++s)
       {
-        using Position = typename Lattice<dim>::Position;
-        const Lattice<dim> lattice(N_, periodic_, max_level_, G, {btype_, wall_velocity_, velocity_unit_}, subset_);
-        const std::vector<std::array<int, 3>> pos(lattice_.begin(), lattice_.begin() + n_leaves);
-        const std::vector<unsigned char>      lev(level_.begin(), level_.begin() + n_leaves);
-        const SlotGrid<dim>                   grid(lattice, pos, lev);
-        for (unsigned int s = 0; s < n_owned_ && ok; ++s)
+        if (delta[s] == 0)
+          continue;
+        const unsigned int L = level_[s];
+        for (unsigned int e = 0; e < Utilities::pow(3u, dim) && ok; ++e)
           {
-            if (delta[s] == 0)
-              continue;
-            const unsigned int L = level_[s];
-            for (unsigned int e = 0; e < Utilities::pow(3u, dim) && ok; ++e)
+            Position     q{{0, 0, 0}};
+            unsigned int code = e, zero = 0;
+            for (unsigned int d = 0; d < dim; ++d, code /= 3)
               {
-                Position     q{{0, 0, 0}};
-                unsigned int code = e, zero = 0;
-                for (unsigned int d = 0; d < dim; ++d, code /= 3)
-                  {
-                    q[d] = lattice_[s][d] + int(code % 3) - 1;
-                    zero += code % 3 == 1;
-                  }
-                if (zero == dim || !lattice.wrap(L, q)) // s itself; beyond a wall
-                  continue;
-                // the box q of level L: a leaf of level L, inside a leaf of level L - 1,
-                // or split into leaves of level L + 1 (the former leaves were balanced)
-                const int same   = grid(L, q);
-                Position  parent = q;
-                for (unsigned int d = 0; d < dim; ++d)
-                  parent[d] >>= 1;
-                const int coarser = same < 0 && L > 0 ? grid(L - 1, parent) : -1;
-                int       finer = 0, finer_staying = 0; // children of the box found; those not merged
-                if (same < 0 && coarser < 0 && L < max_level_)
-                  for (unsigned int c = 0; c < (1u << dim); ++c)
-                    {
-                      Position child = q;
-                      for (unsigned int d = 0; d < dim; ++d)
-                        child[d] = 2 * q[d] + (c >> d & 1u);
-                      if (const int t = grid(L + 1, child); t >= 0)
-                        {
-                          ++finer;
-                          finer_staying += moved(t) >= 0;
-                        }
-                    }
-                if (delta[s] > 0) // children of level L + 1: the neighbour must end at L or finer
-                  ok = same >= 0 ? moved(same) >= 0 : (coarser >= 0 ? moved(coarser) > 0 : finer > 0);
-                else // the parent of level L - 1: the neighbour must end at L or coarser
-                  ok = same >= 0 ? moved(same) <= 0
-                                 : (coarser >= 0 || (finer == (1 << dim) && finer_staying == 0));
+                q[d] = lattice_[s][d] + int(code % 3) - 1;
+                zero += code % 3 == 1;
               }
+            if (zero == dim || !lattice.wrap(L, q)) // s itself; beyond a wall
+              continue;
+            // the box q of level L: a leaf of level L, inside a leaf of level L - 1,
+            // or split into leaves of level L + 1 (the former leaves were balanced)
+            const int same   = grid(L, q);
+            Position  parent = q;
+            for (unsigned int d = 0; d < dim; ++d)
+              parent[d] >>= 1;
+            const int coarser = same < 0 && L > 0 ? grid(L - 1, parent) : -1;
+            int       finer = 0, finer_staying = 0; // children of the box found; those not merged
+            if (same < 0 && coarser < 0 && L < max_level_)
+              for (unsigned int c = 0; c < (1u << dim); ++c)
+                {
+                  Position child = q;
+                  for (unsigned int d = 0; d < dim; ++d)
+                    child[d] = 2 * q[d] + (c >> d & 1u);
+                  if (const int t = grid(L + 1, child); t >= 0)
+                    {
+                      ++finer;
+                      finer_staying += moved(t) >= 0;
+                    }
+                }
+            if (delta[s] > 0) // children of level L + 1: the neighbour must end at L or finer
+              ok = same >= 0 ? moved(same) >= 0 : (coarser >= 0 ? moved(coarser) > 0 : finer > 0);
+            else // the parent of level L - 1: the neighbour must end at L or coarser
+              ok = same >= 0 ? moved(same) <= 0
+                             : (coarser >= 0 || (finer == (1 << dim) && finer_staying == 0));
           }
       }
     return Utilities::MPI::min(ok ? 1 : 0, comm) == 1;

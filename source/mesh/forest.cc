@@ -172,6 +172,15 @@ namespace granhydro
     // refinement): refine and coarsen one level, then balance faces, edges and corners
     p4<dim>::refine(forest, /*recursive=*/0, &refine_flagged<dim>, &init_zero<dim>);
     p4<dim>::coarsen(forest, /*recursive=*/0, &coarsen_flagged<dim>, &init_zero<dim>);
+    // walking the new leaves and the old ones together (both in forest order, covering the
+    // same region): skip the old leaves before q that do not contain it
+    auto skip_to = [&old](std::size_t &j, const topidx_t<dim> t, const quadrant_t<dim> *q) {
+      while (j < old.size() &&
+             (old[j].first < t || (old[j].first == t && p4<dim>::quadrant_compare(&old[j].second, q) < 0 &&
+                                   !p4<dim>::quadrant_is_ancestor(&old[j].second, q))))
+        ++j;
+      AssertThrow(j < old.size() && old[j].first == t, ExcInternalError());
+    };
     // the change of level of each former leaf (the leaves now are the former ones, their
     // children or their parents, in the same order): whoever knows the neighbourhoods
     // may prove that balance has nothing to do
@@ -181,11 +190,7 @@ namespace granhydro
         std::vector<signed char> delta(old.size(), 0);
         std::size_t              j = 0;
         for_each_local<dim>(forest, [&](const topidx_t<dim> t, const quadrant_t<dim> *q) {
-          while (j < old.size() &&
-                 (old[j].first < t || (old[j].first == t && p4<dim>::quadrant_compare(&old[j].second, q) < 0 &&
-                                       !p4<dim>::quadrant_is_ancestor(&old[j].second, q))))
-            ++j;
-          AssertThrow(j < old.size() && old[j].first == t, ExcInternalError());
+          skip_to(j, t, q);
           if (p4<dim>::quadrant_is_equal(&old[j].second, q))
             ++j;
           else if (p4<dim>::quadrant_is_ancestor(&old[j].second, q))
@@ -216,12 +221,7 @@ namespace granhydro
     refined = coarsened = 0;
     std::size_t j = 0;
     for_each_local<dim>(forest, [&](const topidx_t<dim> t, quadrant_t<dim> *q) {
-      // skip the old leaves before q that do not contain it
-      while (j < old.size() &&
-             (old[j].first < t || (old[j].first == t && p4<dim>::quadrant_compare(&old[j].second, q) < 0 &&
-                                   !p4<dim>::quadrant_is_ancestor(&old[j].second, q))))
-        ++j;
-      AssertThrow(j < old.size() && old[j].first == t, ExcInternalError());
+      skip_to(j, t, q);
       const quadrant_t<dim> &o = old[j].second;
       Source                 src{Source::same, unsigned(j), 0};
       if (p4<dim>::quadrant_is_equal(&o, q))
