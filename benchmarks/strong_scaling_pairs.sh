@@ -10,6 +10,11 @@
 # is what the machine gives a core when both are busy (memory bandwidth, the host's
 # load on a virtual machine), so T1 / T1c is the machine's ceiling for the efficiency and
 # T1c / (2 T2) the code's share (the efficiency = ceiling x code share).
+# BOTH_CORES=1 adds to each pair a 1-rank run on core 1 (`mpirun -np 1` binds its rank to
+# core 0): on a virtual machine the two cores need not be equally fast, and then the 2-rank
+# run can at best reach the two cores' summed speed, 1 / T1x = 1 / T1 + 1 / T1', i.e. the
+# ideal 2-rank time T1x = T1 T1' / (T1 + T1'); the efficiency against both cores is T1x / T2
+# (= T1 / (2 T2) when the cores are equal).
 set -e
 B=$(readlink -f ${1:-build}); PAIRS=${2:-10}
 REPO=$(cd "$(dirname "$0")/.." && pwd)
@@ -30,6 +35,12 @@ for i in $(seq 1 $PAIRS); do
   t1=$(cat wall.1); t2=$(cat wall.2); a1=$(cat adapt.1); a1=${a1:-0}
   echo "$t1 $t2 $a1" >> pairs.txt
   awk -v i=$i '{printf "%5d %10.2f %10.2f %11.3f %14.2f\n", i, $1, $2, $1 / (2 * $2), $3}' <(tail -1 pairs.txt)
+  if [ "${BOTH_CORES:-0}" = 1 ]; then
+    taskset -c 1 mpirun -np 1 --bind-to none $B/granhydro scene.prm > log.c1 2>&1 || { echo "run failed (log in $W/log.c1)" >&2; exit 1; }
+    t1b=$(grep -E "^  wall" log.c1 | awk '{print $2}')
+    echo "$t1 $t1b $t2" >> cores.txt
+    awk '{x = $1 * $2 / ($1 + $2); printf "%5s 1 rank on core 1: %.2f s (core 0 / core 1 speed %.3f); both cores ideal %.2f s, efficiency against both cores %.3f\n", "", $2, $2 / $1, x, x / $3}' <(tail -1 cores.txt)
+  fi
   if [ "${TWO_AT_ONCE:-0}" = 1 ]; then
     # (unbound: two separate `mpirun -np 1` would both bind their rank to core 0)
     mpirun -np 1 --bind-to none $B/granhydro scene.prm > log.a 2>&1 & pa=$!
@@ -53,6 +64,12 @@ awk '
     if (k > 0) printf "undisturbed pairs (both within 5 %% of their best): %d:%s, median %.3f\n", k, list, median(u, k)
     else print "no undisturbed pair"
   }' pairs.txt
+[ -f cores.txt ] && awk '
+  function median(a, n,   i, j, t) { for (i = 1; i <= n; ++i) for (j = i + 1; j <= n; ++j) if (a[j] < a[i]) { t = a[i]; a[i] = a[j]; a[j] = t }
+                                     return n % 2 ? a[(n + 1) / 2] : 0.5 * (a[n / 2] + a[n / 2 + 1]) }
+  { n++; a[n] = $1; b[n] = $2; c[n] = $3; r[n] = $2 / $1; e[n] = $1 * $2 / ($1 + $2) / $3 }
+  END { ma = median(a, n); mb = median(b, n); mc = median(c, n)
+        printf "both cores: medians 1 rank core 0 %.2f s, core 1 %.2f s (speed ratio per pair, median %.3f), 2 ranks %.2f s: efficiency against both cores %.3f (of the medians), per-pair median %.3f\n", ma, mb, median(r, n), mc, ma * mb / (ma + mb) / mc, median(e, n) }' cores.txt
 [ -f once.txt ] && awk '
   function median(a, n,   i, j, t) { for (i = 1; i <= n; ++i) for (j = i + 1; j <= n; ++j) if (a[j] < a[i]) { t = a[i]; a[i] = a[j]; a[j] = t }
                                      return n % 2 ? a[(n + 1) / 2] : 0.5 * (a[n / 2] + a[n / 2 + 1]) }
