@@ -25,11 +25,16 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 W=$(mktemp -d /tmp/pairs.XXXX)
 cp $SCENE $W/scene.prm
 cd $W
+# the summaries' awk: median of a[1..n] (sorts a)
+MEDIAN='function median(a, n,   i, j, t) { for (i = 1; i <= n; ++i) for (j = i + 1; j <= n; ++j) if (a[j] < a[i]) { t = a[i]; a[i] = a[j]; a[j] = t }
+                                   return n % 2 ? a[(n + 1) / 2] : 0.5 * (a[n / 2] + a[n / 2 + 1]) }'
+# the run summary's wall time of the logs named
+wall() { grep -hE "^  wall" "$@" | awk '{print $2}'; }
 printf "%5s %10s %10s %11s %14s\n" pair "1 rank s" "2 ranks s" efficiency "adaptation 1r"
 for i in $(seq 1 $PAIRS); do
   for np in 1 2; do
     mpirun -np $np $B/granhydro scene.prm > log.$np 2>&1 || { echo "run failed (log in $W/log.$np)" >&2; exit 1; }
-    grep -E "^  wall" log.$np | awk '{print $2}' > wall.$np
+    wall log.$np > wall.$np
     grep -E "adaptation [0-9.e+-]+ s" log.$np | sed 's/.*adaptation //; s/ s$//' > adapt.$np || echo 0 > adapt.$np
   done
   t1=$(cat wall.1); t2=$(cat wall.2); a1=$(cat adapt.1); a1=${a1:-0}
@@ -37,7 +42,7 @@ for i in $(seq 1 $PAIRS); do
   awk -v i=$i '{printf "%5d %10.2f %10.2f %11.3f %14.2f\n", i, $1, $2, $1 / (2 * $2), $3}' <(tail -1 pairs.txt)
   if [ "${BOTH_CORES:-0}" = 1 ]; then
     taskset -c 1 mpirun -np 1 --bind-to none $B/granhydro scene.prm > log.c1 2>&1 || { echo "run failed (log in $W/log.c1)" >&2; exit 1; }
-    t1b=$(grep -E "^  wall" log.c1 | awk '{print $2}')
+    t1b=$(wall log.c1)
     echo "$t1 $t1b $t2" >> cores.txt
     awk '{x = $1 * $2 / ($1 + $2); printf "%5s 1 rank on core 1: %.2f s (core 0 / core 1 speed %.3f); both cores ideal %.2f s, efficiency against both cores %.3f\n", "", $2, $2 / $1, x, x / $3}' <(tail -1 cores.txt)
   fi
@@ -46,14 +51,12 @@ for i in $(seq 1 $PAIRS); do
     mpirun -np 1 --bind-to none $B/granhydro scene.prm > log.a 2>&1 & pa=$!
     mpirun -np 1 --bind-to none $B/granhydro scene.prm > log.b 2>&1 & pb=$!
     wait $pa && wait $pb || { echo "run failed (logs in $W/log.a, log.b)" >&2; exit 1; }
-    tc=$(grep -hE "^  wall" log.a log.b | awk '{s += $2} END {print s / 2}')
+    tc=$(wall log.a log.b | awk '{s += $1} END {print s / 2}')
     echo "$t1 $t2 $tc" >> once.txt
     awk -v i=$i '{printf "%5s two 1-rank runs at once: %.2f s; machine ceiling T1/T1c %.3f, code share T1c/(2 T2) %.3f\n", "", $3, $1 / $3, $3 / (2 * $2)}' <(tail -1 once.txt)
   fi
 done
-awk '
-  function median(a, n,   i, j, t) { for (i = 1; i <= n; ++i) for (j = i + 1; j <= n; ++j) if (a[j] < a[i]) { t = a[i]; a[i] = a[j]; a[j] = t }
-                                     return n % 2 ? a[(n + 1) / 2] : 0.5 * (a[n / 2] + a[n / 2 + 1]) }
+awk "$MEDIAN"'
   { n++; t1[n] = $1; t2[n] = $2; e[n] = $1 / (2 * $2); s[n] = $3 / $1; if (n == 1 || $1 < b1) b1 = $1; if (n == 1 || $2 < b2) b2 = $2 }
   END {
     for (i = 1; i <= n; ++i) { c1[i] = t1[i]; c2[i] = t2[i]; ce[i] = e[i]; cs[i] = s[i] }
@@ -64,15 +67,11 @@ awk '
     if (k > 0) printf "undisturbed pairs (both within 5 %% of their best): %d:%s, median %.3f\n", k, list, median(u, k)
     else print "no undisturbed pair"
   }' pairs.txt
-[ -f cores.txt ] && awk '
-  function median(a, n,   i, j, t) { for (i = 1; i <= n; ++i) for (j = i + 1; j <= n; ++j) if (a[j] < a[i]) { t = a[i]; a[i] = a[j]; a[j] = t }
-                                     return n % 2 ? a[(n + 1) / 2] : 0.5 * (a[n / 2] + a[n / 2 + 1]) }
+[ -f cores.txt ] && awk "$MEDIAN"'
   { n++; a[n] = $1; b[n] = $2; c[n] = $3; r[n] = $2 / $1; e[n] = $1 * $2 / ($1 + $2) / $3 }
   END { ma = median(a, n); mb = median(b, n); mc = median(c, n)
         printf "both cores: medians 1 rank core 0 %.2f s, core 1 %.2f s (speed ratio per pair, median %.3f), 2 ranks %.2f s: efficiency against both cores %.3f (of the medians), per-pair median %.3f\n", ma, mb, median(r, n), mc, ma * mb / (ma + mb) / mc, median(e, n) }' cores.txt
-[ -f once.txt ] && awk '
-  function median(a, n,   i, j, t) { for (i = 1; i <= n; ++i) for (j = i + 1; j <= n; ++j) if (a[j] < a[i]) { t = a[i]; a[i] = a[j]; a[j] = t }
-                                     return n % 2 ? a[(n + 1) / 2] : 0.5 * (a[n / 2] + a[n / 2 + 1]) }
+[ -f once.txt ] && awk "$MEDIAN"'
   { n++; c[n] = $1 / $3; k[n] = $3 / (2 * $2) }
   END { printf "two at once: machine ceiling T1/T1c median %.3f, code share T1c/(2 T2) median %.3f\n", median(c, n), median(k, n) }' once.txt
 rm -rf $W
