@@ -5,14 +5,23 @@
 // physical core with one virtual CPU takes load/store throughput from it, not latency.
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <vector>
 
-int main()
+// argument: the share of the full loops to run (default 1; strong_scaling_pairs.sh's
+// GATE=1 probe runs 0.25 of the latency-bound loop and all of the throughput-bound one)
+int main(int argc, char **argv)
 {
+  const double share = argc > 1 ? std::atof(argv[1]) : 1.;
+  if (!(share > 0 && share <= 1))
+    {
+      std::fprintf(stderr, "core_speeds: the argument (share of the latency-bound loop) must lie in (0, 1]\n");
+      return 1;
+    }
   using clock = std::chrono::steady_clock;
   auto t0     = clock::now();
   double a = 1.0, b = 1e-9;
-  for (long i = 0; i < 1000000000L; ++i)
+  for (long i = 0; i < long(share * 1000000000L); ++i)
     a = a * 0.9999999 + b;
   const double latency = std::chrono::duration<double>(clock::now() - t0).count();
 

@@ -15,6 +15,14 @@
 # run can at best reach the two cores' summed speed, 1 / T1x = 1 / T1 + 1 / T1', i.e. the
 # ideal 2-rank time T1x = T1 T1' / (T1 + T1'); the efficiency against both cores is T1x / T2
 # (= T1 / (2 T2) when the cores are equal).
+# GATE=1 probes the cores before and after each pair (benchmarks/core_speeds.cc on each
+# core: a latency-bound loop, 1/4 of core_speeds.sh's, and the throughput-bound triad,
+# about 3 s in all) and calls the host fit for the pair when all four throughput-bound
+# times lie within 10 % and all four latency-bound times within 5 % of the batch's median
+# probe (both cores as fast as usual before and after; judged at the end, against the
+# whole batch). The summary then adds the medians of the pairs on a fit host: the
+# selection uses the probes only, never the pair's own times. A burst of foreign load
+# between the probes escapes it: the probes are a minimum check, not a proof.
 set -e
 B=$(readlink -f ${1:-build}); PAIRS=${2:-10}
 REPO=$(cd "$(dirname "$0")/.." && pwd)
@@ -30,8 +38,14 @@ MEDIAN='function median(a, n,   i, j, t) { for (i = 1; i <= n; ++i) for (j = i +
                                    return n % 2 ? a[(n + 1) / 2] : 0.5 * (a[n / 2] + a[n / 2 + 1]) }'
 # the run summary's wall time of the logs named
 wall() { grep -hE "^  wall" "$@" | awk '{print $2}'; }
+if [ "${GATE:-0}" = 1 ]; then
+  g++ -O2 -o $W/core_speeds $REPO/benchmarks/core_speeds.cc
+  # one probe: "latency0 throughput0 latency1 throughput1" (cores 0 and 1)
+  probe() { for c in 0 1; do taskset -c $c $W/core_speeds 0.25 | awk '{printf "%s %s ", $2, $5}'; done; echo; }
+fi
 printf "%5s %10s %10s %11s %14s\n" pair "1 rank s" "2 ranks s" efficiency "adaptation 1r"
 for i in $(seq 1 $PAIRS); do
+  [ "${GATE:-0}" = 1 ] && probe_before=$(probe)
   for np in 1 2; do
     mpirun -np $np $B/granhydro scene.prm > log.$np 2>&1 || { echo "run failed (log in $W/log.$np)" >&2; exit 1; }
     wall log.$np > wall.$np
@@ -40,6 +54,11 @@ for i in $(seq 1 $PAIRS); do
   t1=$(cat wall.1); t2=$(cat wall.2); a1=$(cat adapt.1); a1=${a1:-0}
   echo "$t1 $t2 $a1" >> pairs.txt
   awk -v i=$i '{printf "%5d %10.2f %10.2f %11.3f %14.2f\n", i, $1, $2, $1 / (2 * $2), $3}' <(tail -1 pairs.txt)
+  if [ "${GATE:-0}" = 1 ]; then
+    probe_after=$(probe)
+    echo "$t1 $t2 $probe_before $probe_after" >> gate.txt
+    echo "      probes (latency, throughput s; core 0, core 1) before: $probe_before after: $probe_after"
+  fi
   if [ "${BOTH_CORES:-0}" = 1 ]; then
     taskset -c 1 mpirun -np 1 --bind-to none $B/granhydro scene.prm > log.c1 2>&1 || { echo "run failed (log in $W/log.c1)" >&2; exit 1; }
     t1b=$(wall log.c1)
@@ -67,6 +86,14 @@ awk "$MEDIAN"'
     if (k > 0) printf "undisturbed pairs (both within 5 %% of their best): %d:%s, median %.3f\n", k, list, median(u, k)
     else print "no undisturbed pair"
   }' pairs.txt
+[ -f gate.txt ] && awk "$MEDIAN"'
+  { n++; t1[n] = $1; t2[n] = $2; for (j = 0; j < 4; ++j) { l[n, j] = $(3 + 2 * j); q[n, j] = $(4 + 2 * j); al[4 * (n - 1) + j + 1] = l[n, j]; aq[4 * (n - 1) + j + 1] = q[n, j] } }
+  END { bl = median(al, 4 * n); bq = median(aq, 4 * n); k = 0; list = ""
+        for (i = 1; i <= n; ++i) { fit = 1; for (j = 0; j < 4; ++j) if (l[i, j] > 1.05 * bl || q[i, j] > 1.10 * bq) fit = 0
+                                   if (fit) { k++; a[k] = t1[i]; b[k] = t2[i]; e[k] = t1[i] / (2 * t2[i]); list = list sprintf(" %d", i) } }
+        printf "probes: median latency-bound %.3f s, throughput-bound %.3f s; ", bl, bq
+        if (k == 0) { print "no pair on a fit host"; exit }
+        printf "%d pairs on a fit host (%s ): medians 1 rank %.2f s, 2 ranks %.2f s, efficiency %.3f; per-pair median %.3f\n", k, list, median(a, k), median(b, k), median(a, k) / (2 * median(b, k)), median(e, k) }' gate.txt
 [ -f cores.txt ] && awk "$MEDIAN"'
   { n++; a[n] = $1; b[n] = $2; c[n] = $3; r[n] = $2 / $1; e[n] = $1 * $2 / ($1 + $2) / $3 }
   END { ma = median(a, n); mb = median(b, n); mc = median(c, n)
