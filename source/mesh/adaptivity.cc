@@ -186,7 +186,7 @@ namespace granhydro
     const unsigned int n_leaves = n_owned_ + n_mpi_ghost_;
     auto               moved    = [&](const int t) { return int(std::lround(change.local_element(std::size_t(t) * NC))); };
     using Position = typename Lattice<dim>::Position;
-    const Lattice<dim> lattice(N_, periodic_, max_level_, G, {btype_, wall_velocity_, velocity_unit_}, subset_);
+    const Lattice<dim> lattice = make_lattice();
     const std::vector<std::array<int, 3>> pos(lattice_.begin(), lattice_.begin() + n_leaves);
     const std::vector<unsigned char>      lev(level_.begin(), level_.begin() + n_leaves);
     const SlotGrid<dim>                   grid(lattice, pos, lev);

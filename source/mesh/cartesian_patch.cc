@@ -111,7 +111,7 @@ namespace granhydro
     dofh->distribute_dofs(*fe);
     DoFRenumbering::hierarchical(*dofh);
     // deal.II's owned cells in DoF order must be the slots (same partition and order)
-    Lattice<dim> lattice(N_, periodic_, max_level_, G, {btype_, wall_velocity_, velocity_unit_}, subset_);
+    Lattice<dim> lattice = make_lattice();
     const std::vector<OwnedCell> owned = lattice.owned_cells(*dofh, lo_, h_, base_tria_level_);
     bool same = owned.size() == n_owned_ && dofh->locally_owned_dofs() == part->locally_owned_range();
     for (unsigned int s = 0; same && s < n_owned_; ++s)
@@ -124,12 +124,18 @@ namespace granhydro
   }
 
   template <int dim>
+  Lattice<dim> CartesianPatch<dim>::make_lattice() const
+  {
+    return Lattice<dim>(N_, periodic_, max_level_, G, {btype_, wall_velocity_, velocity_unit_}, subset_);
+  }
+
+  template <int dim>
   void CartesianPatch<dim>::rebuild()
   {
     AssertThrow(max_level_ <= 7, ExcMessage("at most 7 refinement levels"));
     for (unsigned int c = 0; c < n_components; ++c)
       AssertThrow(fe->system_to_component_index(c).first == c, ExcInternalError());
-    Lattice<dim> lattice(N_, periodic_, max_level_, G, {btype_, wall_velocity_, velocity_unit_}, subset_);
+    Lattice<dim> lattice = make_lattice();
     std::vector<OwnedCell> owned;
     IndexSet               owned_dofs;
     if (forest_)
@@ -188,11 +194,16 @@ namespace granhydro
     make_face_ids(lattice);
     const SlotGrid<dim> grid(lattice, lattice_, level_);
     make_neighbor_table(lattice, virtuals, index, grid, mask.get(), full_box);
-    std::vector<char> incomplete; // per slot: a gradient neighbour lies beyond the fetched blocks
-    make_gradient_table(lattice, index, grid, mask.get(), incomplete);
     std::vector<unsigned int> face_slots(face_keys.keys.size());
     for (std::size_t i = 0; i < face_slots.size(); ++i)
       face_slots[i] = index.slot_of.at(face_keys.keys[i]);
+    // gradient rows are read for the owned cells and their face neighbours only
+    std::vector<char> rows(lattice_.size(), 0);
+    std::fill(rows.begin(), rows.begin() + n_owned_, 1);
+    for (const unsigned int s : face_slots)
+      rows[s] = 1;
+    std::vector<char> incomplete; // per slot: a gradient neighbour lies beyond the fetched blocks
+    make_gradient_table(lattice, index, grid, mask.get(), rows, incomplete);
     make_faces(face_keys.start, face_slots);
     // the diffusion step reads the gradient rows of the cells on faces: complete
     for (unsigned int d = 0; d < dim; ++d)

@@ -184,7 +184,7 @@ namespace granhydro
   template <int dim>
   void CartesianPatch<dim>::make_gradient_table(Lattice<dim> &lattice, const SlotIndex &index,
                                                 const SlotGrid<dim> &grid, const DilatedMask<dim> *mask,
-                                                std::vector<char> &incomplete)
+                                                const std::vector<char> &rows, std::vector<char> &incomplete)
   {
     using Position        = typename Lattice<dim>::Position;
     const unsigned int ns = lattice_.size();
@@ -196,7 +196,7 @@ namespace granhydro
     gnb_.assign(std::size_t(ns) * dim * 2, -1);
     goff_.assign(std::size_t(ns) * dim * 2, 0.);
     for (unsigned int s = 0; s < index.first_virtual; ++s)
-      for (unsigned int j = 0; j < dim; ++j)
+      for (unsigned int j = 0; j < dim && rows[s]; ++j)
         for (unsigned int side = 0; side < 2; ++side)
           {
             if (mask)
@@ -209,10 +209,9 @@ namespace granhydro
                   continue;
               }
             // the same-level leaf or wall ghost: the slot at that position (a virtual
-            // cell is none); else the lattice's answer (a coarser leaf, or none). Far
-            // slots (the sources of virtual cells, ghosts reached by gradients) may
-            // reach beyond the fetched blocks: their rows are not read, rebuild() checks
-            // that no face cell's row is incomplete
+            // cell is none); else the lattice's answer (a coarser leaf, or none). Only
+            // the rows that are read (rows[s]: owned and face cells) are made; rebuild()
+            // checks that none of them reaches beyond the fetched blocks
             int t = -1;
             if (!mask)
               {
@@ -303,7 +302,7 @@ namespace granhydro
                                                        const std::vector<char> &);                   \
   template void CartesianPatch<d>::make_gradient_table(Lattice<d> &, const SlotIndex &,              \
                                                        const SlotGrid<d> &, const DilatedMask<d> *,  \
-                                                       std::vector<char> &);                         \
+                                                       const std::vector<char> &, std::vector<char> &); \
   template void CartesianPatch<d>::make_faces(const std::vector<unsigned int> &,                     \
                                               const std::vector<unsigned int> &);
   GRANHYDRO_INSTANTIATE(1)

@@ -45,7 +45,8 @@
  * lists an owned cell's faces in a fixed geometric order, so a cell's update
  * does not depend on the partition. gradient_neighbor(s, j, side) is the face
  * neighbour used for cell gradients: the same-level cell, else a coarser one
- * (never a finer one; then the gradient is one-sided).
+ * (never a finer one; then the gradient is one-sided); the rows exist for the
+ * owned cells and the cells on their faces (-1 elsewhere), the only ones read.
  *
  * Limits: adaptive meshes need a box domain (no mesh file) and 2 or 3
  * dimensions. No rank holds the whole fine lattice: the leaves a rank's
@@ -164,7 +165,8 @@ namespace granhydro
         }
     }
     /// neighbour used for the gradient of slot s along j (side 0: lower, 1: upper):
-    /// same level, else coarser, else -1; offset: its centre minus s's centre along j [m]
+    /// same level, else coarser, else -1; offset: its centre minus s's centre along j [m].
+    /// Only for owned cells and the cells on their faces (other slots: -1)
     int gradient_neighbor(const unsigned int s, const unsigned int j, const unsigned int side) const
     {
       return gnb_[(std::size_t(s) * dim + j) * 2 + side];
@@ -301,10 +303,10 @@ namespace granhydro
     /// the table builders rebuild() calls (source/mesh/stencil_tables.cc): slots of the
     /// owned cells and needed keys; boundary ids of the real cells' faces; neighbour
     /// table and uniform flags (grid: the slot at each position; full_box: the stencil
-    /// closure's flags per owned cell, or empty to look); gradient neighbours (mask: the
-    /// positions whose neighbour
-    /// rows are filled, nullptr for all); faces from each owned cell's neighbour lists
-    /// per direction and side
+    /// closure's flags per owned cell, or empty to look); gradient neighbours (rows:
+    /// per slot, whether its row is read, i.e. owned cells and face cells; mask: the
+    /// positions whose neighbours exist, nullptr for all); faces from each owned cell's
+    /// neighbour lists per direction and side
     void assign_slots(const std::vector<OwnedCell> &owned, const std::vector<long long> &needed,
                       const Lattice<dim> &lattice, const VirtualCells<dim> &virtuals,
                       const dealii::IndexSet &owned_dofs, SlotIndex &index);
@@ -313,8 +315,11 @@ namespace granhydro
                              const SlotIndex &index, const SlotGrid<dim> &grid,
                              const DilatedMask<dim> *mask, const std::vector<char> &full_box);
     void make_gradient_table(Lattice<dim> &lattice, const SlotIndex &index, const SlotGrid<dim> &grid,
-                             const DilatedMask<dim> *mask, std::vector<char> &incomplete);
+                             const DilatedMask<dim> *mask, const std::vector<char> &rows,
+                             std::vector<char> &incomplete);
     void make_faces(const std::vector<unsigned int> &start, const std::vector<unsigned int> &slots);
+    /// the lattice of this patch's box or mesh file, nothing fetched yet (Lattice::distribute())
+    Lattice<dim> make_lattice() const;
     /// adaptive boxes (2, 3 dimensions): the forest, a copy of deal.II's current one
     void make_forest();
     /// adaptive meshes: bring deal.II's triangulation to the forest's leaves and number its
