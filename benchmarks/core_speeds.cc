@@ -8,8 +8,8 @@
 #include <cstdlib>
 #include <vector>
 
-// argument: the share of the full loops to run (default 1; strong_scaling_pairs.sh's
-// GATE=1 probe runs 0.25 of the latency-bound loop and all of the throughput-bound one)
+// argument: the share of the latency-bound loop to run (default 1; the throughput-bound
+// loop always runs whole; strong_scaling_pairs.sh's GATE=1 probe runs 0.25)
 int main(int argc, char **argv)
 {
   const double share = argc > 1 ? std::atof(argv[1]) : 1.;

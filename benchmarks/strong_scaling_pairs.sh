@@ -86,6 +86,7 @@ awk "$MEDIAN"'
     if (k > 0) printf "undisturbed pairs (both within 5 %% of their best): %d:%s, median %.3f\n", k, list, median(u, k)
     else print "no undisturbed pair"
   }' pairs.txt
+# (median() sorts its array: the pooled probes al, aq are copies of the per-pair l, q)
 [ -f gate.txt ] && awk "$MEDIAN"'
   { n++; t1[n] = $1; t2[n] = $2; for (j = 0; j < 4; ++j) { l[n, j] = $(3 + 2 * j); q[n, j] = $(4 + 2 * j); al[4 * (n - 1) + j + 1] = l[n, j]; aq[4 * (n - 1) + j + 1] = q[n, j] } }
   END { bl = median(al, 4 * n); bq = median(aq, 4 * n); k = 0; list = ""
