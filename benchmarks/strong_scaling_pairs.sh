@@ -28,6 +28,7 @@
 set -e
 B=$(readlink -f ${1:-build}); PAIRS=${2:-10}
 REPO=$(cd "$(dirname "$0")/.." && pwd)
+W=$(mktemp -d /tmp/pairs.XXXX)
 if [ "${3:-}" = benchmark ]; then
   [ -x $B/granhydro_benchmark ] || { echo "no granhydro_benchmark in $B" >&2; exit 1; }
   CMD="$B/granhydro_benchmark"
@@ -37,13 +38,12 @@ else
   SCENE=$(readlink -f ${3:-$REPO/parameters/amr_blast_3d.prm})
   [ -x $B/granhydro ] || { echo "no granhydro in $B" >&2; exit 1; }
   [ -f $SCENE ] || { echo "no scene file $SCENE" >&2; exit 1; }
+  cp $SCENE $W/scene.prm
   CMD="$B/granhydro scene.prm"
   # the run summary's wall time of the logs named
   wall() { grep -hE "^  wall" "$@" | awk '{print $2}'; }
 fi
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-W=$(mktemp -d /tmp/pairs.XXXX)
-[ "${3:-}" = benchmark ] || cp $SCENE $W/scene.prm
 cd $W
 # the summaries' awk: median of a[1..n] (sorts a)
 MEDIAN='function median(a, n,   i, j, t) { for (i = 1; i <= n; ++i) for (j = i + 1; j <= n; ++j) if (a[j] < a[i]) { t = a[i]; a[i] = a[j]; a[j] = t }
