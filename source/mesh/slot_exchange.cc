@@ -12,6 +12,43 @@ namespace granhydro
   {
     constexpr int mask_tag    = 4711;
     constexpr int channel_tag = 4712; // + channel
+
+    /// Copies m doubles per listed slot between a slot array and a packed buffer: gather
+    /// (pack = true: buffer block j <- slot sl[j]) or scatter (slot sl[j] <- block j). The
+    /// convective stages move 10, 20 or 40 doubles per slot (2, 2P, 2P^2 values of 5
+    /// components); with m known at compile time each copy is a few vector moves instead of
+    /// a call to memmove per slot
+    template <unsigned int M, bool pack>
+    void move_fixed(const std::vector<unsigned int> &sl, const double *from, double *to)
+    {
+      for (std::size_t j = 0; j < sl.size(); ++j)
+        {
+          const double *src = from + (pack ? std::size_t(sl[j]) : j) * M;
+          double *const dst = to + (pack ? j : std::size_t(sl[j])) * M;
+          for (unsigned int i = 0; i < M; ++i)
+            dst[i] = src[i];
+        }
+    }
+
+    template <bool pack>
+    void move_slots(const std::vector<unsigned int> &sl, const unsigned int m, const double *from, double *to)
+    {
+      switch (m)
+        {
+          case 10:
+            return move_fixed<10, pack>(sl, from, to);
+          case 20:
+            return move_fixed<20, pack>(sl, from, to);
+          case 40:
+            return move_fixed<40, pack>(sl, from, to);
+          default:
+            for (std::size_t j = 0; j < sl.size(); ++j)
+              {
+                const double *src = from + (pack ? std::size_t(sl[j]) : j) * m;
+                std::copy(src, src + m, to + (pack ? j : std::size_t(sl[j])) * m);
+              }
+        }
+    }
   } // namespace
 
   SlotExchange::~SlotExchange()
@@ -129,8 +166,7 @@ namespace granhydro
         {
           auto &buf = sbuf_[k][i];
           buf.resize(sl.size() * m);
-          for (std::size_t j = 0; j < sl.size(); ++j)
-            std::copy(array + std::size_t(sl[j]) * m, array + std::size_t(sl[j] + 1) * m, buf.data() + j * m);
+          move_slots<true>(sl, m, array, buf.data());
           send_req_[k].emplace_back();
           const int ierr = MPI_Isend(buf.data(), int(buf.size()), MPI_DOUBLE, int(send_[i].rank),
                                      channel_tag + int(k), comm_, &send_req_[k].back());
@@ -145,8 +181,7 @@ namespace granhydro
     recv_req_[k].clear();
     for (std::size_t i = 0; i < recv_.size(); ++i)
       if (const auto &sl = recv_[i].slots[k]; !sl.empty())
-        for (std::size_t j = 0; j < sl.size(); ++j)
-          std::copy(rbuf_[k][i].data() + j * m, rbuf_[k][i].data() + (j + 1) * m, array + std::size_t(sl[j]) * m);
+        move_slots<false>(sl, m, rbuf_[k][i].data(), array);
   }
 
   void SlotExchange::wait_sends(const unsigned int k) const
