@@ -15,9 +15,9 @@ namespace granhydro
 
     /// Copies m doubles per listed slot between a slot array and a packed buffer: gather
     /// (pack = true: buffer block j <- slot sl[j]) or scatter (slot sl[j] <- block j). The
-    /// convective stages move 10, 20 or 40 doubles per slot (2, 2P, 2P^2 values of 5
-    /// components); with m known at compile time each copy is a few vector moves instead of
-    /// a call to memmove per slot
+    /// convective stages move 2, 2P or 2P^2 values of NC = dim + 2 components per slot
+    /// (P = 2 points per direction): 10, 20, 40 doubles in 3D, 8, 16 in 2D; with m known at
+    /// compile time each copy is a few vector moves instead of a call to memmove per slot
     template <unsigned int M, bool pack>
     void move_fixed(const std::vector<unsigned int> &sl, const double *from, double *to)
     {
@@ -35,8 +35,12 @@ namespace granhydro
     {
       switch (m)
         {
+          case 8:
+            return move_fixed<8, pack>(sl, from, to);
           case 10:
             return move_fixed<10, pack>(sl, from, to);
+          case 16:
+            return move_fixed<16, pack>(sl, from, to);
           case 20:
             return move_fixed<20, pack>(sl, from, to);
           case 40:
