@@ -19,13 +19,14 @@ namespace granhydro
     /// (P = 2 points per direction): 10, 20, 40 doubles in 3D, 8, 16 in 2D; with m known at
     /// compile time each copy is a few vector moves instead of a call to memmove per slot
     template <unsigned int M, bool pack>
-    void move_fixed(const std::vector<unsigned int> &sl, const double *from, double *to)
+    void move_fixed(const std::vector<unsigned int> &sl, const unsigned int m, const double *from, double *to)
     {
+      const unsigned int len = M > 0 ? M : m; // M = 0: the length known only at run time
       for (std::size_t j = 0; j < sl.size(); ++j)
         {
-          const double *src = from + (pack ? std::size_t(sl[j]) : j) * M;
-          double *const dst = to + (pack ? j : std::size_t(sl[j])) * M;
-          for (unsigned int i = 0; i < M; ++i)
+          const double *src = from + (pack ? std::size_t(sl[j]) : j) * len;
+          double *const dst = to + (pack ? j : std::size_t(sl[j])) * len;
+          for (unsigned int i = 0; i < len; ++i)
             dst[i] = src[i];
         }
     }
@@ -36,21 +37,17 @@ namespace granhydro
       switch (m)
         {
           case 8:
-            return move_fixed<8, pack>(sl, from, to);
+            return move_fixed<8, pack>(sl, m, from, to);
           case 10:
-            return move_fixed<10, pack>(sl, from, to);
+            return move_fixed<10, pack>(sl, m, from, to);
           case 16:
-            return move_fixed<16, pack>(sl, from, to);
+            return move_fixed<16, pack>(sl, m, from, to);
           case 20:
-            return move_fixed<20, pack>(sl, from, to);
+            return move_fixed<20, pack>(sl, m, from, to);
           case 40:
-            return move_fixed<40, pack>(sl, from, to);
+            return move_fixed<40, pack>(sl, m, from, to);
           default:
-            for (std::size_t j = 0; j < sl.size(); ++j)
-              {
-                const double *src = from + (pack ? std::size_t(sl[j]) : j) * m;
-                std::copy(src, src + m, to + (pack ? j : std::size_t(sl[j])) * m);
-              }
+            return move_fixed<0, pack>(sl, m, from, to);
         }
     }
   } // namespace
