@@ -44,7 +44,7 @@ int main()
   // MFIX/OpenFOAM defaults in scaled units of a 1 mm, 2600 kg/m^3 grain (p0 = 13.36 Pa):
   // F = 0.05 Pa, phi_min = 0.5, r = 2, s = 5, phi_c = 0.64, delta = 1e-3
   const double          F = 0.05 / 13.36, a = 0.5, c = 0.64, r = 2, s = 5, delta = 1e-3;
-  const ContactPressure cp(F, a, c, r, s, delta, 0.1);
+  const ContactPressure cp(F, a, c, r, s, delta, FrictionalStress{});
   const double          v = M_PI / 6;
 
   for (const double phi : {0.52, 0.56, 0.6, 0.62, 0.635})

@@ -402,7 +402,7 @@ int main()
   // Default Johnson-Jackson closure in scaled units (1 mm glass grains: F = 0.05 Pa is
   // 3.7e-3 m g / sigma^2), phi_min 0.5, phi_c 0.64, across 0.5 < phi < 0.63.
   {
-    const ContactPressure cp(3.7e-3, 0.5, 0.64, 2, 5, 1e-3, 0.);
+    const ContactPressure cp(3.7e-3, 0.5, 0.64, 2, 5, 1e-3, FrictionalStress{});
     double                worst_uniform = 0, worst_random[2] = {0, 0}, worst_matrix = 0;
     for (int k = 0; k < 400; ++k)
       {

@@ -2,11 +2,16 @@
 // 3D periodic box cools by Haff's law T(t) = T0 / (1 + zeta0(T0) t / 2)^2.
 // Runs the full code path (Strang splitting with the convective step, the implicit
 // diffusion/source step with Newton and GMRES) for eps = 0.9, 0.7 and phi = 0.1, 0.5
-// over 10 collision times (1/nu0, doc/physics.md 3.1) with the Gauss-Legendre and the
-// implicit-midpoint integrators, and asserts
+// over 10 collision times (1/nu0, doc/physics.md 3.1) with the Gauss-Legendre, implicit
+// midpoint, SDIRK2, RKL2 and cost-based integrators (the last two also with frictional
+// grains, mu = 0.7: Chialvo & Sundaresan's effective restitution in zeta0, doc/physics.md
+// 3.10), and asserts
 //  - |T - T_Haff| / T_Haff <= 1e-6 at the end, and
 //  - the temporal order on this nonlinear ODE from two step sizes:
-//    Gauss-Legendre >= 3.8, implicit midpoint and SDIRK2 >= 1.9 .
+//    Gauss-Legendre >= 3.8, implicit midpoint, SDIRK2, RKL2 and cost-based >= 1.9;
+//  - RKL2 with steps far above the cooling's forward-Euler limit (1.5 zeta0 dt up to ~7):
+//    the stage count includes the cooling rate, so the step stays stable and second
+//    order (error <= 2e-3 at 25 steps, order >= 1.9).
 #include "common/test_common.h"
 
 #include <iomanip>
@@ -18,7 +23,8 @@ namespace
 {
   const double sigma = 1e-3, rho_s = 2600, T0 = 1e-8;
 
-  std::string haff_scene(double eps, double phi, double dt, double t_end, const std::string &integrator)
+  std::string haff_scene(double eps, double phi, double dt, double t_end, const std::string &integrator,
+                         double mu)
   {
     std::ostringstream os;
     os.precision(17);
@@ -28,7 +34,7 @@ namespace
       os << "  set Boundary " << b << " = periodic\n";
     os << "end\nsubsection Material\n  set Model = granular\n  set Grain diameter = " << sigma
        << "\n  set Material density = " << rho_s << "\n  set Restitution coefficient = " << eps
-       << "\nend\nsubsection Initial state\n  set Packing fraction = " << phi
+       << "\n  set Friction coefficient = " << mu << "\nend\nsubsection Initial state\n  set Packing fraction = " << phi
        << "\n  set Velocity = 0;0;0\n  set Temperature = " << T0
        << "\n  set Quadrature points = 1\nend\n"
        << "subsection Numerics\n  set Reconstruction = first order\n  set CFL number = 0.9\n"
@@ -43,15 +49,17 @@ namespace
 
   /// relative error of T at t_end against Haff's law, and the number of steps taken
   double run(double eps, double phi, unsigned int steps, const std::string &integrator,
-             unsigned int &taken)
+             unsigned int &taken, double mu = 0)
   {
-    const physics::GarzoDufty1999 gd(eps);
+    physics::GarzoDufty1999 gd(eps);
+    if (mu > 0)
+      gd.set_friction(mu);
     const double m   = rho_s * M_PI * std::pow(sigma, 3) / 6;
     const double n   = 6 * phi / (M_PI * std::pow(sigma, 3));
     const double nu0 = gd.nu0(n, T0, m, sigma);
     const double z0  = gd.zeta0(n, T0, m, sigma);
     const double t_end = 10 / nu0;
-    Simulation<3, physics::GranularGas<3>> sim(parse_scene(haff_scene(eps, phi, t_end / steps, t_end, integrator), "haff"),
+    Simulation<3, physics::GranularGas<3>> sim(parse_scene(haff_scene(eps, phi, t_end / steps, t_end, integrator, mu), "haff"),
                                                MPI_COMM_SELF, std::cout);
     sim.setup();
     const auto sum = sim.run();
@@ -81,16 +89,19 @@ int main(int argc, char **argv)
   // steps chosen so that zeta0 dt stays small enough for 1e-6 in the stiffest case
   // (phi = 0.5, eps = 0.7: zeta0 t_end ~ 28): GL error ~ (zeta dt)^4, midpoint ~ (zeta dt)^2
   for (const Case &c : {Case{"gauss-legendre", 100, 3.8}, Case{"implicit midpoint", 4000, 1.9},
-                        Case{"sdirk2", 4000, 1.9}})
+                        Case{"sdirk2", 4000, 1.9}, Case{"rkl2", 4000, 1.9}, Case{"cost-based", 4000, 1.9}})
+    for (const double mu : {0., 0.7})
     for (const double eps : {0.9, 0.7})
       for (const double phi : {0.1, 0.5})
         {
+          if (mu > 0 && c.integrator != "rkl2" && c.integrator != "cost-based")
+            continue;
           unsigned int n1, n2;
-          const double e1 = run(eps, phi, c.steps, c.integrator, n1);
-          const double e2 = run(eps, phi, 2 * c.steps, c.integrator, n2);
+          const double e1 = run(eps, phi, c.steps, c.integrator, n1, mu);
+          const double e2 = run(eps, phi, 2 * c.steps, c.integrator, n2, mu);
           const double order = std::log(e1 / e2) / std::log(2.);
           std::ostringstream os;
-          os << c.integrator << ", eps = " << eps << ", phi = " << phi << ": " << n1
+          os << c.integrator << ", mu = " << mu << ", eps = " << eps << ", phi = " << phi << ": " << n1
              << " steps rel. error " << std::scientific << std::setprecision(2) << e1 << ", " << n2
              << " steps " << e2 << ", order " << std::fixed << std::setprecision(2) << order;
           chk.check(e1 <= 1e-6 && n1 == c.steps, os.str() + " (error <= 1e-6)");
@@ -98,5 +109,17 @@ int main(int argc, char **argv)
           chk.check(e2 < 1e-12 || order >= c.min_order,
                     c.integrator + ": order " + std::to_string(order) + " >= " + std::to_string(c.min_order));
         }
+  // RKL2 with few steps: 1.5 zeta0 dt far beyond forward Euler's 2 in the first steps
+  for (const double mu : {0., 0.7})
+    {
+      unsigned int n1, n2;
+      const double e1 = run(0.7, 0.5, 25, "rkl2", n1, mu), e2 = run(0.7, 0.5, 50, "rkl2", n2, mu);
+      const double order = std::log(e1 / e2) / std::log(2.);
+      std::ostringstream os;
+      os << "rkl2, stiff cooling, mu = " << mu << ": 25 steps rel. error " << std::scientific
+         << std::setprecision(2) << e1 << ", 50 steps " << e2 << ", order " << std::fixed
+         << std::setprecision(2) << order;
+      chk.check(e1 <= 2e-3 && order >= 1.9 && n1 == 25, os.str());
+    }
   return chk.failed != 0;
 }

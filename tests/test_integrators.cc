@@ -9,7 +9,9 @@
 //    imaginary axis (A-stability, sampled) and R(-1e8): ~0 for SDIRK2 (L-stable), ~1
 //    for Gauss-Legendre, ~-1 for midpoint (both only A-stable);
 //  - RKL2: on y' = lambda y the s-stage recurrence is stable (|R| <= 1) over the
-//    whole interval lambda dt in [-(s^2 + s - 2)/4, 0] (sampled), is second order
+//    whole interval lambda dt in [-(s^2 + s - 2)/2, 0] (sampled; the step bound
+//    dt <= dt_FE (s^2 + s - 2)/4 with the forward-Euler limit dt_FE = 2/|lambda|), and
+//    unstable just beyond it (|R| > 1 at 1.01 times the end), is second order
 //    (error vs exp(lambda dt) falls 8x when lambda dt halves, within 2 %), and the
 //    stage count is the fewest that is stable.
 #include <granhydro/diffusion/implicit_integrator.h>
@@ -133,19 +135,28 @@ int main()
   };
   for (const unsigned int s : {2u, 3u, 5u, 10u, 40u})
     {
+      // the stage count's bound in units of the forward-Euler limit (rkl2_stages' ratio)...
       const double zmax = (double(s) * s + s - 2) / 4;
+      // ...and in lambda dt: twice that (forward Euler is stable for lambda dt >= -2)
+      const double beta  = 2 * zmax;
       double       worst = 0;
-      for (unsigned int k = 0; k <= 2000; ++k)
-        worst = std::max(worst, std::abs(rkl2(s, -zmax * k / 2000.)));
+      for (unsigned int k = 0; k <= 20000; ++k)
+        worst = std::max(worst, std::abs(rkl2(s, -beta * k / 20000.)));
+      const double beyond = std::abs(rkl2(s, -1.01 * beta));
       // second order: local error ~ C z^3
       const double e1 = std::abs(rkl2(s, -0.02) - std::exp(-0.02)), e2 = std::abs(rkl2(s, -0.01) - std::exp(-0.01));
       const double ratio = e1 / e2;
       const unsigned int fewest = rkl2_stages(zmax), fewer = rkl2_stages(zmax * 1.001);
       std::ostringstream os;
-      os << "RKL2 s = " << s << ": max |R| over [-" << zmax << ", 0] = " << std::setprecision(15) << worst
+      os << "RKL2 s = " << s << ": max |R| over [-" << beta << ", 0] = " << std::setprecision(15) << worst
+         << ", |R| at 1.01 x the end " << beyond
          << ", local error ratio " << std::setprecision(4) << ratio << " (8 for order 2), stages for ratio "
          << zmax << ": " << fewest << ", just above: " << fewer;
-      chk.check(worst <= 1 + 1e-12 && std::abs(ratio / 8 - 1) < 0.02 && fewest == s && fewer == s + 1, os.str());
+      // 1e-12: the recurrence's round-off (measured 5e-15 at s = 40); beyond the interval
+      // |R| exceeds 1 except for s = 3, 5 (whose polynomials stay small just past the end)
+      chk.check(worst <= 1 + 1e-12 && (s == 3 || s == 5 || beyond > 1) && std::abs(ratio / 8 - 1) < 0.02 &&
+                  fewest == s && fewer == s + 1,
+                os.str());
     }
   return chk.failed != 0;
 }

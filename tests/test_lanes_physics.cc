@@ -58,7 +58,7 @@ namespace
         physics::GranularGas<dim> gas(gd);
         if (closure) // Johnson-Jackson contact pressure (scaled F), phi_min 0.62: pow branch above it
           {
-            gas.contact       = physics::ContactPressure(1e-3, 0.62, 0.64, 2, 5, 1e-3, 0.);
+            gas.contact       = physics::ContactPressure(1e-3, 0.62, 0.64, 2, 5, 1e-3, physics::FrictionalStress{});
             gas.repair_energy = 1e-7;
           }
         // states: dilute to dense (above phi_min, up to phi_c and beyond it), hot and cold,

@@ -14,6 +14,7 @@
 //    implicit step exceeds the explicit diffusive limit where that limit is binding,
 //  - and show the case's own feature (see each case).
 //   test_stability <scene.prm> dense_collapse|overpacking|shock_into_bed|vacuum_expansion|harsh_vibration|cooling_3d|chute_from_rest
+//                              |frictional_layer_{flow,rest}[_nofriction]
 #include "common/test_common.h"
 
 using namespace dealii;
@@ -193,9 +194,34 @@ namespace
         {
           check.check(p1[0] > 0.3, "a dense layer flows");
         }
+      else if (kind.rfind("frictional_layer", 0) == 0)
+        {
+          // a layer of frictional beads on a rough incline (parameters/frictional_chute.prm):
+          // 1 s without an inadmissible step (checked above: end time reached, no stop, CFL
+          // steps only). Above the arrest angle it flows, below it comes to rest:
+          // surface speed < 1 cm/s after 1 s (with the frictional stress; without it the layer
+          // has no yield stress and keeps flowing, only its stability is asserted).
+          const double us = surface_speed(sim);
+          if (check.root)
+            std::cout << kind << ": surface speed " << us << " m/s at t = " << sum.time_si << " s\n";
+          if (kind.find("_rest") != std::string::npos && kind.find("_nofriction") == std::string::npos)
+            check.check(us < 0.01, "below the arrest angle the layer is at rest (surface speed < 1 cm/s)");
+          if (kind.find("_flow") != std::string::npos)
+            check.check(us > 0.01, "above the arrest angle the layer flows (surface speed > 1 cm/s)");
+        }
       else
         check.check(false, "unknown case " + kind);
       return check.failed;
+    }
+
+    /// the largest down-slope (x) velocity [m/s] among the cells with phi > 0.3
+    static double surface_speed(const Sim &sim)
+    {
+      double us = 0;
+      for (unsigned int c = 0; c < sim.patch().n_owned(); ++c)
+        if (const auto S = cell(sim, c); S[0] * M_PI / 6 > 0.3)
+          us = std::max(us, S[1] / S[0] * sim.units().velocity);
+      return Utilities::MPI::max(us, MPI_COMM_WORLD);
     }
 
     /// packing fraction of layer l along the profile direction (y in 2D/3D)
@@ -226,7 +252,19 @@ int main(int argc, char **argv)
       std::cerr << "usage: test_stability <scene.prm> <case>\n";
       return 2;
     }
-  const Scene scene = read_scene_quietly(argv[1]);
+  // frictional_layer_{flow,rest}[_nofriction]: parameters/frictional_chute.prm at 24 or 20
+  // degrees, with or without the dense closure's frictional stress
+  const std::string kind = argv[2];
+  std::string       variant;
+  if (kind.rfind("frictional_layer", 0) == 0)
+    variant = std::string("\nsubsection Effects\n  set Gravity = ") +
+              (kind.find("_rest") != std::string::npos ? "3.3552, -9.2184" : "3.9901, -8.9619") +
+              "\nend\n" +
+              (kind.find("_nofriction") != std::string::npos ? "subsection Dense closure\n  set Viscosity time = 0\nend\n" : "");
+  const Scene scene = parse_scene(read_text_file(argv[1]) + variant +
+                                    "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
+                                    "  set Write checkpoint = false\n  set Write summary = false\n  set Verbose = false\nend\n",
+                                  argv[1]);
   AssertThrow(scene.model == "granular", ExcMessage("the hard cases are granular scenes"));
   switch (scene.dimension)
     {

@@ -29,6 +29,7 @@ namespace granhydro::convection
     , P(settings.face_quadrature == FaceQuadrature::gauss ? 2 : 1)
     , no_slip_pressure_flux(settings.no_slip_pressure_flux)
     , boundary_type(settings.boundary)
+    , no_wall_tension(settings.no_wall_tension)
   {
     length_unit = settings.length_unit;
   }
@@ -479,7 +480,7 @@ namespace granhydro::convection
       face_fluxes(numflux, patch, d, stage_array(ns - 1), npts, wq, Fpd.data(), stats.flux);
       for (std::size_t k = 0; k < faces.size(); ++k)
         if (wall[d][k])
-          wall_flux(wall[d][k], d, &Fpd[k * NC]);
+          wall_flux(wall[d][k], d, &Fpd[k * NC], owned_wall_face(d, k));
     };
     // on several ranks each stage runs first on the slots other ranks wait for, whose values
     // are then sent, then on the rest, and only then are the halo's values received (the
@@ -552,6 +553,7 @@ namespace granhydro::convection
     g.fallback_cells = Utilities::MPI::sum(stats.fallback_cells, comm);
     g.cell_updates   = Utilities::MPI::sum(stats.cell_updates, comm);
     g.rhs_evaluations = stats.rhs_evaluations;
+    g.wall_tension_bounded = Utilities::MPI::sum(stats.wall_tension_bounded, comm);
     return g;
   }
 

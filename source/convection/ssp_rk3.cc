@@ -81,7 +81,7 @@ namespace granhydro::convection
                 std::copy(&W[std::size_t(sr) * NC], &W[std::size_t(sr + 1) * NC], UR.begin());
                 numflux.rusanov(UL, UR, d, F);
                 if (wall[d][k])
-                  wall_flux(wall[d][k], d, F.data());
+                  wall_flux(wall[d][k], d, F.data(), owned_wall_face(d, k));
                 std::copy(F.begin(), F.end(), &Fp[d][k * NC]);
               }
         assemble_rhs(rhs0.data());

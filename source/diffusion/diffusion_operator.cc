@@ -59,7 +59,7 @@ namespace granhydro::diffusion
     for (unsigned int s = 0; s < n_owned; ++s)
       for (unsigned int d = 0; d < dim; ++d)
         cell_volume[s] /= inv_h[d][s];
-    friction_active = desc.contact.active && desc.contact.mu_factor > 0 && settings.viscous;
+    friction_active = desc.contact.active && desc.contact.friction.active() && settings.viscous;
     src.resize(patch.n_slots());
     flip.assign(patch.n_slots(), 0u);
     for (unsigned int s = 0; s < patch.n_slots(); ++s)
@@ -72,6 +72,18 @@ namespace granhydro::diffusion
         for (unsigned int w = 0; w < g.n_walls; ++w)
           m ^= g.wall_no_slip[w] ? (1u << dim) - 1 : 1u << g.wall_dir[w];
         flip[g.slot] = g.no_slip ? m : g.flip_mask;
+      }
+    // each face counted once over the ranks: by the owner of its low cell, or of its
+    // only cell at a wall (FaceFluxCounts)
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        const auto &faces = patch.faces(d);
+        counted_[d].assign(faces.size(), 0);
+        for (std::size_t k = 0; k < faces.size(); ++k)
+          {
+            const unsigned int key = patch.is_cell(faces[k].l) ? faces[k].l : faces[k].r;
+            counted_[d][k]         = key < n_owned ? 1 + patch.wall_face(faces[k].l, faces[k].r, d) : 0;
+          }
       }
     // dissipative walls: a face between a cell and a boundary ghost whose cell face has a
     // wall id with eps_w < 1; the sign is that of the wall's outward normal along d, from
@@ -125,11 +137,19 @@ namespace granhydro::diffusion
                                                const std::array<V, dim + 2> &UL,
                                                const std::array<V, dim + 2> &UR,
                                                std::array<V, dim + 2>       &F,
-                                               std::array<V, dim + 2>       *friction) const
+                                               std::array<V, dim + 2>       *friction,
+                                               V                            *bounded,
+                                               V                            *capped,
+                                               V                            *mu_f) const
   {
     namespace lanes        = physics::lanes;
+    using lanes::constant;
     constexpr unsigned int L = lanes::width<V>;
     using SV                 = std::array<V, NC>;
+    if (bounded)
+      *bounded = V{};
+    if (capped)
+      *capped = V{};
     // The gradients come from differences of the *thermal* states U* = U - (0, .., 0, n w(n)):
     // the contact energy n w of a dense closure is not thermal, and w changes by orders of
     // magnitude across a cell near phi_c, so it is removed exactly from each cell's state
@@ -206,31 +226,72 @@ namespace granhydro::diffusion
     const V                                   nf = Uf[0], Tf = desc.temperature(Uf, V{});
     const physics::PrimitiveGradients<dim, V> g  = physics::primitive_gradients<dim, V>(Uf, dU, 1.);
     F = physics::viscous_flux_primitive<dim>(Uf, g, coefficients(nf, Tf), 1., d);
+    V tf{}; // the frictional normal stress tau_f,dd (for the no-tension bound)
+    SV Ff{};
     if (friction_active)
       {
         // frictional (contact) shear stress of the dense closure: its momentum flux is
         // part of F, its work tau_f.u is not - that energy leaves the grains as heat
         // (doc/physics.md 4.5); residual() adds u . div(tau_f) to the energy instead, so that
         // T obeys the kinetic equation only. friction = (work flux, momentum flux).
+        // mu_f from the face's strain rate and T (physics/frictional_stress.h; the grain
+        // diameter is the length unit, so Theta / d^2 = T), lane by lane (pow, branches)
         struct
         {
           V eta, gamma, kappa, mu;
         } cf{V{}, V{}, V{}, V{}};
+        V div, SS;
+        physics::strain_rate_invariants<dim, V>(g.grad_u, div, SS);
         for (unsigned int i = 0; i < L; ++i)
-          lanes::ref(cf.eta, i) = desc.contact.viscosity(lanes::get(nf, i));
-        const SV Ff = physics::viscous_flux_primitive<dim>(Uf, g, cf, 1., d);
+          {
+            bool         c   = false;
+            const double n_i = lanes::get(nf, i);
+            lanes::ref(cf.eta, i) = desc.contact.friction.viscosity(desc.contact.pressure(n_i), lanes::get(div, i),
+                                                                    lanes::get(SS, i), lanes::get(Tf, i), &c);
+            if (capped)
+              lanes::ref(*capped, i) = c ? 1. : 0.;
+          }
+        if (mu_f)
+          *mu_f = cf.eta;
+        Ff = physics::viscous_flux_primitive<dim>(Uf, g, cf, 1., d);
         for (unsigned int k = 0; k < dim; ++k)
           F[1 + k] += Ff[1 + k];
-        if (friction)
-          {
-            (*friction)[0] = Ff[dim + 1];
-            for (unsigned int k = 0; k < dim; ++k)
-              (*friction)[1 + k] = Ff[1 + k];
-            (*friction)[dim + 1] = V{};
-          }
+        tf = Ff[1 + d];
       }
-    else if (friction)
-      friction->fill(V{});
+    if (settings.no_tension)
+      {
+        // Cohesionless grains (doc/physics.md 4.7): the total normal stress on the face,
+        // p - tau_dd, stays compressive. A tensile viscous normal stress tau_dd (kinetic plus
+        // frictional) above the face's pressure p = n T Z + p_f is scaled down to p, and its
+        // work tau_dd u_d with it, so the face flux stays conservative (energy to round-off).
+        V pc{};
+        if (desc.contact.active)
+          for (unsigned int i = 0; i < L; ++i)
+            lanes::ref(pc, i) = desc.contact.pressure(lanes::get(nf, i));
+        const V Tp = Tf < V{} ? V{} : Tf;
+        const V p  = nf * Tp * desc.model.Z(nf * constant<V>(physics::GranularGas<dim>::phi_per_n)) + pc;
+        const V t  = F[1 + d];
+        const auto tensile = t > p;
+        if (lanes::any(tensile))
+          {
+            const V one = constant<V>(1.);
+            const V sc  = tensile ? p / t : one; // t > p >= 0 on tensile lanes
+            const V ud  = Uf[1 + d] / Uf[0];
+            F[1 + d]    = sc * t;
+            F[dim + 1] -= (one - sc) * (t - tf) * ud; // the kinetic stress's work
+            Ff[1 + d] = sc * tf;
+            Ff[dim + 1] -= (one - sc) * tf * ud;     // the frictional work flux
+          }
+        if (bounded)
+          *bounded = tensile ? constant<V>(1.) : V{};
+      }
+    if (friction)
+      {
+        (*friction)[0] = Ff[dim + 1];
+        for (unsigned int k = 0; k < dim; ++k)
+          (*friction)[1 + k] = Ff[1 + k];
+        (*friction)[dim + 1] = V{};
+      }
   }
 
   template <int dim>
@@ -238,9 +299,14 @@ namespace granhydro::diffusion
                                          const unsigned int l, const unsigned int r,
                                          const State<dim> &UL, const State<dim> &UR,
                                          const WallFace &wall, State<dim> &F,
-                                         State<dim> *friction) const
+                                         State<dim> *friction, bool *bounded, bool *capped) const
   {
-    face_flux_lanes<double>(W, d, ihn, &l, &r, UL, UR, F, friction);
+    double b = 0, c = 0;
+    face_flux_lanes<double>(W, d, ihn, &l, &r, UL, UR, F, friction, &b, &c);
+    if (bounded)
+      *bounded = b > 0;
+    if (capped)
+      *capped = c > 0;
     if (wall.sign != 0)
       {
         // energy into the wall (doc/physics.md 5.2, contact theorem, m = 1). The cell update
@@ -276,9 +342,14 @@ namespace granhydro::diffusion
                 lanes::ref(UR[c], i) = W[std::size_t(r[i]) * NC + c];
               }
           }
-        face_flux_lanes<V>(W, d, ihn, l, r, UL, UR, F, friction_active ? &G : nullptr);
+        V bounded, capped, muf{};
+        face_flux_lanes<V>(W, d, ihn, l, r, UL, UR, F, friction_active ? &G : nullptr, &bounded, &capped, &muf);
         for (unsigned int i = 0; i < L; ++i)
           {
+            if (friction_active)
+              face_mu_f[d][k + i] = lanes::get(muf, i);
+            if (counted_[d][k + i])
+              count_face(d, k + i, lanes::get(bounded, i) > 0, lanes::get(capped, i) > 0);
             double *Fk = &Fp[d][(k + i) * NC];
             for (unsigned int c = 0; c < NC; ++c)
               Fk[c] = lanes::get(F[c], i);
@@ -294,12 +365,34 @@ namespace granhydro::diffusion
       {
         const unsigned int l = faces[k].l, r = faces[k].r;
         State<dim>         F, G;
-        face_flux(W, d, inv_dist[d][k], l, r, state<dim>(W, l), state<dim>(W, r), walls[d][k], F,
-                  friction_active ? &G : nullptr);
+        double             bounded = 0, capped = 0, muf = 0;
+        face_flux_lanes<double>(W, d, inv_dist[d][k], &l, &r, state<dim>(W, l), state<dim>(W, r), F,
+                                friction_active ? &G : nullptr, &bounded, &capped, &muf);
+        if (const WallFace &wall = walls[d][k]; wall.sign != 0) // as in face_flux()
+          F[dim + 1] -= wall.sign * desc.wall_heat_flux(wall.sign > 0 ? state<dim>(W, l) : state<dim>(W, r), wall.eps_w);
+        if (friction_active)
+          face_mu_f[d][k] = muf;
+        if (counted_[d][k])
+          count_face(d, k, bounded > 0, capped > 0);
         std::copy(F.begin(), F.end(), &Fp[d][k * NC]);
         if (friction_active)
           std::copy(G.begin(), G.end(), &Ff[d][k * NC]);
       }
+  }
+
+  template <int dim>
+  inline void DiffusionOperator<dim>::count_face(const unsigned int d, const std::size_t k, const bool bounded,
+                                                 const bool capped) const
+  {
+    ++counts_.faces;
+    if (bounded)
+      {
+        ++counts_.tension_bounded;
+        if (counted_[d][k] == 2)
+          ++counts_.tension_bounded_walls;
+      }
+    if (capped)
+      ++counts_.friction_capped;
   }
 
   template <int dim>
@@ -400,7 +493,10 @@ namespace granhydro::diffusion
         const std::size_t nf = patch.faces(d).size();
         Fp[d].resize(nf * NC);
         if (friction_active)
-          Ff[d].resize(nf * NC);
+          {
+            Ff[d].resize(nf * NC);
+            face_mu_f[d].resize(nf);
+          }
         face_fluxes<V>(W, d);
       }
     friction_power_ = 0;
@@ -441,20 +537,56 @@ namespace granhydro::diffusion
   template <int dim>
   double DiffusionOperator<dim>::explicit_rate(const double *W) const
   {
-    double m = 0;
-    for (unsigned int s = 0; s < patch.n_owned(); ++s)
+    // Half the largest |eigenvalue| of f's Jacobian, bounded by the sum of its parts'
+    // (Gershgorin): diffusion 2 D / dx^2 per direction (the Laplacian's 4 D / dx^2, halved),
+    // inelastic cooling 0.75 zeta0 (d/dT of -zeta0(T) T with zeta0 ~ sqrt(T): -1.5 zeta0,
+    // e_eff with friction, doc/physics.md 3.10) and a dissipative wall q_w / (2 n T dx)
+    // (d/dT of -q_w / (1.5 n dx) with q_w ~ T^1.5, doc/physics.md 5.2). The RKL2 stage
+    // count and the explicit limit 0.9 / rate follow from it (doc/physics.md 4.4).
+    const unsigned int  n_own = patch.n_owned();
+    std::vector<double> wall_rate(n_own, 0.);
+    for (unsigned int d = 0; d < dim; ++d)
+      for (std::size_t k = 0; k < walls[d].size(); ++k)
+        if (const WallFace &wall = walls[d][k]; wall.sign != 0)
+          {
+            const unsigned int s = wall.sign > 0 ? patch.faces(d)[k].l : patch.faces(d)[k].r;
+            if (s >= n_own)
+              continue;
+            const State<dim> U  = state<dim>(W, s);
+            const double     nT = U[0] * std::max(desc.temperature(U), 0.);
+            if (nT > 0)
+              wall_rate[s] += 0.5 * desc.wall_heat_flux(U, wall.eps_w) / nT * inv_h[d][s];
+          }
+    // the frictional viscosity depends on the strain rate (Srivastava-Sundaresan): the
+    // largest of the cell's faces at W, from one evaluation of the face fluxes
+    std::vector<double> cell_mu_f;
+    if (friction_active)
       {
-        State<dim> U;
-        std::copy(W + std::size_t(s) * NC, W + std::size_t(s + 1) * NC, U.begin());
-        const double n = U[0];
-        auto         c = coefficients(n, desc.temperature(U));
+        std::vector<double> scratch(std::size_t(n_own) * NC);
+        residual(W, scratch.data());
+        cell_mu_f.assign(n_own, 0.);
+        for (unsigned int d = 0; d < dim; ++d)
+          for (std::size_t k = 0; k < patch.faces(d).size(); ++k)
+            for (const unsigned int s : {patch.faces(d)[k].l, patch.faces(d)[k].r})
+              if (s < n_own)
+                cell_mu_f[s] = std::max(cell_mu_f[s], face_mu_f[d][k]);
+      }
+    const bool cooling = settings.cooling && desc.model.effective_restitution() < 1;
+    double     m       = 0;
+    for (unsigned int s = 0; s < n_own; ++s)
+      {
+        const State<dim> U = state<dim>(W, s);
+        const double     n = U[0], T = desc.temperature(U);
+        auto             c = coefficients(n, T);
         if (friction_active) // the frictional viscosity is a shear viscosity as well
-          c.eta += desc.contact.viscosity(n);
+          c.eta += cell_mu_f[s];
         // momentum diffusivity (gamma/eta + 4/3) eta/(m n), thermal 2 kappa/(3 n) (doc/physics.md 4.4)
         const double D = std::max((c.gamma + 4. / 3. * c.eta) / n, 2. * c.kappa / (3. * n));
-        double       rate = 0;
+        double       rate = wall_rate[s];
         for (unsigned int d = 0; d < dim; ++d)
           rate += 2 * D * inv_h[d][s] * inv_h[d][s];
+        if (cooling)
+          rate += 0.75 * desc.model.zeta0(n, std::max(T, 0.), 1., 1.);
         m = std::max(m, rate);
       }
     return Utilities::MPI::max(m, patch.communicator());

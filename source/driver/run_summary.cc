@@ -34,6 +34,9 @@ namespace granhydro
     if (scene.flux == FluxType::musta)
       pcout << ", MUSTA stages/point " << double(cs.flux.stages) / std::max<double>(cs.flux.points, 1)
             << ", MUSTA fallbacks to Rusanov " << cs.flux.fallbacks;
+    if (cs.wall_tension_bounded)
+      pcout << "\n  wall pressure: " << cs.wall_tension_bounded
+            << " wall face fluxes pulled on a receding cell and were set to 0 (cohesionless grains)";
     pcout << "\n  positivity: reconstructions reset to the cell average (cell x direction x stage) "
           << cs.limited_cells << ", cell updates redone first order (a posteriori) "
           << cs.fallback_cells << "\n";
@@ -75,6 +78,11 @@ namespace granhydro
     pcout << "  memory: peak resident " << sum.peak_memory_max / 1048576. << " MiB (largest rank), "
           << sum.peak_memory_total / 1024. / std::max<double>(sum.max_cells, 1)
           << " KiB per cell (all ranks, at the most cells)\n";
+    if (const auto &fc = sum.diffusion.faces; fc.tension_bounded + fc.friction_capped > 0)
+      pcout << "  diffusive face fluxes: " << fc.faces << " evaluations; tensile normal stress bounded by the pressure "
+            << "(cohesionless grains) in " << fc.tension_bounded << " (" << fc.tension_bounded_walls
+            << " at walls); frictional viscosity held at its bound t_r sin(theta_f) p_f (Rigidity time) in "
+            << fc.friction_capped << "\n";
     if (sum.diffusion.friction_dissipation > 0)
       pcout << "  frictional dissipation (dense closure, work of mu_f lost to heat): "
             << friction_dissipation_si(sum) << (dim == 3 ? " J" : dim == 2 ? " J/m" : " J/m^2")
@@ -136,6 +144,7 @@ namespace granhydro
       {"musta_stages", cs.flux.stages},
       {"limited_reconstructions", cs.limited_cells},
       {"first_order_fallbacks", cs.fallback_cells},
+      {"wall_tension_bounded_convective", cs.wall_tension_bounded},
       {"diffusion_steps", ds.steps},
       {"newton_iterations", ds.newton_iterations},
       {"gmres_iterations", ds.linear_iterations},
@@ -159,7 +168,11 @@ namespace granhydro
       {"min_explicit_dt", std::isfinite(ds.min_explicit_dt) ? ds.min_explicit_dt * t0 : 0},
       {"min_explicit_dt_time", ds.min_explicit_dt_time * t0},
       {"max_dt_over_explicit", ds.max_dt_over_explicit},
-      {"friction_dissipation_J", friction_dissipation_si(sum)}};
+      {"friction_dissipation_J", friction_dissipation_si(sum)},
+      {"diffusive_face_fluxes", ds.faces.faces},
+      {"tension_bounded_faces", ds.faces.tension_bounded},
+      {"tension_bounded_wall_faces", ds.faces.tension_bounded_walls},
+      {"friction_capped_faces", ds.faces.friction_capped}};
     try
       {
         io::write_summary_csv(scene.output_directory, scene.output_file("_summary.csv"), entries);

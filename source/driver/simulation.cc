@@ -37,10 +37,17 @@ namespace granhydro
         if (scene.friction > 0) // mu = 0 leaves the smooth model untouched
           desc.model.set_friction(scene.friction);
         if (scene.dense_closure != "none") // scaled units: pressure p0, time t0
-          desc.contact = physics::ContactPressure(
-            scene.closure_F / units_.pressure(), scene.closure_phi_min, scene.phi_close_packing,
-            scene.closure_r, scene.closure_s, scene.guard_delta,
-            scene.closure_time / units_.time() * std::sin(scene.closure_angle * M_PI / 180.));
+          {
+            physics::FrictionalStress friction;
+            friction.law     = scene.frictional_stress == "newtonian" ? physics::FrictionalLaw::newtonian :
+                                                                         physics::FrictionalLaw::srivastava_sundaresan;
+            friction.sin_phi = std::sin(scene.closure_angle * M_PI / 180.);
+            friction.t_f     = scene.closure_time / units_.time();
+            friction.t_r     = scene.rigidity_time / units_.time();
+            desc.contact     = physics::ContactPressure(scene.closure_F / units_.pressure(), scene.closure_phi_min,
+                                                        scene.phi_close_packing, scene.closure_r, scene.closure_s,
+                                                        scene.guard_delta, friction);
+          }
       }
   }
 
@@ -141,6 +148,7 @@ namespace granhydro
           ds.cooling       = scene.cooling;
           ds.diagonal_only = scene.diagonal_flux;
           ds.max_free_path = scene.max_free_path / units_.length;
+          ds.no_tension    = scene.cohesionless;
           ds.wall_restitution = scene.wall_restitution;
           ds.body = body_force();
           diff = std::make_unique<diffusion::DiffusionOperator<dim>>(*patch_, desc, ds, units_.length);

@@ -17,7 +17,7 @@ namespace granhydro
                         "Contact/frictional stresses of the dense regime (granular model; the "
                         "paper has none). 'johnson-jackson': pressure p_f ~ F (phi - phi_min)^r "
                         "/ (phi_c - phi)^s from a contact potential in the energy (T stays "
-                        "positive on expansion) and shear viscosity mu_f = t_f sin(theta_f) p_f. "
+                        "positive on expansion) and a frictional shear stress (Frictional stress). "
                         "Without it a pile cooling at rest reaches phi_c in finite time and the "
                         "run stops with a diagnostic (README, 'Dense closure').");
       prm.declare_entry("Coefficient", "0.05", Patterns::Double(0, Patterns::Double::max_double_value),
@@ -30,9 +30,24 @@ namespace granhydro
                         "0.58). README, 'Dense closure'.");
       prm.declare_entry("Exponent r", "2", Patterns::Double(1, 10), "r (default 2, at least 1).");
       prm.declare_entry("Exponent s", "5", Patterns::Double(1.5, 20), "s (default 5, above 1).");
+      prm.declare_entry("Frictional stress", "srivastava-sundaresan",
+                        Patterns::Selection("srivastava-sundaresan|newtonian"),
+                        "'srivastava-sundaresan': Srivastava & Sundaresan (2003), as MFIX's "
+                        "Princeton model - rate-independent, bounded by p_f sin(theta_f) in "
+                        "shear, vanishing in fast dilation, regularised by the granular "
+                        "temperature, its viscosity bounded by t_r sin(theta_f) p_f (Rigidity "
+                        "time). "
+                        "'newtonian': mu_f = t_f sin(theta_f) p_f (OpenFOAM's Johnson-Jackson "
+                        "choice), unbounded stress (doc/physics.md 4.5).");
       prm.declare_entry("Viscosity time", "0.5", Patterns::Double(0, Patterns::Double::max_double_value),
-                        "t_f [s] of the frictional viscosity mu_f = t_f sin(theta_f) p_f "
-                        "(OpenFOAM's Johnson-Jackson choice 0.5 s; 0 switches mu_f off).");
+                        "t_f [s] of the Newtonian frictional viscosity mu_f = t_f sin(theta_f) "
+                        "p_f (OpenFOAM's Johnson-Jackson choice 0.5 s); 0 switches the "
+                        "frictional stress off, whichever law.");
+      prm.declare_entry("Rigidity time", "10", Patterns::Double(0, Patterns::Double::max_double_value),
+                        "t_r [s]: the Srivastava-Sundaresan viscosity is at most t_r sin(theta_f) "
+                        "p_f, so a cold pile below the yield stress creeps at strain rates of "
+                        "about 1/(sqrt(2) t_r) instead of being rigid (a regularisation, counted "
+                        "in the run summary; larger is more rigid and stiffer).");
       prm.declare_entry("Friction angle", "28.5", Patterns::Double(0, 90),
                         "theta_f [degrees] of the frictional viscosity.");
     }
@@ -47,7 +62,9 @@ namespace granhydro
     closure_phi_min = prm.get_double("Minimum packing fraction");
     closure_r       = prm.get_double("Exponent r");
     closure_s       = prm.get_double("Exponent s");
+    frictional_stress = prm.get("Frictional stress");
     closure_time    = prm.get_double("Viscosity time");
+    rigidity_time   = prm.get_double("Rigidity time");
     closure_angle   = prm.get_double("Friction angle");
     prm.leave_subsection();
   }

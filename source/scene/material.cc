@@ -47,6 +47,15 @@ namespace granhydro
                         "diffusivities stay below ~L sqrt(T/m) instead of diverging as n -> 0 "
                         "(doc/physics.md P14). Hydrodynamics has no meaning there anyway; use a few "
                         "cell sizes for scenes with near-vacuum.");
+      prm.declare_entry("Cohesionless", "true", Patterns::Bool(),
+                        "Granular model: grains cannot pull. At every face of the diffusion "
+                        "step the tensile viscous normal stress (kinetic and frictional) is "
+                        "bounded by the pressure there, so the total normal stress stays "
+                        "compressive, at walls too (a floor cannot suck a bed down); its work "
+                        "uses the same bounded stress (energy stays conserved). Counted in the "
+                        "run summary. false: the paper's literal Navier-Stokes stress, which "
+                        "lets a wall or a tearing layer pull on the grains "
+                        "(doc/physics.md 4.7).");
       prm.declare_entry("Grain diameter", "1e-3", Patterns::Double(0, Patterns::Double::max_double_value),
                         "Grain diameter sigma [m].");
       prm.declare_entry("Material density", "2600", Patterns::Double(0, Patterns::Double::max_double_value),
@@ -71,6 +80,7 @@ namespace granhydro
     phi_close_packing = prm.get_double("Close packing fraction");
     guard_delta       = prm.get_double("Close packing guard");
     max_free_path     = prm.get_double("Maximum mean free path");
+    cohesionless      = prm.get_bool("Cohesionless");
     prm.leave_subsection();
   }
 

@@ -23,6 +23,7 @@ namespace granhydro
     c.musta_tolerance       = musta_tolerance;
     c.musta_local_cfl       = musta_local_cfl;
     c.no_slip_pressure_flux = no_slip_pressure_flux;
+    c.no_wall_tension       = model == "granular" && cohesionless;
     c.boundary              = boundary;
     c.length_unit           = units().length;
     return c;

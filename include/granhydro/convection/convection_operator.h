@@ -43,6 +43,9 @@ namespace granhydro::convection
     /// cells x stages whose update was redone with first-order Rusanov fluxes (a posteriori)
     unsigned long long fallback_cells = 0;
     unsigned long long cell_updates = 0, rhs_evaluations = 0;
+    /// wall face fluxes whose negative normal momentum flux (a wall pulling) was set to 0
+    /// (cohesionless grains), on the faces of owned cells
+    unsigned long long wall_tension_bounded = 0;
   };
 
   template <int dim, class Description>
@@ -132,14 +135,28 @@ namespace granhydro::convection
     std::vector<char> wall[dim];
     bool              no_slip_pressure_flux = false;
     std::array<BoundaryType, 6> boundary_type;
-    /// zero the flux components a wall face does not carry (see wall above)
-    void wall_flux(const char kind, const unsigned int d, double *F) const
+    bool              no_wall_tension = false;
+    /// zero the flux components a wall face does not carry (see wall above); with
+    /// no_wall_tension a negative wall pressure becomes 0. Counted in stats when owned.
+    void wall_flux(const char kind, const unsigned int d, double *F, const bool owned) const
     {
       F[0] = F[NC - 1] = 0.;
       if (kind == 2)
         for (unsigned int j = 0; j < dim; ++j)
           if (j != d)
             F[1 + j] = 0.;
+      if (no_wall_tension && F[1 + d] < 0)
+        {
+          F[1 + d] = 0.;
+          if (owned)
+            ++stats.wall_tension_bounded;
+        }
+    }
+    /// whether the wall face k normal to d belongs to an owned cell
+    bool owned_wall_face(const unsigned int d, const std::size_t k) const
+    {
+      const auto &f = patch.faces(d)[k];
+      return (patch.is_cell(f.l) ? f.l : f.r) < patch.n_owned();
     }
 
     mutable std::vector<double> A, B, C; // stage arrays (one direction at a time)

@@ -50,6 +50,10 @@ namespace granhydro::convection
     /// no-slip walls: only the wall pressure in the normal momentum (paper eq. 6.1a)
     /// instead of the mirror-ghost flux
     bool no_slip_pressure_flux = false;
+    /// cohesionless grains: a wall pushes, never pulls - the normal momentum flux (wall
+    /// pressure) of a wall face is at least 0 (a cell receding from the wall faster than
+    /// the flux's wave speeds allow cavitates instead of being sucked back)
+    bool no_wall_tension = false;
     /// boundary[2 d] lower and boundary[2 d + 1] upper side of direction d (mesh files:
     /// by boundary id)
     std::array<BoundaryType, 6> boundary{};

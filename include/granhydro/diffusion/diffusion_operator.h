@@ -65,6 +65,19 @@ namespace granhydro::diffusion
     physics::BodyForce body;
     /// grain-wall restitution per boundary id (2 d + upper for a box); < 1: dissipative wall heat flux
     std::array<double, 6> wall_restitution{{1, 1, 1, 1, 1, 1}};
+    /// cohesionless grains: the tensile viscous normal stress at a face is bounded by the
+    /// pressure there (doc/physics.md 4.7)
+    bool no_tension = true;
+  };
+
+  /// what the face fluxes bounded, counted over all evaluations of f on the faces this rank
+  /// owns (a face belongs to the rank owning its low cell, or its only cell at a wall)
+  struct FaceFluxCounts
+  {
+    unsigned long long faces = 0;            ///< face flux evaluations
+    unsigned long long tension_bounded = 0;  ///< tensile normal stress bounded by the pressure
+    unsigned long long tension_bounded_walls = 0; ///< of which on wall faces
+    unsigned long long friction_capped = 0;  ///< frictional viscosity held at its rigidity bound
   };
 
   template <int dim>
@@ -114,6 +127,13 @@ namespace granhydro::diffusion
     /// grains as heat instead of becoming granular temperature (doc/physics.md 4.5)
     double friction_power() const { return friction_power_; }
 
+    /// the face fluxes of the last residual() call, NC values per face of patch.faces(d)
+    /// (without the frictional work; for diagnostics and tests)
+    const std::vector<double> &last_face_fluxes(const unsigned int d) const { return Fp[d]; }
+
+    /// this rank's face flux counts since construction
+    const FaceFluxCounts &face_counts() const { return counts_; }
+
     /// true when the frictional viscosity of the dense closure is on
     bool friction() const { return friction_active; }
 
@@ -144,7 +164,8 @@ namespace granhydro::diffusion
     void face_flux(const double *W, const unsigned int d, const double ihn, const unsigned int l,
                    const unsigned int r, const physics::State<dim> &UL,
                    const physics::State<dim> &UR, const WallFace &wall,
-                   physics::State<dim> &F, physics::State<dim> *friction = nullptr) const;
+                   physics::State<dim> &F, physics::State<dim> *friction = nullptr,
+                   bool *bounded = nullptr, bool *capped = nullptr) const;
     void source(const physics::State<dim> &U, physics::State<dim> &S) const;
     /// kinetic-theory coefficients at (n, T) with the Knudsen cap and the switches; V is
     /// double or a GCC vector of doubles (lanes: states side by side, each lane bit for
@@ -159,7 +180,8 @@ namespace granhydro::diffusion
     void face_flux_lanes(const double *W, const unsigned int d, const V ihn, const unsigned int *l,
                          const unsigned int *r, const std::array<V, dim + 2> &UL,
                          const std::array<V, dim + 2> &UR, std::array<V, dim + 2> &F,
-                         std::array<V, dim + 2> *friction) const;
+                         std::array<V, dim + 2> *friction, V *bounded = nullptr,
+                         V *capped = nullptr, V *mu_f = nullptr) const;
 
     /// residual() with V-wide lanes, compiled for the default target and for AVX2
     template <class V>
@@ -174,6 +196,9 @@ namespace granhydro::diffusion
     /// residual() for the owned cells [s0, s0 + lanes of V) from the face fluxes
     template <class V>
     void cell_residuals(const double *W, const unsigned int s0, double *f) const;
+
+    /// counts_ for face k normal to d (counted_[d][k] != 0)
+    void count_face(const unsigned int d, const std::size_t k, const bool bounded, const bool capped) const;
 
     /// the fluxes of all faces normal to d into Fp[d] (and Ff[d]), V-wide lanes of faces
     template <class V>
@@ -193,6 +218,12 @@ namespace granhydro::diffusion
     mutable double              time = 0;
     mutable std::array<double, 3> force{{0, 0, 0}}; ///< settings.body.at(time)
     mutable double              friction_power_ = 0;
+    mutable FaceFluxCounts      counts_;
+    /// the frictional viscosity of each face of the last residual() (friction active)
+    mutable std::vector<double> face_mu_f[dim];
+    /// whether face k of direction d is counted on this rank (FaceFluxCounts): 0 no, 1 yes,
+    /// 2 yes and it is a wall face
+    std::vector<unsigned char>  counted_[dim];
     std::vector<double>         cell_volume; ///< scaled volume of each owned cell
     bool                        friction_active = false;
   };

@@ -112,6 +112,10 @@ namespace granhydro::diffusion
     /// energy dissipated by the frictional stress of the dense closure over all accepted
     /// steps (scaled energy density times scaled volume; DiffusionOperator::friction_power)
     double friction_dissipation = 0;
+    /// face flux evaluations of f (all ranks) and those bounded: tensile normal stress held
+    /// at the pressure (cohesionless grains; on walls), frictional viscosity held at the
+    /// rigidity bound (DiffusionOperator::face_counts)
+    FaceFluxCounts faces;
   };
 
   template <int dim>

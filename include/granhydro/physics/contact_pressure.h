@@ -6,8 +6,9 @@
  * (phi_c - phi)^s, as MFIX and OpenFOAM use (F = 0.05 Pa, r = 2, s = 5: Johnson, Nott
  * & Jackson, J. Fluid Mech. 210, 501 (1990)), with phi_min = 0.62 for smooth spheres
  * (their enduring contacts form only next to random close packing; README, 'Dense
- * closure'), and a frictional shear viscosity mu_f = t_f sin(theta_f) p_f (OpenFOAM's
- * JohnsonJackson choice, t_f = 0.5 s) whose work is dissipated, not turned into T.
+ * closure'), and a frictional shear stress (physics/frictional_stress.h: Srivastava &
+ * Sundaresan's Coulomb-bounded law by default, or the Newtonian mu_f = t_f sin(theta_f) p_f)
+ * whose work is dissipated, not turned into T.
  *
  * Why it is needed: kinetic theory alone gives no pressure to a pile at rest
  * (T -> 0). Under gravity the floor of a cooling column obeys, with
@@ -34,6 +35,8 @@
  *
  * Units: the code's scaled units (sigma = 1, m = 1, so v = pi/6 and phi = v n).
  */
+#include <granhydro/physics/frictional_stress.h>
+
 #include <cmath>
 
 namespace granhydro::physics
@@ -47,13 +50,13 @@ namespace granhydro::physics
     double r         = 2;
     double s         = 5;
     double delta     = 1e-3; ///< continuation beyond phi_c - delta
-    double mu_factor = 0;    ///< t_f sin(theta_f), scaled time: mu_f = mu_factor p_f
+    FrictionalStress friction; ///< the frictional shear stress (physics/frictional_stress.h)
 
     static constexpr double v = M_PI / 6.;
 
     ContactPressure() = default;
     ContactPressure(const double F, const double phi_min, const double phi_c, const double r,
-                    const double s, const double delta, const double mu_factor)
+                    const double s, const double delta, const FrictionalStress &friction)
       : active(F > 0)
       , F(F)
       , phi_min(phi_min)
@@ -61,7 +64,7 @@ namespace granhydro::physics
       , r(r)
       , s(s)
       , delta(delta)
-      , mu_factor(mu_factor)
+      , friction(friction)
     {}
 
     double A() const { return v * F / (phi_c * phi_c * (s - 1) * (phi_c - phi_min)); }
@@ -145,7 +148,11 @@ namespace granhydro::physics
       dp_dn  = 2 * phi * w1 + phi * phi * w2;
     }
 
-    /// frictional shear viscosity mu_f = t_f sin(theta_f) p_f
-    double viscosity(const double n) const { return mu_factor > 0 ? mu_factor * pressure(n) : 0.; }
+    /// the largest frictional shear viscosity at n: t_f sin(theta_f) p_f (Newtonian law) or
+    /// the bound t_r sin(theta_f) p_f of the Srivastava–Sundaresan one
+    double viscosity(const double n) const
+    {
+      return friction.active() ? friction.max_factor() * pressure(n) : 0.;
+    }
   };
 } // namespace granhydro::physics

@@ -23,6 +23,7 @@ namespace granhydro
     double phi_close_packing = 0.64; // phi_c
     double guard_delta      = 1e-3;  // C1 continuation of chi beyond phi_c - delta
     double max_free_path    = 0;     // [m] Knudsen cap of the transport coefficients; 0 = off
+    bool   cohesionless     = true;  // tensile viscous normal stress bounded by the pressure
 
     double grain_mass() const;
 

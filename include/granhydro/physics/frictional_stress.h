@@ -1,0 +1,130 @@
+#pragma once
+/**
+ * @file frictional_stress.h
+ * The frictional shear stress of a dense granular pile (the dense closure's 'Frictional
+ * stress'), and the invariants of the strain rate it needs. Two laws:
+ *
+ *  - 'srivastava-sundaresan' (default): Srivastava & Sundaresan, "Analysis of a
+ *    frictional-kinetic model for gas-particle flow", Powder Technol. 129, 72 (2003), in
+ *    the form MFIX codes as its Princeton friction model. With the critical-state pressure
+ *    P_c (here the contact pressure p_f of the closure), the friction angle phi, the
+ *    deviatoric strain rate S = D - (div u / 3) I and the grain diameter d,
+ *
+ *      zeta    = sqrt(S:S + Theta / d^2),  Theta = T/m          (fluctuations regularise)
+ *      n       = sqrt(3) / (2 sin phi)  if div u >= 0 (dilation),  1.03 if div u < 0
+ *      P_f/P_c = (1 - div u / (n sqrt(2) sin phi zeta))^(n - 1),   0 if the bracket is < 0
+ *      mu_f    = sqrt(2) sin phi P_f (n - (n - 1)(P_f/P_c)^(1/(n - 1))) / (2 zeta),  >= 0
+ *
+ *    The deviatoric stress 2 mu_f S is rate-independent and Coulomb-bounded: in simple
+ *    shear (div u = 0) it is P_c sin phi gamma_dot / sqrt(gamma_dot^2 + 2 Theta/d^2) <=
+ *    P_c sin phi; in uniaxial dilation at Theta = 0 the bracket is exactly 0 and the stress
+ *    vanishes (the choice of n for dilation makes it so).
+ *  - 'newtonian': mu_f = t_f sin(phi) P_c (OpenFOAM's JohnsonJackson, t_f = 0.5 s), a
+ *    Newtonian viscosity whose stress grows without bound with the strain rate.
+ *
+ * The Srivastava–Sundaresan viscosity is bounded by a rigidity time t_r: mu_f <= t_r sin phi
+ * P_c, i.e. below strain rates of about 1/(sqrt(2) t_r) a pile at rest whose granular
+ * temperature has died out creeps instead of being rigid (a numerical regularisation like
+ * MFIX's cap on the solids viscosity, counted in the run summary where it acts; it bounds
+ * the diffusion step's stiffness). t_f = 0 switches the frictional stress off in either
+ * law. The isotropic part of the model (P_f instead of P_c in the pressure) is not applied: the
+ * contact pressure stays the conservative one of the contact potential (doc/physics.md 2.1).
+ *
+ * Units: any consistent set (the solver's scaled units: m = 1, d = sigma = 1, so
+ * Theta / d^2 = T).
+ */
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace granhydro::physics
+{
+  enum class FrictionalLaw
+  {
+    newtonian,
+    srivastava_sundaresan
+  };
+
+  /// div u and S:S (S the deviatoric strain rate) from grad_u[j][l] = d u_l / d x_j over the
+  /// resolved directions (unresolved components and derivatives are zero)
+  template <int dim, class Number, class Gradient>
+  inline void strain_rate_invariants(const Gradient &grad_u, Number &div, Number &SS)
+  {
+    div = Number{};
+    for (int k = 0; k < dim; ++k)
+      div += grad_u[k][k];
+    Number DD{}; // D:D, D = (grad u + grad u^T)/2
+    for (int j = 0; j < dim; ++j)
+      for (int l = 0; l < dim; ++l)
+        {
+          const Number Djl = 0.5 * (grad_u[j][l] + grad_u[l][j]);
+          DD += Djl * Djl;
+        }
+    SS = DD - div * div / 3.;
+  }
+
+  struct FrictionalStress
+  {
+    FrictionalLaw law     = FrictionalLaw::srivastava_sundaresan;
+    double        sin_phi = 0; ///< sine of the friction angle
+    double        t_f     = 0; ///< viscosity time (0: no frictional stress)
+    double        t_r     = 0; ///< rigidity time: Srivastava–Sundaresan's mu_f <= t_r sin phi P_c
+
+    static constexpr double n_compression = 1.03;
+
+    bool active() const { return sin_phi > 0 && t_f > 0; }
+
+    double n_dilation() const { return std::sqrt(3.) / (2. * sin_phi); }
+
+    /// P_f / P_c of Srivastava & Sundaresan for div u and zeta = sqrt(S:S + Theta/d^2) > 0
+    double pressure_ratio(const double div, const double zeta) const
+    {
+      const double n = div >= 0 ? n_dilation() : n_compression;
+      const double b = 1. - div / (n * std::sqrt(2.) * sin_phi * zeta);
+      return b > 0 ? std::pow(b, n - 1.) : 0.;
+    }
+
+    /// mu_f / P_c of Srivastava & Sundaresan, uncapped (theta_d2 = Theta / d^2)
+    double srivastava_sundaresan_factor(const double div, const double SS, const double theta_d2) const
+    {
+      const double zeta = std::sqrt(std::max(SS, 0.) + std::max(theta_d2, 0.));
+      if (!(zeta > 0))
+        return std::numeric_limits<double>::infinity(); // a pile at rest with T = 0: rigid
+      const double n = div >= 0 ? n_dilation() : n_compression;
+      const double r = pressure_ratio(div, zeta);
+      const double f = std::sqrt(2.) * sin_phi * r * (n - (n - 1.) * std::pow(r, 1. / (n - 1.))) / (2. * zeta);
+      return f > 0 ? f : 0.; // compression far beyond the critical state: MFIX sets it to 0
+    }
+
+    /**
+     * Frictional shear viscosity mu_f for the critical-state (contact) pressure pc, div u,
+     * S:S and Theta/d^2. capped (optional) is set when the Srivastava–Sundaresan value was
+     * held at its bound t_r sin phi P_c.
+     */
+    double viscosity(const double pc, const double div, const double SS, const double theta_d2,
+                     bool *capped = nullptr) const
+    {
+      if (capped)
+        *capped = false;
+      if (!active() || !(pc > 0))
+        return 0.;
+      if (law == FrictionalLaw::newtonian)
+        return t_f * sin_phi * pc;
+      const double f = srivastava_sundaresan_factor(div, SS, theta_d2), bound = t_r * sin_phi;
+      if (f > bound)
+        {
+          if (capped)
+            *capped = true;
+          return bound * pc;
+        }
+      return f * pc;
+    }
+
+    /// the largest mu_f / P_c the law can give: for stiffness bounds
+    double max_factor() const
+    {
+      return active() ? (law == FrictionalLaw::newtonian ? t_f : t_r) * sin_phi : 0.;
+    }
+  };
+} // namespace granhydro::physics
