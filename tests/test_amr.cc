@@ -1,4 +1,4 @@
-// Adaptive octree refinement (README, "Adaptive mesh refinement").
+// Adaptive octree refinement (doc/user-guide.md, "Adaptive mesh refinement").
 //   test_amr conservation : a 3D periodic blast (ideal gas, WENO5) refined and coarsened
 //                           every 5 steps for 500 steps: mass and energy are conserved to
 //                           1e-13 relative (hanging-face fluxes are fine sub-faces taken by

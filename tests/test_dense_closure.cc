@@ -1,4 +1,4 @@
-// The dense closure in the solver (README, 'Dense closure'):
+// The dense closure in the solver (doc/user-guide.md, 'Dense closure'):
 //  uniform_temperature  the diffusion step conducts heat along grad T only, never along the
 //                       contact energy n w(phi) stored in nE: a column with uniform T and
 //                       phi from 0.5 to 0.63 (eps = 0.8, cooling off, so only conduction acts)

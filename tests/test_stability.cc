@@ -1,5 +1,5 @@
 // The stability suite. Each hard case is a scene in parameters/hard/ (the
-// -ci file at CI size; the file without -ci is the larger version of the README).
+// -ci file at CI size; the file without -ci is the larger version; doc/user-guide.md).
 // Every case must
 //  - reach its end time (or, for the collapse without a closure, stop with the
 //    over-packing diagnostic and the last admissible state as its final state),
@@ -140,7 +140,7 @@ namespace
           // here (its Newton tolerance is relative to the largest energy in the domain, so the
           // pile's cold top cell converges loosely); before the dense-closure fixes 0.045 and
           // 0.098 (the pile's T drained by heat conducted along grad(T + 2w/3)). The bound
-          // 1e-3 is the one the larger version is held to (README, stability suite)
+          // 1e-3 is the one the larger version is held to (doc/performance.md, stability suite)
           const double updates = 3. * sum.steps * sim.patch().n_global_cells();
           check.check(sum.temperature_repairs <= 1e-3 * updates,
                       "temperature repairs <= 1e-3 of the cell updates (" +

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""A measured cost model of a granhydro run on P MPI ranks (README "Running on a cluster").
+"""A measured cost model of a granhydro run on P MPI ranks (doc/user-guide.md "Running on a cluster").
 
   wall(P) = c_cell * cell_steps / P                       (compute, owned cells)
           + n_exchanges * msgs(P) * t_msg(halo_bytes(P) / msgs(P))   (halo)

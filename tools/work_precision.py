@@ -42,10 +42,10 @@ Cross-checks: the Python exact Riemann solver reproduces tests/common/exact_riem
 bit (p*, u*, cell averages of Sod, Lax, 123); the vortex error at 40^2 and 80^2 with
 tests/test_order.cc's time step reproduces its L1 errors to 4 digits; the Sod L1
 errors at 200 cells reproduce `tests/test_riemann --study` for first order and MUSCL;
-WENO3/WENO5 and MUSTA-4 differ by 1-10 % because their results depend on the internal
-units (README, "Work-precision study").
-Meshes are uniform: granhydro has no AMR yet, so uniform vs adaptive cannot be
-compared.
+WENO3/WENO5 and MUSTA-4 differed by 1-10 % because their results then depended on the
+internal units (doc/performance.md, "Work-precision study").
+Meshes are uniform except in the sod2d problem, which compares uniform and adaptive
+meshes.
 """
 import argparse
 import csv

@@ -102,7 +102,7 @@ namespace granhydro
       pcout << "  temperature floor: " << sum.temperature_repairs
             << " cell updates of a cooling dense pile ended with T < " << physics::GranularGas<dim>::temperature_floor
             << " (scaled) and were set to it; largest thermal-energy deficit "
-            << sum.max_temperature_repair * units_.energy() << " J per grain (README, 'Dense closure')\n";
+            << sum.max_temperature_repair * units_.energy() << " J per grain (doc/user-guide.md, 'Dense closure')\n";
   }
 
   template <int dim, class Description>

@@ -47,7 +47,7 @@ namespace granhydro
 
     volatile std::sig_atomic_t stop_requested = 0;
 
-    /// test hook (README, "Checkpoints"): GRANHYDRO_SIGTERM_AT_STEP=K sends SIGTERM to
+    /// test hook (doc/developer.md, "Test hooks"): GRANHYDRO_SIGTERM_AT_STEP=K sends SIGTERM to
     /// every rank after step K, so that a test interrupts at a known step
     unsigned long sigterm_at_step()
     {

@@ -19,7 +19,7 @@ namespace granhydro::io
   {
     std::string os_reason(const int e) { return std::strerror(e); }
 
-    /// test hook (README, "Checkpoints"): GRANHYDRO_FAIL_CHECKPOINT_WRITE=K makes the K-th
+    /// test hook (doc/developer.md, "Test hooks"): GRANHYDRO_FAIL_CHECKPOINT_WRITE=K makes the K-th
     /// checkpoint this process writes stop half-way with "No space left on device", as a
     /// full disk would; unset in normal runs. Every rank counts its calls (every rank
     /// takes part in every write), so all ranks fail at the same checkpoint.
@@ -33,7 +33,7 @@ namespace granhydro::io
       return k > 0 && ++calls == k;
     }
 
-    /// test hook (README, "Checkpoints"): GRANHYDRO_HOLD_AFTER_CHECKPOINT=K makes the
+    /// test hook (doc/developer.md, "Test hooks"): GRANHYDRO_HOLD_AFTER_CHECKPOINT=K makes the
     /// process stop after its K-th checkpoint is in place and wait until it is killed, so
     /// a test can kill a run at a known checkpoint however fast the run is; unset in
     /// normal runs

@@ -82,7 +82,7 @@ namespace granhydro::io
     return "over-packing at t = " + std::to_string(t_si) + " s: " + report +
            " Kinetic theory gives no pressure to a pile at rest (T -> 0), so a "
            "settling layer reaches phi_c in finite time; switch on 'Dense "
-           "closure/Model = johnson-jackson' (README, 'Dense closure'). Details: " +
+           "closure/Model = johnson-jackson' (doc/user-guide.md, 'Dense closure'). Details: " +
            details;
   }
 

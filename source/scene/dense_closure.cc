@@ -19,7 +19,7 @@ namespace granhydro
                         "/ (phi_c - phi)^s from a contact potential in the energy (T stays "
                         "positive on expansion) and a frictional shear stress (Frictional stress). "
                         "Without it a pile cooling at rest reaches phi_c in finite time and the "
-                        "run stops with a diagnostic (README, 'Dense closure').");
+                        "run stops with a diagnostic (doc/user-guide.md, 'Dense closure').");
       prm.declare_entry("Coefficient", "0.05", Patterns::Double(0, Patterns::Double::max_double_value),
                         "F [Pa] (Johnson, Nott & Jackson 1990; MFIX/OpenFOAM default 0.05).");
       prm.declare_entry("Minimum packing fraction", "0.62", Patterns::Double(0, 1),
@@ -27,7 +27,7 @@ namespace granhydro
                         "(frictionless) spheres, whose enduring contact network only forms "
                         "next to random close packing, so a settled pile sits at 0.62-0.64; "
                         "0.5 is Johnson-Jackson's value for frictional grains (piles at about "
-                        "0.58). README, 'Dense closure'.");
+                        "0.58). doc/user-guide.md, 'Dense closure'.");
       prm.declare_entry("Exponent r", "2", Patterns::Double(1, 10), "r (default 2, at least 1).");
       prm.declare_entry("Exponent s", "5", Patterns::Double(1.5, 20), "s (default 5, above 1).");
       prm.declare_entry("Frictional stress", "srivastava-sundaresan",

@@ -42,7 +42,7 @@ namespace granhydro
                         "fixed (always Linear solver tolerance).");
       prm.declare_entry("Reuse Newton matrix", "true", Patterns::Bool(),
                         "Keep the Newton matrix and its preconditioner for up to 8 further steps "
-                        "while the previous step converged in <= 4 Newton iterations per stage "
+                        "while the previous step converged in <= 7 Newton iterations per stage "
                         "and dt changed by <= 10 %; a step whose iteration then fails is redone "
                         "with a fresh matrix (counted in the summary).");
       prm.declare_entry("Preconditioner", "block ilu", Patterns::Selection("block ilu|ilu|amg"),

@@ -32,7 +32,7 @@ namespace granhydro
                         "Coulomb friction coefficient mu between grains (granular model; 0 = "
                         "smooth spheres). The cooling rate uses Chialvo & Sundaresan's (2013) "
                         "effective restitution e_eff = eps - (3/2) mu exp(-3 mu); pressure and "
-                        "transport keep eps (README, 'Frictional grains').");
+                        "transport keep eps (doc/user-guide.md, 'Frictional grains').");
       prm.declare_entry("Freezing packing fraction", "0.49", Patterns::Double(0, 1),
                         "phi_f of Torquato's pair correlation (granular model).");
       prm.declare_entry("Close packing fraction", "0.64", Patterns::Double(0, 1),

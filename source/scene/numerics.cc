@@ -45,8 +45,8 @@ namespace granhydro
                         "keeps the FORCE flux where the change of a further stage, estimated "
                         "as S_max |U_R - U_L| for mass, momentum and energy, is below the "
                         "tolerance (smooth regions): 35-40 % less convective time, larger "
-                        "errors (README, 'Cost of the diffusion step and of the convective "
-                        "kernel').");
+                        "errors (doc/performance.md, 'Cost of the diffusion step and of the "
+                        "convective kernel').");
       prm.declare_entry("MUSTA tolerance", "0.01", Patterns::Double(0, 1),
                         "Stopping rule: stop when the FORCE flux changes between stages by "
                         "less than this in mass, momentum (as a vector) and energy, each "

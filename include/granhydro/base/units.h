@@ -2,7 +2,7 @@
 /**
  * @file units.h
  * The scaled unit system every layer computes in: lengths in grain diameters, masses in
- * grain masses, velocities in V0 (scene/ chooses them; README, "Scaled units").
+ * grain masses, velocities in V0 (scene/ chooses them; doc/developer.md, "Internal units").
  */
 namespace granhydro
 {

@@ -5,8 +5,8 @@
  * (frictional) pressure of Johnson–Jackson type, p_f ~ F (phi - phi_min)^r /
  * (phi_c - phi)^s, as MFIX and OpenFOAM use (F = 0.05 Pa, r = 2, s = 5: Johnson, Nott
  * & Jackson, J. Fluid Mech. 210, 501 (1990)), with phi_min = 0.62 for smooth spheres
- * (their enduring contacts form only next to random close packing; README, 'Dense
- * closure'), and a frictional shear stress (physics/frictional_stress.h: Srivastava &
+ * (their enduring contacts form only next to random close packing; doc/user-guide.md,
+ * 'Dense closure'), and a frictional shear stress (physics/frictional_stress.h: Srivastava &
  * Sundaresan's Coulomb-bounded law by default, or the Newtonian mu_f = t_f sin(theta_f) p_f)
  * whose work is dissipated, not turned into T.
  *

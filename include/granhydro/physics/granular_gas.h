@@ -5,7 +5,7 @@
  * for hard spheres with the Garzó–Dufty/Torquato equation of state:
  * p = n T Z(phi), Z = 1 + 2(1 + eps) phi chi(phi), internal energy 3T/2 per
  * grain (doc/physics.md 1, 2), sound speed of doc/physics.md 1.1. Same interface as
- * IdealGas (a "description", README "Layout"), used by the convection operator.
+ * IdealGas (a "description", doc/developer.md "Layout"), used by the convection operator.
  *
  * Units: the code's scaled units (sigma = 1, m = 1), so phi = pi n / 6.
  * Admissible set: n > 0, T > 0, phi < phi_c (doc/physics.md 2, guard item 1).

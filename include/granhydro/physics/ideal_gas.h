@@ -10,7 +10,7 @@
  * mass density equals the number density and the momentum row of (2.5) is the
  * ordinary Euler momentum equation. State U = (n, n u_1..n u_dim, nE).
  *
- * This is a "description" (README, "Layout"): it bundles the state,
+ * This is a "description" (doc/developer.md, "Layout"): it bundles the state,
  * the physical flux, pressure, wave speed and the admissible set. A second
  * description (Garzó–Dufty granular gas) follows the same interface.
  */

@@ -2,8 +2,8 @@
 /**
  * @file scene.h
  * A scene: everything a run needs, read from a deal.II ParameterHandler file
- * in SI units, validated before any work is done (README, "Running scenes"; scenes and
- * effects"). Internally the code works in scaled units (struct Units).
+ * in SI units, validated before any work is done (doc/user-guide.md, "Running scenes"
+ * and "Scene files"). Internally the code works in scaled units (struct Units).
  */
 #include <deal.II/base/parameter_handler.h>
 
@@ -83,7 +83,7 @@ namespace granhydro
   Scene parse_scene(const std::string &text, const std::string &source_name,
                     const std::vector<std::string> &overrides = {});
 
-  /// the effects the scene activates, each with the reason (README, "Running scenes")
+  /// the effects the scene activates, each with the reason (doc/user-guide.md, "Running scenes")
   std::vector<std::pair<std::string, std::string>> active_effects(const Scene &scene);
 
   /// pi and the scene's 'Initial state/Constants' for the expressions; throws SceneError
