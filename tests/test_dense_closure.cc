@@ -131,7 +131,7 @@ namespace
            << "subsection Material\n  set Model = granular\n  set Grain diameter = 1e-3\n"
               "  set Material density = 2600\n  set Restitution coefficient = 0.9\nend\n"
               "subsection Dense closure\n  set Model = johnson-jackson\n  set Minimum packing fraction = 0.5\n"
-              "  set Viscosity time = "
+              "  set Frictional stress = newtonian\n  set Viscosity time = "
            << (friction ? 0.5 : 0.) << "\nend\n"
            << "subsection Effects\n  set Convection = false\nend\n"
            << "subsection Initial state\n  set Packing fraction = 0.6\n"

@@ -549,6 +549,7 @@ namespace granhydro::convection
     g.flux.points    = Utilities::MPI::sum(stats.flux.points, comm);
     g.flux.stages    = Utilities::MPI::sum(stats.flux.stages, comm);
     g.flux.fallbacks = Utilities::MPI::sum(stats.flux.fallbacks, comm);
+    g.flux.early_stops = Utilities::MPI::sum(stats.flux.early_stops, comm);
     g.limited_cells  = Utilities::MPI::sum(stats.limited_cells, comm);
     g.fallback_cells = Utilities::MPI::sum(stats.fallback_cells, comm);
     g.cell_updates   = Utilities::MPI::sum(stats.cell_updates, comm);

@@ -140,7 +140,8 @@ namespace granhydro::diffusion
                                                std::array<V, dim + 2>       *friction,
                                                V                            *bounded,
                                                V                            *capped,
-                                               V                            *mu_f) const
+                                               V                            *mu_f,
+                                               V                            *cold) const
   {
     namespace lanes        = physics::lanes;
     using lanes::constant;
@@ -224,6 +225,8 @@ namespace granhydro::diffusion
         }
     // the face state's granular temperature (its contact energy is already removed: nw = 0)
     const V                                   nf = Uf[0], Tf = desc.temperature(Uf, V{});
+    if (cold)
+      *cold = Tf < V{} ? constant<V>(1.) : V{};
     const physics::PrimitiveGradients<dim, V> g  = physics::primitive_gradients<dim, V>(Uf, dU, 1.);
     F = physics::viscous_flux_primitive<dim>(Uf, g, coefficients(nf, Tf), 1., d);
     V tf{}; // the frictional normal stress tau_f,dd (for the no-tension bound)
@@ -342,14 +345,15 @@ namespace granhydro::diffusion
                 lanes::ref(UR[c], i) = W[std::size_t(r[i]) * NC + c];
               }
           }
-        V bounded, capped, muf{};
-        face_flux_lanes<V>(W, d, ihn, l, r, UL, UR, F, friction_active ? &G : nullptr, &bounded, &capped, &muf);
+        V bounded, capped, muf{}, cold;
+        face_flux_lanes<V>(W, d, ihn, l, r, UL, UR, F, friction_active ? &G : nullptr, &bounded, &capped, &muf,
+                           &cold);
         for (unsigned int i = 0; i < L; ++i)
           {
             if (friction_active)
               face_mu_f[d][k + i] = lanes::get(muf, i);
             if (counted_[d][k + i])
-              count_face(d, k + i, lanes::get(bounded, i) > 0, lanes::get(capped, i) > 0);
+              count_face(d, k + i, lanes::get(bounded, i) > 0, lanes::get(capped, i) > 0, lanes::get(cold, i) > 0);
             double *Fk = &Fp[d][(k + i) * NC];
             for (unsigned int c = 0; c < NC; ++c)
               Fk[c] = lanes::get(F[c], i);
@@ -365,15 +369,15 @@ namespace granhydro::diffusion
       {
         const unsigned int l = faces[k].l, r = faces[k].r;
         State<dim>         F, G;
-        double             bounded = 0, capped = 0, muf = 0;
+        double             bounded = 0, capped = 0, muf = 0, cold = 0;
         face_flux_lanes<double>(W, d, inv_dist[d][k], &l, &r, state<dim>(W, l), state<dim>(W, r), F,
-                                friction_active ? &G : nullptr, &bounded, &capped, &muf);
+                                friction_active ? &G : nullptr, &bounded, &capped, &muf, &cold);
         if (const WallFace &wall = walls[d][k]; wall.sign != 0) // as in face_flux()
           F[dim + 1] -= wall.sign * desc.wall_heat_flux(wall.sign > 0 ? state<dim>(W, l) : state<dim>(W, r), wall.eps_w);
         if (friction_active)
           face_mu_f[d][k] = muf;
         if (counted_[d][k])
-          count_face(d, k, bounded > 0, capped > 0);
+          count_face(d, k, bounded > 0, capped > 0, cold > 0);
         std::copy(F.begin(), F.end(), &Fp[d][k * NC]);
         if (friction_active)
           std::copy(G.begin(), G.end(), &Ff[d][k * NC]);
@@ -382,9 +386,11 @@ namespace granhydro::diffusion
 
   template <int dim>
   inline void DiffusionOperator<dim>::count_face(const unsigned int d, const std::size_t k, const bool bounded,
-                                                 const bool capped) const
+                                                 const bool capped, const bool cold) const
   {
     ++counts_.faces;
+    if (cold)
+      ++counts_.negative_temperature;
     if (bounded)
       {
         ++counts_.tension_bounded;

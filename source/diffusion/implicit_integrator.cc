@@ -423,11 +423,12 @@ namespace granhydro::diffusion
   {
     IntegratorStatistics g = stats; // identical on all ranks (collective decisions)
     const FaceFluxCounts &c = op.face_counts(); // each face counted by one rank
-    const unsigned long long local[4] = {c.faces, c.tension_bounded, c.tension_bounded_walls, c.friction_capped};
-    unsigned long long       total[4];
-    Utilities::MPI::sum(ArrayView<const unsigned long long>(local, 4), op.get_patch().communicator(),
-                        ArrayView<unsigned long long>(total, 4));
-    g.faces = {total[0], total[1], total[2], total[3]};
+    const unsigned long long local[5] = {c.faces, c.tension_bounded, c.tension_bounded_walls, c.friction_capped,
+                                         c.negative_temperature};
+    unsigned long long       total[5];
+    Utilities::MPI::sum(ArrayView<const unsigned long long>(local, 5), op.get_patch().communicator(),
+                        ArrayView<unsigned long long>(total, 5));
+    g.faces = {total[0], total[1], total[2], total[3], total[4]};
     return g;
   }
 

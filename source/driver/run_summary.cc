@@ -33,7 +33,8 @@ namespace granhydro
           << "  flux points " << cs.flux.points;
     if (scene.flux == FluxType::musta)
       pcout << ", MUSTA stages/point " << double(cs.flux.stages) / std::max<double>(cs.flux.points, 1)
-            << ", MUSTA fallbacks to Rusanov " << cs.flux.fallbacks;
+            << ", MUSTA fallbacks to Rusanov " << cs.flux.fallbacks << ", early stops at an inadmissible stage state "
+            << cs.flux.early_stops;
     if (cs.wall_tension_bounded)
       pcout << "\n  wall pressure: " << cs.wall_tension_bounded
             << " wall face fluxes pulled on a receding cell and were set to 0 (cohesionless grains)";
@@ -78,11 +79,11 @@ namespace granhydro
     pcout << "  memory: peak resident " << sum.peak_memory_max / 1048576. << " MiB (largest rank), "
           << sum.peak_memory_total / 1024. / std::max<double>(sum.max_cells, 1)
           << " KiB per cell (all ranks, at the most cells)\n";
-    if (const auto &fc = sum.diffusion.faces; fc.tension_bounded + fc.friction_capped > 0)
+    if (const auto &fc = sum.diffusion.faces; fc.tension_bounded + fc.friction_capped + fc.negative_temperature > 0)
       pcout << "  diffusive face fluxes: " << fc.faces << " evaluations; tensile normal stress bounded by the pressure "
             << "(cohesionless grains) in " << fc.tension_bounded << " (" << fc.tension_bounded_walls
-            << " at walls); frictional viscosity held at its bound t_r sin(theta_f) p_f (Rigidity time) in "
-            << fc.friction_capped << "\n";
+            << " at walls); frictional viscosity held at the Newtonian bound t_f sin(theta_f) p_f in "
+            << fc.friction_capped << "; T < 0 taken as 0 in the coefficients in " << fc.negative_temperature << "\n";
     if (sum.diffusion.friction_dissipation > 0)
       pcout << "  frictional dissipation (dense closure, work of mu_f lost to heat): "
             << friction_dissipation_si(sum) << (dim == 3 ? " J" : dim == 2 ? " J/m" : " J/m^2")
@@ -98,6 +99,10 @@ namespace granhydro
             << " cells per rank at the end, "
             << (scene.balance_by_measured_cost(scene.diffusion_active()) ? "cells weighted by each rank's measured cost per cell" : "equal numbers of cells")
             << " (Adaptivity/Load balance = " << scene.load_balance << ")\n";
+    if (sum.continuation_cells > 0)
+      pcout << "  close packing: " << sum.continuation_cells
+            << " cell updates ended beyond phi_c - delta, in the linear continuations of chi and of the contact "
+               "potential (doc/physics.md 2)\n";
     if (sum.temperature_repairs > 0)
       pcout << "  temperature floor: " << sum.temperature_repairs
             << " cell updates of a cooling dense pile ended with T < " << physics::GranularGas<dim>::temperature_floor
@@ -172,7 +177,10 @@ namespace granhydro
       {"diffusive_face_fluxes", ds.faces.faces},
       {"tension_bounded_faces", ds.faces.tension_bounded},
       {"tension_bounded_wall_faces", ds.faces.tension_bounded_walls},
-      {"friction_capped_faces", ds.faces.friction_capped}};
+      {"friction_capped_faces", ds.faces.friction_capped},
+      {"negative_temperature_faces", ds.faces.negative_temperature},
+      {"musta_early_stops", cs.flux.early_stops},
+      {"continuation_cells", sum.continuation_cells}};
     try
       {
         io::write_summary_csv(scene.output_directory, scene.output_file("_summary.csv"), entries);

@@ -43,7 +43,6 @@ namespace granhydro
                                                                          physics::FrictionalLaw::srivastava_sundaresan;
             friction.sin_phi = std::sin(scene.closure_angle * M_PI / 180.);
             friction.t_f     = scene.closure_time / units_.time();
-            friction.t_r     = scene.rigidity_time / units_.time();
             desc.contact     = physics::ContactPressure(scene.closure_F / units_.pressure(), scene.closure_phi_min,
                                                         scene.phi_close_packing, scene.closure_r, scene.closure_s,
                                                         scene.guard_delta, friction);

@@ -19,6 +19,14 @@ namespace granhydro
     // a cooling pile under the dense closure may end a part of the step with T slightly
     // below zero (GranularGas::admissible): set T to the floor there, counted
     if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
+      {
+        // cells in the linear continuations of chi and of the contact potential beyond
+        // phi_c - delta (doc/physics.md 2): admissible, but no longer the pole's law; counted
+        const double n_max = desc.model.pair_correlation().phi_max() / desc.phi_per_n;
+        for (unsigned int s = 0; s < patch_->n_owned(); ++s)
+          continuation_cells += V.local_element(std::size_t(s) * (dim + 2)) > n_max;
+      }
+    if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
       if (desc.contact.active)
         for (unsigned int s = 0; s < patch_->n_owned(); ++s)
           {

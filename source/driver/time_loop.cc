@@ -140,6 +140,7 @@ namespace granhydro
       L.next_output = std::min(L.next_output + L.interval, L.t_end);
     conv_seconds = diff_seconds = adapt_seconds = 0;
     temperature_repairs = 0;
+    continuation_cells  = 0;
     convective_pieces   = 0;
     max_repair          = 0;
     L.step              = start_step_;
@@ -399,6 +400,7 @@ namespace granhydro
     sum.min_rank_cells     = Utilities::MPI::min<unsigned long long>(patch_->n_owned(), comm);
     sum.max_rank_cells     = Utilities::MPI::max<unsigned long long>(patch_->n_owned(), comm);
     sum.temperature_repairs    = Utilities::MPI::sum(temperature_repairs, comm);
+    sum.continuation_cells     = Utilities::MPI::sum(continuation_cells, comm);
     sum.convective_steps       = convective_pieces; // the same on every rank
     sum.max_temperature_repair = Utilities::MPI::max(max_repair, comm);
     sum.ranks                  = Utilities::MPI::n_mpi_processes(comm);

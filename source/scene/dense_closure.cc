@@ -35,19 +35,15 @@ namespace granhydro
                         "'srivastava-sundaresan': Srivastava & Sundaresan (2003), as MFIX's "
                         "Princeton model - rate-independent, bounded by p_f sin(theta_f) in "
                         "shear, vanishing in fast dilation, regularised by the granular "
-                        "temperature, its viscosity bounded by t_r sin(theta_f) p_f (Rigidity "
-                        "time). "
+                        "temperature, its viscosity bounded by the Newtonian one. "
                         "'newtonian': mu_f = t_f sin(theta_f) p_f (OpenFOAM's Johnson-Jackson "
                         "choice), unbounded stress (doc/physics.md 4.5).");
       prm.declare_entry("Viscosity time", "0.5", Patterns::Double(0, Patterns::Double::max_double_value),
-                        "t_f [s] of the Newtonian frictional viscosity mu_f = t_f sin(theta_f) "
-                        "p_f (OpenFOAM's Johnson-Jackson choice 0.5 s); 0 switches the "
+                        "t_f [s]: the Newtonian frictional viscosity mu_f = t_f sin(theta_f) p_f "
+                        "(OpenFOAM's Johnson-Jackson choice 0.5 s), and the bound of the "
+                        "Srivastava-Sundaresan one (below strain rates of about 1/(sqrt(2) t_f) a "
+                        "cold pile creeps; counted in the run summary); 0 switches the "
                         "frictional stress off, whichever law.");
-      prm.declare_entry("Rigidity time", "10", Patterns::Double(0, Patterns::Double::max_double_value),
-                        "t_r [s]: the Srivastava-Sundaresan viscosity is at most t_r sin(theta_f) "
-                        "p_f, so a cold pile below the yield stress creeps at strain rates of "
-                        "about 1/(sqrt(2) t_r) instead of being rigid (a regularisation, counted "
-                        "in the run summary; larger is more rigid and stiffer).");
       prm.declare_entry("Friction angle", "28.5", Patterns::Double(0, 90),
                         "theta_f [degrees] of the frictional viscosity.");
     }
@@ -64,7 +60,6 @@ namespace granhydro
     closure_s       = prm.get_double("Exponent s");
     frictional_stress = prm.get("Frictional stress");
     closure_time    = prm.get_double("Viscosity time");
-    rigidity_time   = prm.get_double("Rigidity time");
     closure_angle   = prm.get_double("Friction angle");
     prm.leave_subsection();
   }

@@ -31,6 +31,9 @@ namespace granhydro::convection
   struct FluxStatistics
   {
     unsigned long long points = 0, stages = 0, fallbacks = 0;
+    /// MUSTA points that stopped early because a stage state left the admissible set
+    /// (they keep their last FORCE flux)
+    unsigned long long early_stops = 0;
   };
 
   template <int dim, class Description>
@@ -213,8 +216,11 @@ namespace granhydro::convection
               UL[c] -= r * (F[c] - FL[c]); // eq. 4.8
               UR[c] -= r * (FR[c] - F[c]); // eq. 4.9
             }
-          // keep the last FORCE flux, computed from admissible states
-          active = active && desc.admissible(UL) && desc.admissible(UR);
+          // keep the last FORCE flux, computed from admissible states (counted)
+          const M was = active;
+          active      = active && desc.admissible(UL) && desc.admissible(UR);
+          for (unsigned int i = 0; i < L; ++i)
+            stats.early_stops += lanes::set(was, i) && !lanes::set(active, i);
           if (!lanes::any(active))
             break;
           pL    = desc.pressure(UL);

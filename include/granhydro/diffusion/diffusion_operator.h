@@ -77,7 +77,9 @@ namespace granhydro::diffusion
     unsigned long long faces = 0;            ///< face flux evaluations
     unsigned long long tension_bounded = 0;  ///< tensile normal stress bounded by the pressure
     unsigned long long tension_bounded_walls = 0; ///< of which on wall faces
-    unsigned long long friction_capped = 0;  ///< frictional viscosity held at its rigidity bound
+    unsigned long long friction_capped = 0;
+    /// face state with T < 0, taken as 0 in the coefficients (and the wall heat flux)
+    unsigned long long negative_temperature = 0;  ///< frictional viscosity held at the Newtonian bound
   };
 
   template <int dim>
@@ -181,7 +183,7 @@ namespace granhydro::diffusion
                          const unsigned int *r, const std::array<V, dim + 2> &UL,
                          const std::array<V, dim + 2> &UR, std::array<V, dim + 2> &F,
                          std::array<V, dim + 2> *friction, V *bounded = nullptr,
-                         V *capped = nullptr, V *mu_f = nullptr) const;
+                         V *capped = nullptr, V *mu_f = nullptr, V *cold = nullptr) const;
 
     /// residual() with V-wide lanes, compiled for the default target and for AVX2
     template <class V>
@@ -198,7 +200,8 @@ namespace granhydro::diffusion
     void cell_residuals(const double *W, const unsigned int s0, double *f) const;
 
     /// counts_ for face k normal to d (counted_[d][k] != 0)
-    void count_face(const unsigned int d, const std::size_t k, const bool bounded, const bool capped) const;
+    void count_face(const unsigned int d, const std::size_t k, const bool bounded, const bool capped,
+                    const bool cold) const;
 
     /// the fluxes of all faces normal to d into Fp[d] (and Ff[d]), V-wide lanes of faces
     template <class V>

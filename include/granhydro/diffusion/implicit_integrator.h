@@ -114,7 +114,7 @@ namespace granhydro::diffusion
     double friction_dissipation = 0;
     /// face flux evaluations of f (all ranks) and those bounded: tensile normal stress held
     /// at the pressure (cohesionless grains; on walls), frictional viscosity held at the
-    /// rigidity bound (DiffusionOperator::face_counts)
+    /// Newtonian bound (DiffusionOperator::face_counts)
     FaceFluxCounts faces;
   };
 

@@ -38,6 +38,8 @@ namespace granhydro
     /// cell updates of a cooling dense pile set to the temperature floor, and the largest
     /// thermal-energy deficit repaired per grain (scaled)
     unsigned long long temperature_repairs = 0;
+    /// cell updates that ended beyond phi_c - delta (linear continuations of chi and w)
+    unsigned long long continuation_cells = 0;
     double             max_temperature_repair = 0;
     /// SSP-RK3 steps of the convective part (with the diffusion step: 2 per step with
     /// symmetric Strang splitting, about 1 with merged; retried steps included)

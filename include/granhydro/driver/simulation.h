@@ -189,6 +189,8 @@ namespace granhydro
     std::unique_ptr<diffusion::ImplicitIntegrator<dim>> integrator;
     double conv_seconds = 0, diff_seconds = 0, adapt_seconds = 0;
     unsigned long long temperature_repairs = 0;
+    /// cell updates that ended beyond phi_c - delta (the continuations of chi and w)
+    unsigned long long continuation_cells = 0;
     unsigned long long convective_pieces   = 0; ///< SSP-RK3 steps of the split runs
     double             max_repair          = 0;
     double       owed_       = 0; ///< scaled convective time owed (merged Strang splitting)

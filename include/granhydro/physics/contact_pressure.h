@@ -148,8 +148,8 @@ namespace granhydro::physics
       dp_dn  = 2 * phi * w1 + phi * phi * w2;
     }
 
-    /// the largest frictional shear viscosity at n: t_f sin(theta_f) p_f (Newtonian law) or
-    /// the bound t_r sin(theta_f) p_f of the Srivastava–Sundaresan one
+    /// the largest frictional shear viscosity at n, t_f sin(theta_f) p_f (the Newtonian law,
+    /// which bounds the Srivastava–Sundaresan one)
     double viscosity(const double n) const
     {
       return friction.active() ? friction.max_factor() * pressure(n) : 0.;

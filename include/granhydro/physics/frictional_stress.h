@@ -22,12 +22,14 @@
  *  - 'newtonian': mu_f = t_f sin(phi) P_c (OpenFOAM's JohnsonJackson, t_f = 0.5 s), a
  *    Newtonian viscosity whose stress grows without bound with the strain rate.
  *
- * The Srivastava–Sundaresan viscosity is bounded by a rigidity time t_r: mu_f <= t_r sin phi
- * P_c, i.e. below strain rates of about 1/(sqrt(2) t_r) a pile at rest whose granular
- * temperature has died out creeps instead of being rigid (a numerical regularisation like
- * MFIX's cap on the solids viscosity, counted in the run summary where it acts; it bounds
- * the diffusion step's stiffness). t_f = 0 switches the frictional stress off in either
- * law. The isotropic part of the model (P_f instead of P_c in the pressure) is not applied: the
+ * The Srivastava–Sundaresan viscosity is bounded by the Newtonian law: mu_f <= t_f sin phi
+ * P_c, i.e. below strain rates of about 1/(sqrt(2) t_f) a pile at rest whose granular
+ * temperature has died out creeps instead of being rigid (a regularisation like MFIX's cap
+ * on the solids viscosity, counted in the run summary where it acts). It keeps the
+ * diffusion step never stiffer than with the Newtonian law: a larger bound (10 s) made the
+ * implicit step's modified Newton iteration, whose Jacobian does not follow mu_f's
+ * dependence on the strain rate, fail in a settling pile (140 000 retried steps in a 1D
+ * collapse). t_f = 0 switches the frictional stress off in either law. The isotropic part of the model (P_f instead of P_c in the pressure) is not applied: the
  * contact pressure stays the conservative one of the contact potential (doc/physics.md 2.1).
  *
  * Units: any consistent set (the solver's scaled units: m = 1, d = sigma = 1, so
@@ -69,7 +71,6 @@ namespace granhydro::physics
     FrictionalLaw law     = FrictionalLaw::srivastava_sundaresan;
     double        sin_phi = 0; ///< sine of the friction angle
     double        t_f     = 0; ///< viscosity time (0: no frictional stress)
-    double        t_r     = 0; ///< rigidity time: Srivastava–Sundaresan's mu_f <= t_r sin phi P_c
 
     static constexpr double n_compression = 1.03;
 
@@ -100,7 +101,7 @@ namespace granhydro::physics
     /**
      * Frictional shear viscosity mu_f for the critical-state (contact) pressure pc, div u,
      * S:S and Theta/d^2. capped (optional) is set when the Srivastava–Sundaresan value was
-     * held at its bound t_r sin phi P_c.
+     * held at its bound t_f sin phi P_c.
      */
     double viscosity(const double pc, const double div, const double SS, const double theta_d2,
                      bool *capped = nullptr) const
@@ -111,7 +112,7 @@ namespace granhydro::physics
         return 0.;
       if (law == FrictionalLaw::newtonian)
         return t_f * sin_phi * pc;
-      const double f = srivastava_sundaresan_factor(div, SS, theta_d2), bound = t_r * sin_phi;
+      const double f = srivastava_sundaresan_factor(div, SS, theta_d2), bound = t_f * sin_phi;
       if (f > bound)
         {
           if (capped)
@@ -122,9 +123,6 @@ namespace granhydro::physics
     }
 
     /// the largest mu_f / P_c the law can give: for stiffness bounds
-    double max_factor() const
-    {
-      return active() ? (law == FrictionalLaw::newtonian ? t_f : t_r) * sin_phi : 0.;
-    }
+    double max_factor() const { return active() ? t_f * sin_phi : 0.; }
   };
 } // namespace granhydro::physics

@@ -20,8 +20,7 @@ namespace granhydro
     double      closure_r       = 2;
     double      closure_s       = 5;
     std::string frictional_stress = "srivastava-sundaresan"; // | newtonian
-    double      closure_time    = 0.5;  // t_f [s] of the Newtonian mu_f = t_f sin(theta_f) p_f
-    double      rigidity_time   = 10;   // t_r [s]: Srivastava-Sundaresan mu_f <= t_r sin(theta_f) p_f
+    double      closure_time    = 0.5;  // t_f [s]: mu_f = t_f sin(theta_f) p_f, or its bound
     double      closure_angle   = 28.5; // theta_f [degrees]
 
     static void declare_parameters(dealii::ParameterHandler &prm);
