@@ -8,6 +8,9 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "granhydro_py"))  # import granhydro
-from granhydro.output import (DEFAULT_BASE, KINDS, OutputFileError, SeveralRunsError,  # noqa: E402,F401
+from granhydro.output import (DEFAULT_BASE, KINDS, OutputFileError, SeveralRunsError,  # noqa: E402
                               add_base_option, base_names, base_of, find_output_file)
-from granhydro.readers import read_rows  # noqa: E402,F401
+from granhydro.readers import read_rows  # noqa: E402
+
+__all__ = ["DEFAULT_BASE", "KINDS", "OutputFileError", "SeveralRunsError", "add_base_option", "base_names",
+           "base_of", "find_output_file", "read_rows"]

@@ -12,8 +12,13 @@ Modules:
 The command-line tools are the scripts in tools/ and tools/dem/ (doc/developer.md,
 "Tools"); the package's tests are in tools/granhydro_py/tests (ctest tools.python_package).
 """
-from .output import (DEFAULT_BASE, KINDS, OutputFileError, SeveralRunsError, add_base_option,  # noqa: F401
+from .output import (DEFAULT_BASE, KINDS, OutputFileError, SeveralRunsError, add_base_option,
                      base_names, base_of, find_output_file)
-from .readers import (ParameterFileError, blocks, flatten_parameters, read_checkpoint,  # noqa: F401
+from .readers import (ParameterFileError, blocks, flatten_parameters, read_checkpoint,
                       read_columns, read_cross_section, read_history, read_parameters, read_profiles,
                       read_rows, read_summary, select_time)
+
+__all__ = ["DEFAULT_BASE", "KINDS", "OutputFileError", "SeveralRunsError", "add_base_option", "base_names",
+           "base_of", "find_output_file", "ParameterFileError", "blocks", "flatten_parameters",
+           "read_checkpoint", "read_columns", "read_cross_section", "read_history", "read_parameters",
+           "read_profiles", "read_rows", "read_summary", "select_time"]
