@@ -139,22 +139,33 @@ def read_parameters(path):
     'Domain': {'Cells': '100, 50', ...}, ...}; values are the strings after '=' (a later
     'set' of the same entry wins, a subsection opened twice is merged).
 
-    Read as deal.II does: '#' starts a comment, a line ending in '\\' continues on the
-    next. Not supported (ParameterFileError): 'include' lines (only the one file is read)
-    and anything but subsection/set/end; also an 'end' without subsection, an unclosed
-    subsection, a name that is both an entry and a subsection. Line numbers in the
-    messages count the lines after joining the continued ones."""
+    Lines are joined as deal.II's ParameterHandler::parse_input joins them: each line is
+    stripped, and one ending in '\\' is continued by the next without the backslash; then
+    '#' starts a comment. Not supported (ParameterFileError): 'include' lines (only the
+    one file is read) and anything but subsection/set/end; also an 'end' without
+    subsection, an unclosed subsection, a name that is both an entry and a subsection.
+    The line number in a message is the line where the statement begins."""
+    statements = []  # (line number, the joined line)
     with open(path) as f:
-        text = f.read()
-    text = re.sub(r"\\\s*\n", " ", text)
+        joined, start = "", None
+        for lineno, raw in enumerate(f, 1):
+            line = raw.strip()
+            start = lineno if start is None else start
+            if line.endswith("\\"):
+                joined += line[:-1]
+                continue
+            statements.append((start, joined + line))
+            joined, start = "", None
+        if start is not None:  # the last line ends in a backslash
+            statements.append((start, joined))
     root = {}
     stack, names = [root], []
 
     def error(lineno, what):
         return ParameterFileError("%s:%d: %s" % (path, lineno, what))
 
-    for lineno, raw in enumerate(text.splitlines(), 1):
-        line = raw.split("#", 1)[0].strip()
+    for lineno, text in statements:
+        line = text.split("#", 1)[0].strip()
         if not line:
             continue
         words = line.split(None, 1)
