@@ -3,7 +3,7 @@ this checkout (tools/granhydro_py), whatever PYTHONPATH says."""
 import os
 import sys
 
-TESTS = os.path.dirname(os.path.abspath(__file__))
+TESTS = os.path.dirname(os.path.realpath(__file__))
 PACKAGE_ROOT = os.path.dirname(TESTS)        # tools/granhydro_py
 TOOLS = os.path.dirname(PACKAGE_ROOT)        # tools
 REPO = os.path.dirname(TOOLS)
