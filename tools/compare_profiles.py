@@ -9,6 +9,7 @@ RUN_A and RUN_B are output directories (their <Base name>_profiles.csv, or profi
 in older folders) or the profiles CSV files themselves; --base-a / --base-b (or --base
 for both) pick a run when several share a directory, e.g. two runs with different base
 names in one folder: compare_profiles.py out out --base-a adaptive --base-b uniform.
+Debian: apt-get install python3-numpy
 """
 import argparse
 import math

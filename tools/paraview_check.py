@@ -119,7 +119,7 @@ def rel(a, b):
 
 
 # ---------------------------------------------------------------- scene (.prm) file
-def read_prm(path, overrides):
+def scene_values(path, overrides):
     """{'Section/Name': value} of a deal.II parameter file (granhydro.readers.read_parameters:
     subsection/set/end, '#' comments, '\\' continuation lines, no 'include'), then the
     -p "Section/Name=value" overrides."""
@@ -139,7 +139,7 @@ def read_prm(path, overrides):
 
 def scene_numbers(path, overrides):
     """grain mass, box (lower, upper) or None, constant initial phi or None"""
-    prm = read_prm(path, overrides)
+    prm = scene_values(path, overrides)
     dim = int(prm.get("Dimension", "2"))
     sigma = float(prm.get("Material/Grain diameter", "1e-3"))  # the solver's defaults
     rho_s = float(prm.get("Material/Material density", "2600"))
@@ -180,7 +180,7 @@ def block_at(blocks, t):
     raise InputError("the profiles CSV has no block at t = %r s (it has %s)" % (t, sorted(blocks)))
 
 
-def read_summary(directory, base):
+def run_summary(directory, base):
     path = find_output_file(directory, "summary", base=base, required=False)
     if path is None:
         return {}
@@ -239,7 +239,7 @@ def run(args):
     if not os.path.isfile(pvd):
         raise InputError("no %s" % pvd)
     scene = scene_numbers(args.scene, args.overrides) if args.scene else None
-    summary = read_summary(d, base)
+    summary = run_summary(d, base)
     R = Report()
 
     print("paraview_check: ParaView %s (VTK %s), %s" % (
