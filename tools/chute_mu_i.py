@@ -29,8 +29,9 @@ import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from granhydro_output import OutputFileError, add_base_option, find_output_file, read_rows  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "granhydro_py"))  # tools/granhydro_py: import granhydro
+from granhydro.output import OutputFileError, add_base_option, find_output_file  # noqa: E402
+from granhydro.readers import read_profiles, select_time  # noqa: E402
 
 MU_S, MU_2, I_0 = math.tan(math.radians(20.9)), math.tan(math.radians(32.76)), 0.279
 
@@ -53,18 +54,14 @@ def bagnold(z, h, phi, slope_deg, d, g=9.81):
 
 
 def layer(path, time):
-    rows = read_rows(path)
-    head = rows[0]
-    data = np.array([[float(v) for v in r] for r in rows[1:]])
-    col = {name: i for i, name in enumerate(head)}
-    times = np.unique(data[:, 0])
+    columns, times = read_profiles(path)
     t = times[-1] if time is None else times[np.argmin(abs(times - time))]
-    blk = data[data[:, 0] == t]
+    blk = select_time(columns, t)
 
     def pick(*names):
         for n in names:
-            if n in col:
-                return blk[:, col[n]]
+            if n in blk:
+                return blk[n]
         raise KeyError(f"{path}: none of the columns {names}")
 
     z = pick("y_m", "z_m")

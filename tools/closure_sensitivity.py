@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Sensitivity of the 1D sedimentation column to the dense (Johnson-Jackson) closure.
 
 Runs the 1D sedimentation column (parameters/sedimentation_column_1d.prm) with
@@ -33,7 +33,6 @@ Example:
 
 import argparse
 import concurrent.futures
-import csv
 import dataclasses
 import os
 import re
@@ -46,8 +45,9 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from granhydro_output import find_output_file  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "granhydro_py"))  # tools/granhydro_py: import granhydro
+from granhydro.output import find_output_file  # noqa: E402
+from granhydro.readers import blocks, read_profiles, read_summary  # noqa: E402
 
 REFERENCE = {
     "Coefficient": 0.05,
@@ -110,21 +110,12 @@ def scene_text(base, run):
     return "\n".join(lines) + "\n"
 
 
-def read_profiles(path):
-    """profiles CSV of a 1D run -> {time: array with columns x, n, nu, nE, phi, T}."""
-    blocks = {}
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#") or line.startswith("time_s") or not line.strip():
-                continue
-            values = [float(v) for v in line.split(",")]
-            blocks.setdefault(values[0], []).append(values[1:])
-    return {t: np.array(rows) for t, rows in blocks.items()}
-
-
-def read_summary(path):
-    with open(path) as f:
-        return {row[0]: row[1] for row in csv.reader(f) if len(row) == 2}
+def profile_blocks(path):
+    """profiles CSV of a 1D run -> {time: array with columns x, n, nu, nE, phi, T, ...}
+    (the columns after time_s)."""
+    columns, times = read_profiles(path)
+    names = list(columns)[1:]
+    return {t: np.column_stack([b[n] for n in names]) for t, b in blocks(columns, times).items()}
 
 
 def parse_log(text):
@@ -173,7 +164,7 @@ def execute(run, args, base):
     # un-prefixed names of an older granhydro)
     profiles = find_output_file(str(directory / "out"), "profiles", required=False)
     if profiles:
-        run.profiles = read_profiles(profiles)
+        run.profiles = profile_blocks(profiles)
     summary = find_output_file(str(directory / "out"), "summary", required=False)
     if summary:
         run.summary = read_summary(summary)

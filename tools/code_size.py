@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Largest source files and functions of granhydro's library and driver.
 
 Usage: tools/code_size.py [N] [--limit-lines L] [--limit-function F] [--root DIR]
@@ -11,6 +11,7 @@ lambdas and local blocks count towards the function that holds them.  The
 parser strips comments, string and character literals, so it needs no
 compiler; it is a size gauge, not a C++ parser.
 """
+import argparse
 import pathlib
 import re
 import sys
@@ -108,19 +109,17 @@ def functions(path):
 
 
 def main():
-    args = sys.argv[1:]
-    count, lim_file, lim_fun = 5, 600, 150
-    i = 0
-    while i < len(args):
-        if args[i] == "--limit-lines":
-            lim_file = int(args[i + 1]); i += 2
-        elif args[i] == "--root":
-            global ROOT
-            ROOT = pathlib.Path(args[i + 1]).resolve(); i += 2
-        elif args[i] == "--limit-function":
-            lim_fun = int(args[i + 1]); i += 2
-        else:
-            count = int(args[i]); i += 1
+    global ROOT
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("count", nargs="?", type=int, default=5, metavar="N",
+                   help="how many files and functions to list (default 5)")
+    p.add_argument("--limit-lines", type=int, default=600, metavar="L", help="file limit (default 600)")
+    p.add_argument("--limit-function", type=int, default=150, metavar="F", help="function limit (default 150)")
+    p.add_argument("--root", default=None, metavar="DIR", help="the checkout (default: the one of this script)")
+    a = p.parse_args()
+    count, lim_file, lim_fun = a.count, a.limit_lines, a.limit_function
+    if a.root is not None:
+        ROOT = pathlib.Path(a.root).resolve()
     files = sorted(p for d in ("include", "source") for p in (ROOT / d).rglob("*")
                    if p.suffix in (".h", ".cc"))
     sizes = sorted(((len(p.read_text().splitlines()), p.relative_to(ROOT)) for p in files), reverse=True)

@@ -9,26 +9,25 @@ RUN_A and RUN_B are output directories (their <Base name>_profiles.csv, or profi
 in older folders) or the profiles CSV files themselves; --base-a / --base-b (or --base
 for both) pick a run when several share a directory, e.g. two runs with different base
 names in one folder: compare_profiles.py out out --base-a adaptive --base-b uniform.
+Debian: apt-get install python3-numpy
 """
 import argparse
 import math
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from granhydro_output import OutputFileError, find_output_file, read_rows  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "granhydro_py"))  # tools/granhydro_py: import granhydro
+from granhydro.output import OutputFileError, find_output_file  # noqa: E402
+from granhydro.readers import read_profiles  # noqa: E402
 
 
 def read(path):
+    """{time rounded to 1e-9 s: [(coordinate, packing fraction, temperature) per layer]}"""
+    columns, _ = read_profiles(path)
+    coordinate = list(columns)[1]
     blocks = {}
-    rows = read_rows(path)
-    head = rows[0]
-    it, ix = 0, 1
-    iphi = head.index('packing_fraction')
-    iT = head.index('temperature_J')
-    for r in rows[1:]:
-        t = float(r[it])
-        blocks.setdefault(round(t, 9), []).append((float(r[ix]), float(r[iphi]), float(r[iT])))
+    for t, x, phi, T in zip(*(columns[c].tolist() for c in ('time_s', coordinate, 'packing_fraction', 'temperature_J'))):
+        blocks.setdefault(round(t, 9), []).append((x, phi, T))
     return blocks
 
 

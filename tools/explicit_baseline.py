@@ -15,15 +15,15 @@ Without scene files: parameters/hard/*-ci.prm (except overpacking-ci.prm) and
 parameters/inclined_chute-ci.prm.
 """
 import argparse
-import csv
 import glob
 import os
 import subprocess
 import sys
 import tempfile
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from granhydro_output import find_output_file  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "granhydro_py"))  # tools/granhydro_py: import granhydro
+from granhydro.output import find_output_file  # noqa: E402
+from granhydro.readers import read_summary  # noqa: E402
 
 
 def summary(directory):
@@ -31,8 +31,7 @@ def summary(directory):
     path = find_output_file(directory, "summary", required=False)
     if path is None:
         return None
-    with open(path) as f:
-        return {row["key"]: row["value"] for row in csv.DictReader(f)}
+    return read_summary(path)
 
 
 def run(granhydro, scene, extra, directory, cap):

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Mutation fuzzer for granhydro scene files (deal.II ParameterHandler *.prm).
 
 Every committed scene (parameters/*.prm, parameters/hard/*.prm) is mutated

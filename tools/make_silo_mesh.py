@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Coarse hexahedral meshes for granhydro's 'Domain/Mesh file' (python3, standard library only).
 
 A mesh is a set of occupied blocks of a lattice (congruent axis-aligned boxes, the only meshes
@@ -28,12 +28,13 @@ them (2 refinements: 1 x 1 x 1.25 mm cells, 19712 cells).
 
 Usage:
   tools/make_silo_mesh.py                       # meshes/silo_3d.msh
+  tools/make_silo_mesh.py out.msh               # the silo, elsewhere
   tools/make_silo_mesh.py --box 2 out.msh       # test boxes with colorized ids (tests/data)
   tools/make_silo_mesh.py --box 3 out.msh
   tools/make_silo_mesh.py --box 2 out.inp
 """
+import argparse
 import os
-import sys
 
 
 def boundary_faces(blocks, dim):
@@ -157,10 +158,23 @@ def box(dim, path):
     print("wrote %s: %d blocks" % (path, len(blocks)))
 
 
-if __name__ == "__main__":
-    args = sys.argv[1:]
-    if args[:1] == ["--box"]:
-        box(int(args[1]), args[2])
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("path", nargs="?", default=None,
+                   help="the mesh file to write, .msh (gmsh 2.2) or .inp (ucd, 2D only); "
+                        "default: meshes/silo_3d.msh of this checkout")
+    p.add_argument("--box", type=int, choices=(2, 3), metavar="DIM",
+                   help="write the test box of dimension DIM (2 or 3) with colorized ids to PATH "
+                        "instead of the silo")
+    a = p.parse_args()
+    if a.box:
+        if a.path is None:
+            p.error("--box DIM needs the file to write: --box DIM PATH")
+        box(a.box, a.path)
     else:
         root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-        silo(args[0] if args else os.path.join(root, "meshes", "silo_3d.msh"))
+        silo(a.path or os.path.join(root, "meshes", "silo_3d.msh"))
+
+
+if __name__ == "__main__":
+    main()

@@ -73,8 +73,9 @@ import sys
 import time
 import xml.etree.ElementTree as ET
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from granhydro_output import OutputFileError, find_output_file, read_rows  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "granhydro_py"))  # tools/granhydro_py: import granhydro
+from granhydro import readers  # noqa: E402
+from granhydro.output import OutputFileError, find_output_file  # noqa: E402
 
 TOL = 1e-6  # Float32 VTU data: relative rounding 6e-8; see the docstring
 
@@ -118,28 +119,16 @@ def rel(a, b):
 
 
 # ---------------------------------------------------------------- scene (.prm) file
-def read_prm(path, overrides):
-    """{'Section/Name': value} of a deal.II parameter file (subsection/set/end, '#'
-    comments, '\\' continuation lines), then the -p "Section/Name=value" overrides."""
-    values, stack = {}, []
+def scene_values(path, overrides):
+    """{'Section/Name': value} of a deal.II parameter file (granhydro.readers.read_parameters:
+    subsection/set/end, '#' comments, '\\' continuation lines, no 'include'), then the
+    -p "Section/Name=value" overrides."""
     try:
-        text = open(path).read()
+        values = readers.flatten_parameters(readers.read_parameters(path))
     except OSError as e:
         raise InputError("cannot read the scene %s: %s" % (path, e))
-    text = re.sub(r"\\\s*\n", " ", text)
-    for raw in text.splitlines():
-        line = raw.split("#", 1)[0].strip()
-        if not line:
-            continue
-        words = line.split(None, 1)
-        if words[0] == "subsection":
-            stack.append(words[1].strip())
-        elif words[0] == "end":
-            if stack:
-                stack.pop()
-        elif words[0] == "set" and len(words) == 2 and "=" in words[1]:
-            name, value = words[1].split("=", 1)
-            values["/".join(stack + [name.strip()])] = value.strip()
+    except readers.ParameterFileError as e:
+        raise InputError("cannot read the scene: %s" % e)
     for o in overrides:
         if "=" not in o:
             raise InputError("-p %r: expected \"Section/Name=value\"" % o)
@@ -150,7 +139,7 @@ def read_prm(path, overrides):
 
 def scene_numbers(path, overrides):
     """grain mass, box (lower, upper) or None, constant initial phi or None"""
-    prm = read_prm(path, overrides)
+    prm = scene_values(path, overrides)
     dim = int(prm.get("Dimension", "2"))
     sigma = float(prm.get("Material/Grain diameter", "1e-3"))  # the solver's defaults
     rho_s = float(prm.get("Material/Material density", "2600"))
@@ -170,13 +159,17 @@ def scene_numbers(path, overrides):
 # ---------------------------------------------------------------- solver's CSV files
 def profile_blocks(path):
     """(axis letter, {time: [(position, n), ...]}) of a B_profiles.csv"""
-    rows = read_rows(path)
-    if not rows or len(rows[0]) < 3 or rows[0][0] != "time_s" or rows[0][2] != "n_1/m3":
-        raise InputError("%s: not a granhydro profiles CSV (header %r)" % (path, rows[:1]))
-    axis = rows[0][1][0]
+    try:
+        columns, _ = readers.read_profiles(path)
+    except ValueError as e:
+        raise InputError("not a granhydro profiles CSV: %s" % e)
+    header = list(columns)
+    if len(header) < 3 or header[2] != "n_1/m3":
+        raise InputError("%s: not a granhydro profiles CSV (header %r)" % (path, header))
+    axis = header[1][0]
     blocks = {}
-    for r in rows[1:]:
-        blocks.setdefault(float(r[0]), []).append((float(r[1]), float(r[2])))
+    for t, x, n in zip(*(columns[c].tolist() for c in header[:3])):
+        blocks.setdefault(t, []).append((x, n))
     return axis, blocks
 
 
@@ -187,11 +180,11 @@ def block_at(blocks, t):
     raise InputError("the profiles CSV has no block at t = %r s (it has %s)" % (t, sorted(blocks)))
 
 
-def read_summary(directory, base):
+def run_summary(directory, base):
     path = find_output_file(directory, "summary", base=base, required=False)
     if path is None:
         return {}
-    return {r[0]: r[1] for r in read_rows(path)[1:] if len(r) >= 2}
+    return readers.read_summary(path)
 
 
 # ---------------------------------------------------------------- ParaView helpers
@@ -246,7 +239,7 @@ def run(args):
     if not os.path.isfile(pvd):
         raise InputError("no %s" % pvd)
     scene = scene_numbers(args.scene, args.overrides) if args.scene else None
-    summary = read_summary(d, base)
+    summary = run_summary(d, base)
     R = Report()
 
     print("paraview_check: ParaView %s (VTK %s), %s" % (

@@ -16,14 +16,11 @@ import argparse
 import os
 import sys
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from granhydro_output import OutputFileError, SeveralRunsError, add_base_option, find_output_file, read_rows  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "granhydro_py"))  # tools/granhydro_py: import granhydro
+from granhydro.output import OutputFileError, SeveralRunsError, add_base_option, find_output_file  # noqa: E402
+from granhydro.readers import read_cross_section, select_time  # noqa: E402
 
 
 def main():
@@ -36,13 +33,17 @@ def main():
         path = find_output_file(a.directory, "cross_section", a.base)
     except OutputFileError as e:
         sys.exit(f"plot_chute: {e}" + ("" if isinstance(e, SeveralRunsError) else " (set 'Output/Cross-section direction = x')"))
-    rows = read_rows(path)
-    header, data = rows[0], np.array([[float(v) for v in r] for r in rows[1:]])
-    t_last = data[:, 0].max()
-    d = data[data[:, 0] == t_last]
-    y, z = np.unique(d[:, 1]), np.unique(d[:, 2])
-    col = {h: i for i, h in enumerate(header)}
-    grid = lambda name: d[:, col[name]].reshape(len(z), len(y))
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    columns, times = read_cross_section(path)
+    t_last = times[-1]
+    d = select_time(columns, t_last)
+    across = list(columns)[1:3]  # the two coordinates of the section, the first fastest
+    y, z = np.unique(d[across[0]]), np.unique(d[across[1]])
+    grid = lambda name: d[name].reshape(len(z), len(y))
     ux, phi = grid("u_x_m/s"), grid("packing_fraction")
     fig, ax = plt.subplots(1, 3, figsize=(15, 4.5))
     c = ax[0].contourf(y * 1e3, z * 1e3, ux, 20, cmap="viridis")

@@ -14,29 +14,21 @@ directory. The figure goes to OUTPUT_DIR/<Base name>_profiles.png (profiles.png 
 older folder) unless --out is given.
 """
 import argparse
-import csv
 import os
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from granhydro_output import OutputFileError, SeveralRunsError, add_base_option, find_output_file  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "granhydro_py"))  # tools/granhydro_py: import granhydro
+from granhydro.output import OutputFileError, SeveralRunsError, add_base_option, find_output_file  # noqa: E402
+from granhydro.readers import read_profiles  # noqa: E402
 
 
 def read(path):
-    with open(path) as f:
-        rows = [r for r in f if not r.startswith("#")]
-    reader = csv.reader(rows)
-    header = next(reader)
+    """(header, {time: [row (list of floats) per layer]}) of a profiles CSV"""
+    columns, _ = read_profiles(path)
+    header = list(columns)
     blocks = {}
-    for r in reader:
-        if not r:
-            continue
-        blocks.setdefault(float(r[0]), []).append([float(v) for v in r])
+    for r in zip(*(columns[h].tolist() for h in header)):
+        blocks.setdefault(r[0], []).append(list(r))
     return header, blocks
 
 
@@ -55,6 +47,11 @@ def main():
         path = find_output_file(a.directory, "profiles", a.base)
     except OutputFileError as e:
         sys.exit(f"plot_profiles: {e}" + ("" if isinstance(e, SeveralRunsError) else " (run with 'Output/Write profiles = true')"))
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
     default_out = os.path.splitext(path)[0] + ".png"
     header, blocks = read(path)
     col = {h: i for i, h in enumerate(header)}

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Work-precision study of granhydro's scheme choices: what accuracy costs in time.
 
 Runs ladders of resolutions / time steps for several scheme choices on
@@ -53,13 +53,13 @@ import math
 import os
 import resource
 import shutil
-import struct
 import subprocess
 import sys
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from granhydro_output import find_output_file  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "granhydro_py"))  # tools/granhydro_py: import granhydro
+from granhydro.output import find_output_file  # noqa: E402
+from granhydro.readers import read_checkpoint, read_profiles, read_summary, select_time  # noqa: E402
 
 # ---------------------------------------------------------------------------
 # exact Riemann solver (port of tests/common/exact_riemann.h, Toro ch. 4)
@@ -578,69 +578,11 @@ def column_scene(cells, integrator, rundir, repo):
 # reading results
 # ---------------------------------------------------------------------------
 
-def read_summary(rundir):
-    """The run's <Base name>_summary.csv (each run has its own directory)."""
-    d = {}
-    with open(find_output_file(rundir, "summary")) as f:
-        for row in csv.reader(f):
-            if len(row) == 2 and row[0] != "key":
-                try:
-                    d[row[0]] = float(row[1])
-                except ValueError:
-                    d[row[0]] = row[1]
-    return d
-
-
 def read_last_profile(rundir):
     """Last block of the run's <Base name>_profiles.csv: (time, columns dict of lists)."""
-    header, blocks = None, []
-    with open(find_output_file(rundir, "profiles")) as f:
-        for line in f:
-            if line.startswith("#") or not line.strip():
-                continue
-            if line.startswith("time_s"):
-                header = line.strip().split(",")
-                continue
-            v = [float(x) for x in line.split(",")]
-            if not blocks or blocks[-1][0] != v[0]:
-                blocks.append((v[0], []))
-            blocks[-1][1].append(v)
-    t, rows = blocks[-1]
-    return t, {h: [r[i] for r in rows] for i, h in enumerate(header)}
-
-
-CHECKPOINT_MAGIC = b"granhydro checkpoint v5\n"  # keys: fine-lattice key * 8 + level
-# io::CheckpointHeader (include/granhydro/io/checkpoint.h) with x86-64 alignment: dims,
-# cells, corners, units, time, step/n_cells/outputs, model, n_values, the implicit
-# step's history (5 int32 + padding, t, dt, N[4]), the convective time owed; 240 bytes
-CHECKPOINT_HEADER = struct.Struct("=ii3Q3d3d4d3Q16si4x5i4x2d4dd")
-# then the part count and the part table: offset, rows, first key, last key, checksum
-CHECKPOINT_PART = struct.Struct("<QQqqQ")
-
-
-def read_checkpoint(path):
-    """Checkpoint of write_checkpoint (source/driver/simulation_checkpoint.cc): header and
-    the cells of every part (one per writing rank) sorted by lattice key, conservative
-    variables in the file's scaled units."""
-    import numpy as np
-    with open(path, "rb") as f:
-        data = f.read()
-    if not data.startswith(CHECKPOINT_MAGIC):
-        raise ValueError("%s is not a granhydro checkpoint (format v5)" % path)
-    o = len(CHECKPOINT_MAGIC)
-    h = CHECKPOINT_HEADER.unpack_from(data, o)
-    o += CHECKPOINT_HEADER.size
-    dim, nc = h[0], h[1]
-    cells = h[2:5]
-    length, mass, velocity, t = h[11], h[12], h[13], h[14]
-    n_values = h[19]  # nc, or 2 nc when the implicit step's history is stored
-    n_parts = struct.unpack_from("<Q", data, o)[0]
-    parts = [CHECKPOINT_PART.unpack_from(data, o + 8 + p * CHECKPOINT_PART.size) for p in range(n_parts)]
-    rec = np.dtype([("key", "<i8"), ("u", "<f8", (n_values,))])
-    rows = np.concatenate([np.frombuffer(data, dtype=rec, count=n, offset=off) for off, n, _, _, _ in parts])
-    rows = rows[np.argsort(rows["key"], kind="stable")]
-    return {"dim": dim, "cells": cells, "time_scaled": t, "length": length, "mass": mass,
-            "velocity": velocity, "key": rows["key"], "U": rows["u"][:, :nc]}
+    columns, times = read_profiles(rundir)
+    last = select_time(columns, times[-1])
+    return float(times[-1]), {h: c.tolist() for h, c in last.items()}
 
 
 # ---------------------------------------------------------------------------
@@ -906,7 +848,7 @@ def run_study(opts, repo):
         err = float("nan")
         try:
             if find_output_file(rundir, "summary", required=False):
-                row.update(summary_fields(read_summary(rundir)))
+                row.update(summary_fields(read_summary(rundir, numbers=True)))
             if status == "ok":
                 if problem == "sod":
                     err = sod_error(rundir, value)

@@ -39,35 +39,12 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-# granhydro_output.py is in tools/, the parent directory
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "granhydro_py"))  # tools/granhydro_py: import granhydro
 import coarse_grain  # noqa: E402
-from granhydro_output import (OutputFileError, SeveralRunsError, add_base_option, base_of,  # noqa: E402
+from granhydro.output import (OutputFileError, SeveralRunsError, add_base_option, base_of,  # noqa: E402
                               find_output_file)
+from granhydro.readers import blocks, read_profiles, read_summary  # noqa: E402
 from scene import AXES, Scene  # noqa: E402
-
-
-def read_profiles(path):
-    """granhydro profiles CSV -> {time: {column: array}}."""
-    with open(path) as f:
-        lines = [l for l in f if not l.startswith("#")]
-    cols = lines[0].strip().split(",")
-    a = np.array([[float(x) for x in l.split(",")] for l in lines[1:] if l.strip()])
-    out = {}
-    for t in np.unique(a[:, 0]):
-        sel = a[a[:, 0] == t]
-        out[float(t)] = {c: sel[:, i] for i, c in enumerate(cols)}
-    return out
-
-
-def read_summary(path):
-    s = {}
-    if path and os.path.exists(path):
-        for l in open(path):
-            if "," in l:
-                k, v = l.strip().split(",", 1)
-                s[k] = v
-    return s
 
 
 def model_files(model, base, scene_base):
@@ -158,7 +135,7 @@ def compare(a):
     floor = sc.floor_side()
     dh = (sc.upper[pd] - sc.lower[pd]) / sc.cells[pd]
     prof_path, summ_path = model_files(a.model, getattr(a, "base", None), sc.output_base)
-    model = read_profiles(prof_path)
+    model = blocks(*read_profiles(prof_path))  # {time: {column: array}}
     keycol, dem = coarse_grain.read_csv(os.path.join(a.dem, "dem_profiles.csv"))
     if (keycol == "phase") != bool(a.phase_bins):
         raise SystemExit("compare: the DEM profiles are by %s; use %s--phase-bins" % (keycol, "" if keycol == "phase" else "no "))
@@ -217,7 +194,7 @@ def compare(a):
     except ImportError:
         plotted = "compare.png not written: matplotlib is missing (apt-get install python3-matplotlib)"
     # report
-    summ = read_summary(summ_path)
+    summ = read_summary(summ_path) if summ_path else {}
     ens = {}
     if os.path.exists(os.path.join(a.dem, "ensemble.json")):
         ens = json.load(open(os.path.join(a.dem, "ensemble.json")))

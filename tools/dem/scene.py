@@ -12,9 +12,13 @@ ast, whitelisted nodes): numbers, x, y, z, t (= 0), pi, the scene's Constants,
 
 import ast
 import math
-import re
+import os
+import sys
 
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "granhydro_py"))  # tools/granhydro_py: import granhydro
+from granhydro.readers import ParameterFileError, flatten_parameters, read_parameters  # noqa: E402
 
 AXES = "xyz"
 SIDES = ["x-", "x+", "y-", "y+", "z-", "z+"]
@@ -98,37 +102,12 @@ class Expression:
 
 
 def read_prm(path):
-    """Parse a deal.II parameter file into {'Section/Sub/Name': value}."""
-    values = {}
-    stack = []
-    with open(path) as f:
-        text = f.read()
-    # deal.II joins lines ending in a backslash
-    text = re.sub(r"\\\s*\n", " ", text)
-    for lineno, raw in enumerate(text.splitlines(), 1):
-        line = raw.split("#", 1)[0].strip()
-        if not line:
-            continue
-        words = line.split(None, 1)
-        key = words[0]
-        if key == "subsection":
-            stack.append(words[1].strip())
-        elif key == "end":
-            if not stack:
-                raise SceneError("%s:%d: 'end' without subsection" % (path, lineno))
-            stack.pop()
-        elif key == "set":
-            m = re.match(r"set\s+(.+?)\s*=\s*(.*)$", line)
-            if not m:
-                raise SceneError("%s:%d: malformed 'set' line" % (path, lineno))
-            values["/".join(stack + [m.group(1).strip()])] = m.group(2).strip()
-        elif key == "include":
-            raise SceneError("%s:%d: 'include' is not supported by the DEM tool" % (path, lineno))
-        else:
-            raise SceneError("%s:%d: cannot read '%s'" % (path, lineno, line))
-    if stack:
-        raise SceneError("%s: subsection '%s' is not closed" % (path, stack[-1]))
-    return values
+    """Parse a deal.II parameter file into {'Section/Sub/Name': value} (granhydro.readers;
+    SceneError for what it cannot read, e.g. 'include')."""
+    try:
+        return flatten_parameters(read_parameters(path))
+    except ParameterFileError as e:
+        raise SceneError(str(e))
 
 
 def _floats(text, n, default, name):

@@ -1,0 +1,252 @@
+"""Readers of the files a granhydro run writes, and of its scene files: one of each.
+
+    from granhydro import readers
+    summary = readers.read_summary("output")                # {'status': 'completed', 'cells': '100', ...}
+    columns, times = readers.read_profiles("output")        # {'time_s': array, 'y_m': array, ...}, times
+    last = readers.select_time(columns, times[-1])          # the rows of the last output time
+    scene = readers.read_parameters("parameters/sod_1d.prm")   # {'Dimension': '1', 'Domain': {...}}
+
+The readers of a run's CSV files take the file itself or the output directory, with
+base=NAME when several runs share the directory (granhydro.output.find_output_file).
+
+  file                      reader              content (written by)
+  B_summary.csv             read_summary        'key,value' rows (source/io/summary_csv.cc,
+                                                source/driver/run_summary.cc)
+  B_profiles.csv            read_profiles       time_s, <axis>_m, n_1/m3, n*u_<d>_1/(m2 s) per
+                                                direction, total_energy_density_J/m3,
+                                                packing_fraction, temperature_J, kinetic_/thermal_/
+                                                contact_energy_density_J/m3; one block of rows (one
+                                                per layer) per output time (source/io/output.cc)
+  B_cross_section.csv       read_cross_section  time_s, <a>_m, <b>_m, n_1/m3, u_x_m/s, u_y_m/s,
+                                                u_z_m/s, packing_fraction, temperature_J, energy
+                                                densities; 3D runs with Output/Cross-section
+                                                direction; one block per output time, <a> fastest
+  B_history.csv             read_history        not written by the solver yet; the format it is
+                                                meant to have: see read_history
+  B.checkpoint              read_checkpoint     binary, format v5 (include/granhydro/io/checkpoint.h):
+                                                header and the cells' values in double precision
+  scene (.prm)              read_parameters     deal.II ParameterHandler text: subsection/set/end
+
+Older runs began the profiles and cross-section CSVs with a '#' comment line; every
+reader skips lines starting with '#' and blank lines. The readers that return arrays
+import numpy when called (python3-numpy); the others need only the standard library.
+"""
+import csv
+import re
+import struct
+
+from .output import find_output_file
+
+
+# ---------------------------------------------------------------- CSV files of a run
+def read_rows(path):
+    """The rows of a granhydro CSV file (lists of strings), header first, without
+    comment lines ('#', written by older runs) and blank lines."""
+    with open(path, newline="") as f:
+        return [r for r in csv.reader(l for l in f if not l.startswith("#")) if r]
+
+
+def read_columns(path):
+    """(columns, times) of a granhydro table whose first column is time_s: columns maps
+    each header name, in the file's order, to a numpy array of that column over all rows;
+    times are the distinct values of time_s, ascending. ValueError for an empty file, a
+    first column other than time_s, a row of the wrong length or a value that is not a
+    number."""
+    import numpy as np
+    rows = read_rows(path)
+    if not rows:
+        raise ValueError("%s is empty" % path)
+    header = rows[0]
+    if header[0] != "time_s":
+        raise ValueError("%s: the first column is %r, not time_s (not a granhydro table?)" % (path, header[0]))
+    values = []
+    for k, r in enumerate(rows[1:], 2):
+        if len(r) != len(header):
+            raise ValueError("%s: data row %d has %d values, the header %d columns" % (path, k, len(r), len(header)))
+        try:
+            values.append([float(v) for v in r])
+        except ValueError as e:
+            raise ValueError("%s: data row %d: %s" % (path, k, e))
+    data = np.array(values, dtype=float).reshape(len(values), len(header))
+    columns = {name: data[:, i] for i, name in enumerate(header)}
+    return columns, np.unique(data[:, 0])
+
+
+def select_time(columns, t):
+    """The rows of columns (from read_columns) at time_s == t exactly (t one of the
+    times read_columns returned), as {name: array}."""
+    rows = columns["time_s"] == t
+    return {name: c[rows] for name, c in columns.items()}
+
+
+def blocks(columns, times):
+    """{time: {name: array}}: the rows of every output time (select_time for each)."""
+    return {float(t): select_time(columns, t) for t in times}
+
+
+def read_profiles(path, base=None):
+    """(columns, times) of a run's B_profiles.csv (PATH: the file or the output
+    directory; BASE: the run's Output/Base name); see read_columns. The second column
+    is the profile coordinate (x_m, y_m or z_m)."""
+    return read_columns(find_output_file(path, "profiles", base))
+
+
+def read_cross_section(path, base=None):
+    """(columns, times) of a run's B_cross_section.csv; see read_columns. Columns 2 and 3
+    are the two coordinates across the section direction (the first of them varies
+    fastest within a block)."""
+    return read_columns(find_output_file(path, "cross_section", base))
+
+
+def read_history(path):
+    """{column: array} of a time series B_history.csv.
+
+    The solver does not write a history file yet. The format this reader expects (the
+    one such a file should have): a header row whose first column is time_s, then one
+    column per quantity named <quantity>_<SI unit> like the other CSV files (e.g.
+    mass_kg, kinetic_energy_J), then one row of numbers per time, in time order; lines
+    starting with '#' are skipped. PATH is the file itself."""
+    return read_columns(path)[0]
+
+
+def read_summary(path, base=None, numbers=False):
+    """{key: value} of a run's B_summary.csv ('key,value' header, then one 'key,value'
+    row per entry; PATH: the file or the output directory). Values are strings, or with
+    numbers=True floats where they parse as numbers (status stays a string). A run that
+    is still going has only 'status,running'."""
+    summary = {}
+    for row in read_rows(find_output_file(path, "summary", base)):
+        if len(row) < 2 or row[0] == "key":
+            continue
+        value = ",".join(row[1:])
+        if numbers:
+            try:
+                value = float(value)
+            except ValueError:
+                pass
+        summary[row[0]] = value
+    return summary
+
+
+# ---------------------------------------------------------------- scene files
+class ParameterFileError(ValueError):
+    """A line of a parameter file that read_parameters cannot read (the message names
+    the file and line)."""
+
+
+def read_parameters(path):
+    """A deal.II parameter file (a granhydro scene) as a nested dict: {'Dimension': '2',
+    'Domain': {'Cells': '100, 50', ...}, ...}; values are the strings after '=' (a later
+    'set' of the same entry wins, a subsection opened twice is merged).
+
+    Lines are joined as deal.II's ParameterHandler::parse_input joins them: each line is
+    stripped, and one ending in '\\' is continued by the next without the backslash; then
+    '#' starts a comment. Not supported (ParameterFileError): 'include' lines (only the
+    one file is read) and anything but subsection/set/end; also an 'end' without
+    subsection, an unclosed subsection, a name that is both an entry and a subsection.
+    The line number in a message is the line where the statement begins."""
+    statements = []  # (line number, the joined line)
+    with open(path) as f:
+        joined, start = "", None
+        for lineno, raw in enumerate(f, 1):
+            line = raw.strip()
+            start = lineno if start is None else start
+            if line.endswith("\\"):
+                joined += line[:-1]
+                continue
+            statements.append((start, joined + line))
+            joined, start = "", None
+        if start is not None:  # the last line ends in a backslash
+            statements.append((start, joined))
+    root = {}
+    stack, names = [root], []
+
+    def error(lineno, what):
+        return ParameterFileError("%s:%d: %s" % (path, lineno, what))
+
+    for lineno, text in statements:
+        line = text.split("#", 1)[0].strip()
+        if not line:
+            continue
+        words = line.split(None, 1)
+        key = words[0]
+        if key == "subsection":
+            if len(words) < 2:
+                raise error(lineno, "'subsection' without a name")
+            name = words[1].strip()
+            sub = stack[-1].setdefault(name, {})
+            if not isinstance(sub, dict):
+                raise error(lineno, "'%s' is an entry and a subsection" % name)
+            stack.append(sub)
+            names.append(name)
+        elif key == "end":
+            if not names:
+                raise error(lineno, "'end' without subsection")
+            stack.pop()
+            names.pop()
+        elif key == "set":
+            m = re.match(r"set\s+(.+?)\s*=\s*(.*)$", line)
+            if not m:
+                raise error(lineno, "malformed 'set' line")
+            name = m.group(1).strip()
+            if isinstance(stack[-1].get(name), dict):
+                raise error(lineno, "'%s' is an entry and a subsection" % name)
+            stack[-1][name] = m.group(2).strip()
+        elif key == "include":
+            raise error(lineno, "'include' is not supported (granhydro.readers reads one file)")
+        else:
+            raise error(lineno, "cannot read '%s'" % line)
+    if names:
+        raise ParameterFileError("%s: subsection '%s' is not closed" % (path, names[-1]))
+    return root
+
+
+def flatten_parameters(params, prefix=""):
+    """{'Section/Sub/Name': value} of a nested dict from read_parameters."""
+    flat = {}
+    for name, value in params.items():
+        if isinstance(value, dict):
+            flat.update(flatten_parameters(value, prefix + name + "/"))
+        else:
+            flat[prefix + name] = value
+    return flat
+
+
+# ---------------------------------------------------------------- checkpoint (binary)
+CHECKPOINT_MAGIC = b"granhydro checkpoint v5\n"  # keys: fine-lattice key * 8 + level
+# io::CheckpointHeader (include/granhydro/io/checkpoint.h) with x86-64 alignment: dims,
+# cells, corners, units, time, step/n_cells/outputs, model, n_values, the implicit
+# step's history (5 int32 + padding, t, dt, N[4]), the convective time owed; 240 bytes
+CHECKPOINT_HEADER = struct.Struct("=ii3Q3d3d4d3Q16si4x5i4x2d4dd")
+# then the part count and the part table: offset, rows, first key, last key, checksum
+CHECKPOINT_PART = struct.Struct("<QQqqQ")
+
+
+def read_checkpoint(path):
+    """Checkpoint of write_checkpoint (source/driver/simulation_checkpoint.cc): header and
+    the cells of every part (one per writing rank) sorted by lattice key, conservative
+    variables in the file's scaled units (double precision).
+
+    Returns {'dim', 'cells' (3 counts), 'time_scaled', 'length', 'mass', 'velocity' (the
+    scaled units), 'key' (int64 array), 'U' (array, one row of n_components values per
+    cell)}. Format v5 only; the checksums and key ranges are not verified (the solver's
+    reader, source/io/checkpoint_read.cc, does that)."""
+    import numpy as np
+    with open(path, "rb") as f:
+        data = f.read()
+    if not data.startswith(CHECKPOINT_MAGIC):
+        raise ValueError("%s is not a granhydro checkpoint (format v5)" % path)
+    o = len(CHECKPOINT_MAGIC)
+    h = CHECKPOINT_HEADER.unpack_from(data, o)
+    o += CHECKPOINT_HEADER.size
+    dim, nc = h[0], h[1]
+    cells = h[2:5]
+    length, mass, velocity, t = h[11], h[12], h[13], h[14]
+    n_values = h[19]  # nc, or 2 nc when the implicit step's history is stored
+    n_parts = struct.unpack_from("<Q", data, o)[0]
+    parts = [CHECKPOINT_PART.unpack_from(data, o + 8 + p * CHECKPOINT_PART.size) for p in range(n_parts)]
+    rec = np.dtype([("key", "<i8"), ("u", "<f8", (n_values,))])
+    rows = np.concatenate([np.frombuffer(data, dtype=rec, count=n, offset=off) for off, n, _, _, _ in parts])
+    rows = rows[np.argsort(rows["key"], kind="stable")]
+    return {"dim": dim, "cells": cells, "time_scaled": t, "length": length, "mass": mass,
+            "velocity": velocity, "key": rows["key"], "U": rows["u"][:, :nc]}

@@ -1,0 +1,266 @@
+"""granhydro.readers on files written the way the solver writes them (solver_files.py)
+and on the runs committed in doc/validation/."""
+import math
+import os
+
+import numpy as np
+import pytest
+
+import solver_files as sf
+from conftest import REPO
+from granhydro import readers
+from granhydro.output import OutputFileError
+
+VALIDATION = os.path.join(REPO, "doc", "validation")
+
+
+# ---------------------------------------------------------------- rows and summary
+def test_read_rows_skips_comments_and_blank_lines(tmp_path):
+    p = tmp_path / "a.csv"
+    p.write_text("# written by an older run\ntime_s,x_m\n0,0.5\n\n0.1,0.5\n")
+    assert readers.read_rows(str(p)) == [["time_s", "x_m"], ["0", "0.5"], ["0.1", "0.5"]]
+
+
+def test_read_summary(tmp_path):
+    d = str(tmp_path / "out")
+    sf.write_summary(os.path.join(d, "run1_summary.csv"))
+    s = readers.read_summary(d)  # the directory: its only *_summary.csv
+    assert "key" not in s
+    assert len(s) == len(sf.SUMMARY)
+    assert s["status"] == "completed"
+    assert s["cells"] == "400" and s["wall_seconds"] == "0.786747808"
+    n = readers.read_summary(os.path.join(d, "run1_summary.csv"), numbers=True)
+    assert n["status"] == "completed"
+    assert n["steps"] == 3068.0 and n["min_dt"] == 2.961733689e-05
+    assert n["musta_stages"] / n["flux_points"] == pytest.approx(2.013088, rel=1e-6)
+
+
+def test_read_summary_of_a_running_and_of_a_missing_run(tmp_path):
+    d = str(tmp_path)
+    with open(os.path.join(d, "solution_summary.csv"), "w") as f:
+        f.write("key,value\nstatus,running\n")  # write_running_summary
+    assert readers.read_summary(d, base="solution") == {"status": "running"}
+    with pytest.raises(OutputFileError):
+        readers.read_summary(d, base="other")
+
+
+def test_read_summary_of_the_committed_runs():
+    s = readers.read_summary(os.path.join(VALIDATION, "sedimentation_column", "granhydro"), numbers=True)
+    assert s["status"] == "completed"
+    assert (s["dimension"], s["cells"], s["time"]) == (1, 100, 0.2)
+    assert abs(s["mass_drift"]) < 1e-12
+    b = readers.read_summary(os.path.join(VALIDATION, "bouncing_bed", "granhydro"))
+    assert (b["dimension"], b["cells"]) == ("3", "600")
+
+
+# ---------------------------------------------------------------- profiles
+def column_field(t, x):
+    """a settling layer: phi falls from 0.5 to 0.01 around a front that moves down"""
+    front = 0.008 - 0.01 * t
+    phi = 0.01 + 0.49 / (1 + math.exp((x - front) / 5e-4))
+    return phi, (0.0, -0.1 * t), 1e-8 * (1 + x / 0.01)
+
+
+def write_column(path, comment=False):
+    ys = [(l + 0.5) * 1e-3 for l in range(10)]
+    return sf.write_profiles(path, 2, 1, [0.0, 0.05, 0.1], ys, 1e-3, column_field, comment=comment)
+
+
+def test_read_profiles(tmp_path):
+    write_column(str(tmp_path / "solution_profiles.csv"))
+    columns, times = readers.read_profiles(str(tmp_path))
+    assert list(columns) == sf.profiles_header(2, 1).split(",")
+    assert list(times) == [0.0, 0.05, 0.1]
+    assert all(len(c) == 30 for c in columns.values())
+    last = readers.select_time(columns, times[-1])
+    assert len(last["y_m"]) == 10
+    assert last["y_m"][0] == 0.0005 and last["y_m"][-1] == 0.0095
+    phi, _, T = column_field(0.1, 0.0005)
+    assert last["packing_fraction"][0] == pytest.approx(phi, rel=1e-9)
+    assert last["temperature_J"][0] == pytest.approx(T, rel=1e-9)
+    n = last["n_1/m3"]
+    assert np.allclose(last["n*u_y_1/(m2 s)"] / n, -0.01, rtol=1e-9)
+    assert np.all(last["n*u_x_1/(m2 s)"] == 0)
+    parts = sum(last[c] for c in ("kinetic_energy_density_J/m3", "thermal_energy_density_J/m3",
+                                  "contact_energy_density_J/m3"))
+    assert np.allclose(parts, last["total_energy_density_J/m3"], rtol=1e-15)
+    by_time = readers.blocks(columns, times)
+    assert list(by_time) == [0.0, 0.05, 0.1]
+    assert np.array_equal(by_time[0.1]["packing_fraction"], last["packing_fraction"])
+
+
+def test_read_profiles_of_an_older_run(tmp_path):
+    """profiles.csv without the base name, beginning with a '#' line"""
+    write_column(str(tmp_path / "profiles.csv"), comment=True)
+    columns, times = readers.read_profiles(str(tmp_path), base="solution")
+    assert len(times) == 3 and len(columns["time_s"]) == 30
+
+
+def test_read_profiles_of_the_committed_run():
+    columns, times = readers.read_profiles(os.path.join(VALIDATION, "sedimentation_column", "granhydro"))
+    assert len(times) == 21 and times[0] == 0 and times[-1] == pytest.approx(0.2)
+    first, last = readers.select_time(columns, times[0]), readers.select_time(columns, times[-1])
+    assert len(first["x_m"]) == len(last["x_m"]) == 100
+    assert first["packing_fraction"][0] == 0.1
+    assert 0.62 < last["packing_fraction"][0] < 0.63  # the pile at the floor
+    # a closed column: the mean number density (the grains) is kept to the 10 digits
+    assert last["n_1/m3"].mean() == pytest.approx(first["n_1/m3"].mean(), rel=1e-9)
+
+
+def test_read_columns_refuses_what_is_not_a_table(tmp_path):
+    p = tmp_path / "x_summary.csv"
+    p.write_text("key,value\nstatus,completed\n")
+    with pytest.raises(ValueError, match="not time_s"):
+        readers.read_columns(str(p))
+    q = tmp_path / "cut_profiles.csv"
+    q.write_text("time_s,x_m,n_1/m3\n0,0.5,1\n0,1.5\n")  # a run killed while writing
+    with pytest.raises(ValueError, match="data row 3 has 2 values"):
+        readers.read_profiles(str(q))
+    e = tmp_path / "empty_profiles.csv"
+    e.write_text("")
+    with pytest.raises(ValueError, match="empty"):
+        readers.read_profiles(str(e))
+
+
+# ---------------------------------------------------------------- cross section, history
+def test_read_cross_section(tmp_path):
+    ys = [(i + 0.5) * 1e-3 for i in range(4)]
+    zs = [(j + 0.5) * 2e-3 for j in range(3)]
+
+    def field(t, y, z):
+        return 0.5 - 10 * z, t * z * (1 + y * 100), 1e-9
+
+    sf.write_cross_section(str(tmp_path / "chute_cross_section.csv"), [0.0, 0.5], ys, zs, field)
+    columns, times = readers.read_cross_section(str(tmp_path), base="chute")
+    assert list(times) == [0.0, 0.5]
+    d = readers.select_time(columns, 0.5)
+    assert len(d["y_m"]) == 12
+    ux = d["u_x_m/s"].reshape(len(zs), len(ys))  # y fastest
+    assert ux[2, 3] == pytest.approx(field(0.5, ys[3], zs[2])[1], rel=1e-9)
+    assert d["packing_fraction"].reshape(3, 4)[:, 0] == pytest.approx([0.49, 0.47, 0.45], rel=1e-9)
+
+
+def test_read_history(tmp_path):
+    p = tmp_path / "solution_history.csv"
+    p.write_text("time_s,mass_kg,kinetic_energy_J\n0,1.5e-3,0\n0.01,1.5e-3,2.5e-6\n0.02,1.5e-3,1e-5\n")
+    h = readers.read_history(str(p))
+    assert list(h) == ["time_s", "mass_kg", "kinetic_energy_J"]
+    assert list(h["time_s"]) == [0, 0.01, 0.02]
+    assert h["kinetic_energy_J"][2] == 1e-5
+    q = tmp_path / "bad_history.csv"
+    q.write_text("step,mass_kg\n0,1\n")
+    with pytest.raises(ValueError, match="not time_s"):
+        readers.read_history(str(q))
+
+
+# ---------------------------------------------------------------- parameter files
+SCENE = """# a scene
+set Dimension = 2
+subsection Domain
+  set Lower corner = 0, 0
+  set Upper corner = 0.1, 0.2   # a comment
+  set Cells = 10, \\
+              20
+end
+subsection Initial state
+  set Packing fraction = if(y < 0.1, 0.3, 0.01)
+  subsection Constants
+    set h = 0.1
+  end
+end
+subsection Domain
+  set Cells = 20, 40
+end
+"""
+
+
+def test_read_parameters(tmp_path):
+    p = tmp_path / "scene.prm"
+    p.write_text(SCENE)
+    params = readers.read_parameters(str(p))
+    assert params == {
+        "Dimension": "2",
+        "Domain": {"Lower corner": "0, 0", "Upper corner": "0.1, 0.2", "Cells": "20, 40"},
+        "Initial state": {"Packing fraction": "if(y < 0.1, 0.3, 0.01)", "Constants": {"h": "0.1"}}}
+    flat = readers.flatten_parameters(params)
+    assert flat["Initial state/Constants/h"] == "0.1"
+    assert flat["Domain/Cells"] == "20, 40"  # the later 'set' wins
+
+
+def test_read_parameters_continuation_line(tmp_path):
+    """joined as deal.II joins them: stripped lines, the backslash removed"""
+    p = tmp_path / "scene.prm"
+    p.write_text(SCENE.replace("subsection Domain\n  set Cells = 20, 40\nend\n", ""))
+    assert readers.read_parameters(str(p))["Domain"]["Cells"] == "10, 20"
+    q = tmp_path / "bad.prm"
+    q.write_text("set Dimension = \\\n  2\nsubsection Domain\n  set Cells \\\n  4\nend\n")
+    with pytest.raises(readers.ParameterFileError, match="bad.prm:4: malformed 'set' line"):
+        readers.read_parameters(str(q))  # the line where the statement begins
+
+
+def write_prm(params, indent=""):
+    """the inverse of read_parameters (for the round trip)"""
+    lines = []
+    for name, value in params.items():
+        if isinstance(value, dict):
+            lines += [indent + "subsection " + name] + write_prm(value, indent + "  ") + [indent + "end"]
+        else:
+            lines.append("%sset %s = %s" % (indent, name, value))
+    return lines
+
+
+def test_read_parameters_of_every_committed_scene(tmp_path):
+    """every scene in parameters/ reads, and writing it back gives the same parameters"""
+    scenes = []
+    for root, _, files in os.walk(os.path.join(REPO, "parameters")):
+        scenes += [os.path.join(root, f) for f in files if f.endswith(".prm")]
+    assert len(scenes) > 20
+    for s in scenes:
+        params = readers.read_parameters(s)
+        assert params, s
+        out = tmp_path / "round_trip.prm"
+        out.write_text("\n".join(write_prm(params)) + "\n")
+        assert readers.read_parameters(str(out)) == params, s
+    sod = readers.read_parameters(os.path.join(REPO, "parameters", "sod_1d.prm"))
+    assert sod["Dimension"] == "1"
+
+
+@pytest.mark.parametrize("text, message", [
+    ("include other.prm\n", "scene.prm:1: 'include' is not supported"),
+    ("set Dimension = 2\nend\n", "scene.prm:2: 'end' without subsection"),
+    ("subsection Domain\n  set Cells = 4\n", "subsection 'Domain' is not closed"),
+    ("subsection Domain\n  set Cells 4\nend\n", "scene.prm:2: malformed 'set' line"),
+    ("subsection Domain\n  Cells = 4\nend\n", "scene.prm:2: cannot read 'Cells = 4'"),
+    ("set Domain = 1\nsubsection Domain\nend\n", "'Domain' is an entry and a subsection"),
+])
+def test_read_parameters_refuses(tmp_path, text, message):
+    p = tmp_path / "scene.prm"
+    p.write_text(text)
+    with pytest.raises(readers.ParameterFileError, match=message):
+        readers.read_parameters(str(p))
+
+
+# ---------------------------------------------------------------- checkpoint
+def test_read_checkpoint(tmp_path):
+    """two parts (two ranks) whose keys interleave, rows with the implicit step's
+    history: the reader merges them in key order and keeps the state only"""
+    nc = 4  # 2D: n, n u_x, n u_y, nE
+    rank0 = [(k, [k + 0.25, -k, 2.0 * k, 1e-3 * k] + [99.0] * nc) for k in (8, 24, 40)]
+    rank1 = [(k, [k + 0.25, -k, 2.0 * k, 1e-3 * k] + [99.0] * nc) for k in (16, 32)]
+    p = sf.write_checkpoint(str(tmp_path / "solution.checkpoint"), 2, (5, 1, 1), (1e-3, 2e-6, 0.1), 12.5,
+                            [rank0, rank1], nc, history=True)
+    c = readers.read_checkpoint(p)
+    assert readers.CHECKPOINT_HEADER.size == 240  # include/granhydro/io/checkpoint.h
+    assert c["dim"] == 2 and tuple(c["cells"]) == (5, 1, 1)
+    assert (c["length"], c["mass"], c["velocity"], c["time_scaled"]) == (1e-3, 2e-6, 0.1, 12.5)
+    assert list(c["key"]) == [8, 16, 24, 32, 40]
+    assert c["U"].shape == (5, nc)
+    assert list(c["U"][:, 0]) == [8.25, 16.25, 24.25, 32.25, 40.25]
+    assert list(c["U"][:, 2]) == [16.0, 32.0, 48.0, 64.0, 80.0]
+
+
+def test_read_checkpoint_refuses_another_format(tmp_path):
+    p = tmp_path / "old.checkpoint"
+    p.write_bytes(b"granhydro checkpoint v4\n" + bytes(300))
+    with pytest.raises(ValueError, match="not a granhydro checkpoint"):
+        readers.read_checkpoint(str(p))
