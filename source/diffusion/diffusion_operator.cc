@@ -231,6 +231,10 @@ namespace granhydro::diffusion
     F = physics::viscous_flux_primitive<dim>(Uf, g, coefficients(nf, Tf), 1., d);
     V tf{}; // the frictional normal stress tau_f,dd (for the no-tension bound)
     SV Ff{};
+    V  pc{}; // the contact pressure p_f at the face state, lane by lane (pow, branches)
+    if (desc.contact.active && (friction_active || settings.no_tension))
+      for (unsigned int i = 0; i < L; ++i)
+        lanes::ref(pc, i) = desc.contact.pressure(lanes::get(nf, i));
     if (friction_active)
       {
         // frictional (contact) shear stress of the dense closure: its momentum flux is
@@ -247,9 +251,8 @@ namespace granhydro::diffusion
         physics::strain_rate_invariants<dim, V>(g.grad_u, div, SS);
         for (unsigned int i = 0; i < L; ++i)
           {
-            bool         c   = false;
-            const double n_i = lanes::get(nf, i);
-            lanes::ref(cf.eta, i) = desc.contact.friction.viscosity(desc.contact.pressure(n_i), lanes::get(div, i),
+            bool c = false;
+            lanes::ref(cf.eta, i) = desc.contact.friction.viscosity(lanes::get(pc, i), lanes::get(div, i),
                                                                     lanes::get(SS, i), lanes::get(Tf, i), &c);
             if (capped)
               lanes::ref(*capped, i) = c ? 1. : 0.;
@@ -267,10 +270,6 @@ namespace granhydro::diffusion
         // p - tau_dd, stays compressive. A tensile viscous normal stress tau_dd (kinetic plus
         // frictional) above the face's pressure p = n T Z + p_f is scaled down to p, and its
         // work tau_dd u_d with it, so the face flux stays conservative (energy to round-off).
-        V pc{};
-        if (desc.contact.active)
-          for (unsigned int i = 0; i < L; ++i)
-            lanes::ref(pc, i) = desc.contact.pressure(lanes::get(nf, i));
         const V Tp = Tf < V{} ? V{} : Tf;
         const V p  = nf * Tp * desc.model.Z(nf * constant<V>(physics::GranularGas<dim>::phi_per_n)) + pc;
         const V t  = F[1 + d];
@@ -302,14 +301,19 @@ namespace granhydro::diffusion
                                          const unsigned int l, const unsigned int r,
                                          const State<dim> &UL, const State<dim> &UR,
                                          const WallFace &wall, State<dim> &F,
-                                         State<dim> *friction, bool *bounded, bool *capped) const
+                                         State<dim> *friction, bool *bounded, bool *capped,
+                                         double *mu_f, bool *cold) const
   {
-    double b = 0, c = 0;
-    face_flux_lanes<double>(W, d, ihn, &l, &r, UL, UR, F, friction, &b, &c);
+    double b = 0, c = 0, m = 0, t = 0;
+    face_flux_lanes<double>(W, d, ihn, &l, &r, UL, UR, F, friction, &b, &c, &m, &t);
     if (bounded)
       *bounded = b > 0;
     if (capped)
       *capped = c > 0;
+    if (mu_f)
+      *mu_f = m;
+    if (cold)
+      *cold = t > 0;
     if (wall.sign != 0)
       {
         // energy into the wall (doc/physics.md 5.2, contact theorem, m = 1). The cell update
@@ -369,15 +373,14 @@ namespace granhydro::diffusion
       {
         const unsigned int l = faces[k].l, r = faces[k].r;
         State<dim>         F, G;
-        double             bounded = 0, capped = 0, muf = 0, cold = 0;
-        face_flux_lanes<double>(W, d, inv_dist[d][k], &l, &r, state<dim>(W, l), state<dim>(W, r), F,
-                                friction_active ? &G : nullptr, &bounded, &capped, &muf, &cold);
-        if (const WallFace &wall = walls[d][k]; wall.sign != 0) // as in face_flux()
-          F[dim + 1] -= wall.sign * desc.wall_heat_flux(wall.sign > 0 ? state<dim>(W, l) : state<dim>(W, r), wall.eps_w);
+        bool               bounded, capped, cold;
+        double             muf;
+        face_flux(W, d, inv_dist[d][k], l, r, state<dim>(W, l), state<dim>(W, r), walls[d][k], F,
+                  friction_active ? &G : nullptr, &bounded, &capped, &muf, &cold);
         if (friction_active)
           face_mu_f[d][k] = muf;
         if (counted_[d][k])
-          count_face(d, k, bounded > 0, capped > 0, cold > 0);
+          count_face(d, k, bounded, capped, cold);
         std::copy(F.begin(), F.end(), &Fp[d][k * NC]);
         if (friction_active)
           std::copy(G.begin(), G.end(), &Ff[d][k * NC]);

@@ -167,7 +167,8 @@ namespace granhydro::diffusion
                    const unsigned int r, const physics::State<dim> &UL,
                    const physics::State<dim> &UR, const WallFace &wall,
                    physics::State<dim> &F, physics::State<dim> *friction = nullptr,
-                   bool *bounded = nullptr, bool *capped = nullptr) const;
+                   bool *bounded = nullptr, bool *capped = nullptr, double *mu_f = nullptr,
+                   bool *cold = nullptr) const;
     void source(const physics::State<dim> &U, physics::State<dim> &S) const;
     /// kinetic-theory coefficients at (n, T) with the Knudsen cap and the switches; V is
     /// double or a GCC vector of doubles (lanes: states side by side, each lane bit for
