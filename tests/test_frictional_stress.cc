@@ -31,6 +31,7 @@ namespace
   {
     Checker                   chk;
     physics::FrictionalStress fs;
+    fs.law     = physics::FrictionalLaw::srivastava_sundaresan;
     fs.sin_phi = std::sin(28.5 * M_PI / 180.);
     fs.t_f     = 1e6; // the bound far away: the law itself
     struct Case
@@ -96,7 +97,7 @@ namespace
        << "subsection Material\n  set Model = granular\n  set Restitution coefficient = 1\n"
        << "  set Cohesionless = " << (cohesionless ? "true" : "false") << "\nend\n"
        << "subsection Dense closure\n  set Model = " << (closure ? "johnson-jackson" : "none")
-       << "\n  set Minimum packing fraction = 0.5\nend\n"
+       << "\n  set Minimum packing fraction = 0.5\n  set Frictional stress = srivastava-sundaresan\nend\n"
        << "subsection Effects\n  set Gravity = 0\nend\n"
        << "subsection Initial state\n  set Packing fraction = " << (closure ? "0.56" : "0.3")
        << "\n  set Velocity = " << velocity << "\n  set Temperature = 1e-9\n  set Quadrature points = 1\nend\n"

@@ -151,10 +151,9 @@ namespace
           // a Mach > 10 stream (1.5 m/s against c ~ 0.12 m/s of the incoming gas) hits a bed
           // at phi = 0.6 on a wall: the bed is compressed towards phi_c but stays below it
           check.check(p0[0] >= 0.6 - 1e-12, "the bed starts at phi = 0.6");
-          // the implicit step goes beyond the explicit limit where that limit binds: measured
-          // 2.94x with the Srivastava-Sundaresan frictional stress (its viscosity follows the
-          // strain rate), 25x with the Newtonian law t_f sin(theta_f) p_f, which is stiffer
-          check.check(sum.diffusion.max_dt_over_explicit > 2, "steps > 2x the explicit diffusive limit");
+          // the implicit step goes far beyond the explicit limit (the frictional viscosity's
+          // bound t_f sin(theta_f) p_f in the pile sets it): measured 25x
+          check.check(sum.diffusion.max_dt_over_explicit > 10, "steps > 10x the explicit diffusive limit");
         }
       else if (kind == "vacuum_expansion")
         {

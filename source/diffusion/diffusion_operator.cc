@@ -140,7 +140,6 @@ namespace granhydro::diffusion
                                                std::array<V, dim + 2>       *friction,
                                                V                            *bounded,
                                                V                            *capped,
-                                               V                            *mu_f,
                                                V                            *cold) const
   {
     namespace lanes        = physics::lanes;
@@ -257,8 +256,6 @@ namespace granhydro::diffusion
             if (capped)
               lanes::ref(*capped, i) = c ? 1. : 0.;
           }
-        if (mu_f)
-          *mu_f = cf.eta;
         Ff = physics::viscous_flux_primitive<dim>(Uf, g, cf, 1., d);
         for (unsigned int k = 0; k < dim; ++k)
           F[1 + k] += Ff[1 + k];
@@ -302,16 +299,14 @@ namespace granhydro::diffusion
                                          const State<dim> &UL, const State<dim> &UR,
                                          const WallFace &wall, State<dim> &F,
                                          State<dim> *friction, bool *bounded, bool *capped,
-                                         double *mu_f, bool *cold) const
+                                         bool *cold) const
   {
-    double b = 0, c = 0, m = 0, t = 0;
-    face_flux_lanes<double>(W, d, ihn, &l, &r, UL, UR, F, friction, &b, &c, &m, &t);
+    double b = 0, c = 0, t = 0;
+    face_flux_lanes<double>(W, d, ihn, &l, &r, UL, UR, F, friction, &b, &c, &t);
     if (bounded)
       *bounded = b > 0;
     if (capped)
       *capped = c > 0;
-    if (mu_f)
-      *mu_f = m;
     if (cold)
       *cold = t > 0;
     if (wall.sign != 0)
@@ -349,13 +344,10 @@ namespace granhydro::diffusion
                 lanes::ref(UR[c], i) = W[std::size_t(r[i]) * NC + c];
               }
           }
-        V bounded, capped, muf{}, cold;
-        face_flux_lanes<V>(W, d, ihn, l, r, UL, UR, F, friction_active ? &G : nullptr, &bounded, &capped, &muf,
-                           &cold);
+        V bounded, capped, cold;
+        face_flux_lanes<V>(W, d, ihn, l, r, UL, UR, F, friction_active ? &G : nullptr, &bounded, &capped, &cold);
         for (unsigned int i = 0; i < L; ++i)
           {
-            if (friction_active)
-              face_mu_f[d][k + i] = lanes::get(muf, i);
             if (counted_[d][k + i])
               count_face(d, k + i, lanes::get(bounded, i) > 0, lanes::get(capped, i) > 0, lanes::get(cold, i) > 0);
             double *Fk = &Fp[d][(k + i) * NC];
@@ -374,11 +366,8 @@ namespace granhydro::diffusion
         const unsigned int l = faces[k].l, r = faces[k].r;
         State<dim>         F, G;
         bool               bounded, capped, cold;
-        double             muf;
         face_flux(W, d, inv_dist[d][k], l, r, state<dim>(W, l), state<dim>(W, r), walls[d][k], F,
-                  friction_active ? &G : nullptr, &bounded, &capped, &muf, &cold);
-        if (friction_active)
-          face_mu_f[d][k] = muf;
+                  friction_active ? &G : nullptr, &bounded, &capped, &cold);
         if (counted_[d][k])
           count_face(d, k, bounded, capped, cold);
         std::copy(F.begin(), F.end(), &Fp[d][k * NC]);
@@ -502,10 +491,7 @@ namespace granhydro::diffusion
         const std::size_t nf = patch.faces(d).size();
         Fp[d].resize(nf * NC);
         if (friction_active)
-          {
-            Ff[d].resize(nf * NC);
-            face_mu_f[d].resize(nf);
-          }
+          Ff[d].resize(nf * NC);
         face_fluxes<V>(W, d);
       }
     friction_power_ = 0;
@@ -566,20 +552,6 @@ namespace granhydro::diffusion
             if (nT > 0)
               wall_rate[s] += 0.5 * desc.wall_heat_flux(U, wall.eps_w) / nT * inv_h[d][s];
           }
-    // the frictional viscosity depends on the strain rate (Srivastava-Sundaresan): the
-    // largest of the cell's faces at W, from one evaluation of the face fluxes
-    std::vector<double> cell_mu_f;
-    if (friction_active)
-      {
-        std::vector<double> scratch(std::size_t(n_own) * NC);
-        residual(W, scratch.data());
-        cell_mu_f.assign(n_own, 0.);
-        for (unsigned int d = 0; d < dim; ++d)
-          for (std::size_t k = 0; k < patch.faces(d).size(); ++k)
-            for (const unsigned int s : {patch.faces(d)[k].l, patch.faces(d)[k].r})
-              if (s < n_own)
-                cell_mu_f[s] = std::max(cell_mu_f[s], face_mu_f[d][k]);
-      }
     const bool cooling = settings.cooling && desc.model.effective_restitution() < 1;
     double     m       = 0;
     for (unsigned int s = 0; s < n_own; ++s)
@@ -587,8 +559,12 @@ namespace granhydro::diffusion
         const State<dim> U = state<dim>(W, s);
         const double     n = U[0], T = desc.temperature(U);
         auto             c = coefficients(n, T);
-        if (friction_active) // the frictional viscosity is a shear viscosity as well
-          c.eta += cell_mu_f[s];
+        // the frictional viscosity is a shear viscosity as well: its bound t_f sin(theta_f) p_f,
+        // not its value at U (Srivastava-Sundaresan's follows the strain rate, which changes
+        // within the step: a stage count from the value at U let RKL2 steps go unstable at
+        // the free surface of the quarter-resolution chute)
+        if (friction_active)
+          c.eta += desc.contact.viscosity(n);
         // momentum diffusivity (gamma/eta + 4/3) eta/(m n), thermal 2 kappa/(3 n) (doc/physics.md 4.4)
         const double D = std::max((c.gamma + 4. / 3. * c.eta) / n, 2. * c.kappa / (3. * n));
         double       rate = wall_rate[s];

@@ -167,8 +167,7 @@ namespace granhydro::diffusion
                    const unsigned int r, const physics::State<dim> &UL,
                    const physics::State<dim> &UR, const WallFace &wall,
                    physics::State<dim> &F, physics::State<dim> *friction = nullptr,
-                   bool *bounded = nullptr, bool *capped = nullptr, double *mu_f = nullptr,
-                   bool *cold = nullptr) const;
+                   bool *bounded = nullptr, bool *capped = nullptr, bool *cold = nullptr) const;
     void source(const physics::State<dim> &U, physics::State<dim> &S) const;
     /// kinetic-theory coefficients at (n, T) with the Knudsen cap and the switches; V is
     /// double or a GCC vector of doubles (lanes: states side by side, each lane bit for
@@ -184,7 +183,7 @@ namespace granhydro::diffusion
                          const unsigned int *r, const std::array<V, dim + 2> &UL,
                          const std::array<V, dim + 2> &UR, std::array<V, dim + 2> &F,
                          std::array<V, dim + 2> *friction, V *bounded = nullptr,
-                         V *capped = nullptr, V *mu_f = nullptr, V *cold = nullptr) const;
+                         V *capped = nullptr, V *cold = nullptr) const;
 
     /// residual() with V-wide lanes, compiled for the default target and for AVX2
     template <class V>
@@ -223,8 +222,6 @@ namespace granhydro::diffusion
     mutable std::array<double, 3> force{{0, 0, 0}}; ///< settings.body.at(time)
     mutable double              friction_power_ = 0;
     mutable FaceFluxCounts      counts_;
-    /// the frictional viscosity of each face of the last residual() (friction active)
-    mutable std::vector<double> face_mu_f[dim];
     /// whether face k of direction d is counted on this rank (FaceFluxCounts): 0 no, 1 yes,
     /// 2 yes and it is a wall face
     std::vector<unsigned char>  counted_[dim];

@@ -4,7 +4,7 @@
  * The frictional shear stress of a dense granular pile (the dense closure's 'Frictional
  * stress'), and the invariants of the strain rate it needs. Two laws:
  *
- *  - 'srivastava-sundaresan' (default): Srivastava & Sundaresan, "Analysis of a
+ *  - 'srivastava-sundaresan': Srivastava & Sundaresan, "Analysis of a
  *    frictional-kinetic model for gas-particle flow", Powder Technol. 129, 72 (2003), in
  *    the form MFIX codes as its Princeton friction model. With the critical-state pressure
  *    P_c (here the contact pressure p_f of the closure), the friction angle phi, the
@@ -19,7 +19,7 @@
  *    shear (div u = 0) it is P_c sin phi gamma_dot / sqrt(gamma_dot^2 + 2 Theta/d^2) <=
  *    P_c sin phi; in uniaxial dilation at Theta = 0 the bracket is exactly 0 and the stress
  *    vanishes (the choice of n for dilation makes it so).
- *  - 'newtonian': mu_f = t_f sin(phi) P_c (OpenFOAM's JohnsonJackson, t_f = 0.5 s), a
+ *  - 'newtonian' (the scene default, doc/physics.md 4.5 says why): mu_f = t_f sin(phi) P_c (OpenFOAM's JohnsonJackson, t_f = 0.5 s), a
  *    Newtonian viscosity whose stress grows without bound with the strain rate.
  *
  * The Srivastava–Sundaresan viscosity is bounded by the Newtonian law: mu_f <= t_f sin phi
@@ -68,7 +68,7 @@ namespace granhydro::physics
 
   struct FrictionalStress
   {
-    FrictionalLaw law     = FrictionalLaw::srivastava_sundaresan;
+    FrictionalLaw law     = FrictionalLaw::newtonian;
     double        sin_phi = 0; ///< sine of the friction angle
     double        t_f     = 0; ///< viscosity time (0: no frictional stress)
 

@@ -19,7 +19,7 @@ namespace granhydro
     double      closure_phi_min = 0.5;
     double      closure_r       = 2;
     double      closure_s       = 5;
-    std::string frictional_stress = "srivastava-sundaresan"; // | newtonian
+    std::string frictional_stress = "newtonian"; // | srivastava-sundaresan
     double      closure_time    = 0.5;  // t_f [s]: mu_f = t_f sin(theta_f) p_f, or its bound
     double      closure_angle   = 28.5; // theta_f [degrees]
 
