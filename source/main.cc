@@ -10,6 +10,7 @@
  * (including a failed output or checkpoint write), 130 / 143 stopped by SIGINT / SIGTERM
  * after writing the final output, checkpoint and summary.
  */
+#include <granhydro/base/version.h>
 #include <granhydro/driver/simulation.h>
 #include <granhydro/io/checkpoint.h>
 #include <granhydro/mesh/mesh_file.h>
@@ -26,13 +27,6 @@
 #include <iostream>
 #include <sstream>
 #include <vector>
-
-#ifndef GRANHYDRO_VERSION
-#  define GRANHYDRO_VERSION "unknown"
-#endif
-#ifndef GRANHYDRO_GIT_REVISION
-#  define GRANHYDRO_GIT_REVISION "unknown"
-#endif
 
 namespace
 {
@@ -143,7 +137,7 @@ int main(int argc, char **argv)
       if (a == "--version")
         {
           if (root)
-            std::cout << "granhydro " << GRANHYDRO_VERSION << " (git " << GRANHYDRO_GIT_REVISION
+            std::cout << "granhydro " << granhydro::version() << " (git " << granhydro::git_revision()
                       << "), deal.II " << DEAL_II_PACKAGE_VERSION << "\n";
           return 0;
         }
