@@ -2,7 +2,8 @@
  * granhydro: granular hydrodynamics in 1, 2 and 3 dimensions.
  *   granhydro [-p "Section/Name=value" ...] [scene.prm]   run a scene (the embedded
  *                                default without a file), with parameters overridden
- *   granhydro --print-parameters write a documented default scene to stdout
+ *   granhydro --print-parameters [-p ...] [scene.prm]   write the scene (the default
+ *                                without a file) expanded, every parameter documented
  *   granhydro --check scene.prm  validate a scene without running it
  *   granhydro --checkpoint-info FILE   verify a checkpoint and print what it holds
  *   granhydro --version
@@ -74,7 +75,8 @@ namespace
   void print_usage()
   {
     std::cout << "usage: granhydro [-p \"Section/Name=value\" ...] [scene.prm]\n"
-                 "       granhydro --print-parameters   (documented default scene)\n"
+                 "       granhydro --print-parameters [-p ...] [scene.prm]   (the scene expanded,\n"
+                 "                 every parameter documented; without a file the default scene)\n"
                  "       granhydro --check [-p ...] scene.prm   (validate the scene, run nothing)\n"
                  "       granhydro --checkpoint-info FILE   (verify a checkpoint, print its contents)\n"
                  "       granhydro --version\n"
@@ -123,7 +125,7 @@ int main(int argc, char **argv)
   const MPI_Comm comm  = MPI_COMM_WORLD;
   const bool     root  = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
   std::string    file;
-  bool           check_only = false;
+  bool           check_only = false, print_only = false;
   std::vector<std::string> overrides;
   for (int i = 1; i < argc; ++i)
     {
@@ -165,14 +167,8 @@ int main(int argc, char **argv)
         }
       if (a == "--print-parameters")
         {
-          if (root)
-            {
-              dealii::ParameterHandler prm;
-              granhydro::declare_scene_parameters(prm);
-              prm.parse_input_from_string(granhydro::default_scene_text());
-              prm.print_parameters(std::cout, dealii::ParameterHandler::PRM);
-            }
-          return 0;
+          print_only = true;
+          continue;
         }
       if (a == "--check")
         {
@@ -198,6 +194,14 @@ int main(int argc, char **argv)
     }
   try
     {
+      if (print_only)
+        {
+          // every rank reads the scene (the same exit code everywhere); rank 0 prints it
+          const std::string text = granhydro::expanded_scene_text(file, overrides);
+          if (root)
+            std::cout << text;
+          return 0;
+        }
       const granhydro::Scene scene = granhydro::read_scene(file, overrides);
       check_memory(scene, dealii::Utilities::MPI::n_mpi_processes(comm));
       if (check_only)
