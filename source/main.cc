@@ -12,6 +12,7 @@
  * after writing the final output, checkpoint and summary.
  */
 #include <granhydro/base/version.h>
+#include <granhydro/driver/run_records.h>
 #include <granhydro/driver/simulation.h>
 #include <granhydro/io/checkpoint.h>
 #include <granhydro/mesh/mesh_file.h>
@@ -26,6 +27,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <vector>
 
@@ -192,6 +194,16 @@ int main(int argc, char **argv)
         }
       file = a;
     }
+  // the run's records (<base>_parameters.prm, <base>.log), once the scene is read: the
+  // messages of a run that stops go into its log too
+  std::unique_ptr<granhydro::RunRecords> records;
+  const auto stopped = [&](const std::string &what) {
+    if (root)
+      std::cerr << "granhydro: run stopped: " << what << std::endl;
+    if (records)
+      records->note("granhydro: run stopped: " + what);
+    return 3;
+  };
   try
     {
       if (print_only)
@@ -214,29 +226,30 @@ int main(int argc, char **argv)
       // (exit 3), not a SIGXFSZ that kills the process
       std::signal(SIGXFSZ, SIG_IGN);
       granhydro::install_stop_signal_handlers();
-      return granhydro::run_scene(scene, comm, std::cout);
+      records = std::make_unique<granhydro::RunRecords>(scene, comm, std::cout);
+      return granhydro::run_scene(scene, comm, *records);
     }
   catch (const granhydro::SceneError &e)
     {
       if (root)
         std::cerr << "granhydro: error: " << e.what() << std::endl;
+      if (records)
+        records->note(std::string("granhydro: error: ") + e.what());
       return 2;
     }
   catch (const granhydro::io::OutputError &e)
     {
-      if (root)
-        std::cerr << "granhydro: run stopped: " << e.what() << std::endl;
-      return 3;
+      return stopped(e.what());
     }
   catch (const granhydro::RunError &e)
     {
-      if (root)
-        std::cerr << "granhydro: run stopped: " << e.what() << std::endl;
-      return 3;
+      return stopped(e.what());
     }
   catch (const std::exception &e)
     {
       std::cerr << "granhydro: internal error: " << e.what() << std::endl;
+      if (records)
+        records->note(std::string("granhydro: internal error: ") + e.what());
       MPI_Abort(comm, 1);
       return 1;
     }

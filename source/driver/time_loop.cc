@@ -17,6 +17,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
+#include <ctime>
 #include <iomanip>
 #include <limits>
 #include <optional>
@@ -156,8 +157,17 @@ namespace granhydro
     std::string why;
     if (!conv->admissible(U, &why))
       throw RunError("initial state is inadmissible (n <= 0 or T <= 0): " + why);
+    {
+      // rank 0's clock: the summary's start_time
+      const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+      std::tm           utc{};
+      gmtime_r(&now, &utc);
+      char text[32];
+      std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &utc);
+      started_utc_ = text;
+    }
     if (scene.write_summary && Utilities::MPI::this_mpi_process(comm) == 0)
-      io::write_running_summary(scene.output_file("_summary.csv"));
+      io::write_running_summary(scene.output_file("_summary.csv"), record_entries());
     // a run from the scene's initial state writes it; a restart (even from the t = 0
     // checkpoint) has it already
     if (L.step == 0 && scene.initial_checkpoint.empty())
