@@ -180,8 +180,8 @@ elseif(MODE STREQUAL "summary")
   execute_process(COMMAND "${CMAKE_COMMAND}" -DSOURCE_DIR=${SOURCE_DIR} -P ${CMAKE_CURRENT_LIST_DIR}/../cmake/git_revision.cmake
                   OUTPUT_VARIABLE without_git OUTPUT_STRIP_TRAILING_WHITESPACE)
   if(EXISTS "${SOURCE_DIR}/.git")
-    if(NOT s_git_revision MATCHES "^[0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f]+(-dirty)?$"
-       AND NOT s_git_revision MATCHES "-g[0-9a-f]+(-dirty)?$") # a tag: v1.0-3-g5e8f60f
+    # a commit (5e8f60f, 5e8f60f-dirty) or, once there are tags, v1.0 or v1.0-3-g5e8f60f
+    if(s_git_revision STREQUAL "unknown" OR NOT s_git_revision MATCHES "^[0-9A-Za-z._/-]+$")
       string(APPEND problems "  git_revision '${s_git_revision}' in a git checkout\n")
     endif()
     if(NOT without_git MATCHES "^[0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f][0-9a-f]$")
