@@ -13,10 +13,8 @@
 
 #include <mpi.h>
 
-#include <fstream>
 #include <memory>
 #include <ostream>
-#include <streambuf>
 #include <string>
 
 namespace granhydro
