@@ -2,7 +2,8 @@
  * granhydro: granular hydrodynamics in 1, 2 and 3 dimensions.
  *   granhydro [-p "Section/Name=value" ...] [scene.prm]   run a scene (the embedded
  *                                default without a file), with parameters overridden
- *   granhydro --print-parameters write a documented default scene to stdout
+ *   granhydro --print-parameters [-p ...] [scene.prm]   write the scene (the default
+ *                                without a file) expanded, every parameter documented
  *   granhydro --check scene.prm  validate a scene without running it
  *   granhydro --checkpoint-info FILE   verify a checkpoint and print what it holds
  *   granhydro --version
@@ -10,6 +11,8 @@
  * (including a failed output or checkpoint write), 130 / 143 stopped by SIGINT / SIGTERM
  * after writing the final output, checkpoint and summary.
  */
+#include <granhydro/base/version.h>
+#include <granhydro/driver/run_records.h>
 #include <granhydro/driver/simulation.h>
 #include <granhydro/io/checkpoint.h>
 #include <granhydro/mesh/mesh_file.h>
@@ -24,15 +27,9 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <vector>
-
-#ifndef GRANHYDRO_VERSION
-#  define GRANHYDRO_VERSION "unknown"
-#endif
-#ifndef GRANHYDRO_GIT_REVISION
-#  define GRANHYDRO_GIT_REVISION "unknown"
-#endif
 
 namespace
 {
@@ -80,7 +77,8 @@ namespace
   void print_usage()
   {
     std::cout << "usage: granhydro [-p \"Section/Name=value\" ...] [scene.prm]\n"
-                 "       granhydro --print-parameters   (documented default scene)\n"
+                 "       granhydro --print-parameters [-p ...] [scene.prm]   (the scene expanded,\n"
+                 "                 every parameter documented; without a file the default scene)\n"
                  "       granhydro --check [-p ...] scene.prm   (validate the scene, run nothing)\n"
                  "       granhydro --checkpoint-info FILE   (verify a checkpoint, print its contents)\n"
                  "       granhydro --version\n"
@@ -129,7 +127,7 @@ int main(int argc, char **argv)
   const MPI_Comm comm  = MPI_COMM_WORLD;
   const bool     root  = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
   std::string    file;
-  bool           check_only = false;
+  bool           check_only = false, print_only = false;
   std::vector<std::string> overrides;
   for (int i = 1; i < argc; ++i)
     {
@@ -143,7 +141,7 @@ int main(int argc, char **argv)
       if (a == "--version")
         {
           if (root)
-            std::cout << "granhydro " << GRANHYDRO_VERSION << " (git " << GRANHYDRO_GIT_REVISION
+            std::cout << "granhydro " << granhydro::version() << " (git " << granhydro::git_revision()
                       << "), deal.II " << DEAL_II_PACKAGE_VERSION << "\n";
           return 0;
         }
@@ -171,14 +169,8 @@ int main(int argc, char **argv)
         }
       if (a == "--print-parameters")
         {
-          if (root)
-            {
-              dealii::ParameterHandler prm;
-              granhydro::declare_scene_parameters(prm);
-              prm.parse_input_from_string(granhydro::default_scene_text());
-              prm.print_parameters(std::cout, dealii::ParameterHandler::PRM);
-            }
-          return 0;
+          print_only = true;
+          continue;
         }
       if (a == "--check")
         {
@@ -202,8 +194,26 @@ int main(int argc, char **argv)
         }
       file = a;
     }
+  // the run's records (<base>_parameters.prm, <base>.log), once the scene is read: the
+  // messages of a run that stops go into its log too
+  std::unique_ptr<granhydro::RunRecords> records;
+  const auto stopped = [&](const std::string &what) {
+    if (root)
+      std::cerr << "granhydro: run stopped: " << what << std::endl;
+    if (records)
+      records->note("granhydro: run stopped: " + what);
+    return 3;
+  };
   try
     {
+      if (print_only)
+        {
+          // every rank reads the scene (the same exit code everywhere); rank 0 prints it
+          const std::string text = granhydro::expanded_scene_text(file, overrides);
+          if (root)
+            std::cout << text;
+          return 0;
+        }
       const granhydro::Scene scene = granhydro::read_scene(file, overrides);
       check_memory(scene, dealii::Utilities::MPI::n_mpi_processes(comm));
       if (check_only)
@@ -216,29 +226,30 @@ int main(int argc, char **argv)
       // (exit 3), not a SIGXFSZ that kills the process
       std::signal(SIGXFSZ, SIG_IGN);
       granhydro::install_stop_signal_handlers();
-      return granhydro::run_scene(scene, comm, std::cout);
+      records = std::make_unique<granhydro::RunRecords>(scene, comm, std::cout);
+      return granhydro::run_scene(scene, comm, *records);
     }
   catch (const granhydro::SceneError &e)
     {
       if (root)
         std::cerr << "granhydro: error: " << e.what() << std::endl;
+      if (records)
+        records->note(std::string("granhydro: error: ") + e.what());
       return 2;
     }
   catch (const granhydro::io::OutputError &e)
     {
-      if (root)
-        std::cerr << "granhydro: run stopped: " << e.what() << std::endl;
-      return 3;
+      return stopped(e.what());
     }
   catch (const granhydro::RunError &e)
     {
-      if (root)
-        std::cerr << "granhydro: run stopped: " << e.what() << std::endl;
-      return 3;
+      return stopped(e.what());
     }
   catch (const std::exception &e)
     {
       std::cerr << "granhydro: internal error: " << e.what() << std::endl;
+      if (records)
+        records->note(std::string("granhydro: internal error: ") + e.what());
       MPI_Abort(comm, 1);
       return 1;
     }

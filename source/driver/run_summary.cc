@@ -1,8 +1,9 @@
 /**
  * @file run_summary.cc
  * What Simulation reports at the end of a run: the run summary lines of the log and
- * the entries of summary.csv (written by io/summary_csv.h).
+ * the entries of <base>_summary.csv (written by io/summary_csv.h).
  */
+#include <granhydro/base/version.h>
 #include <granhydro/driver/simulation_instances.h>
 #include <granhydro/io/summary_csv.h>
 
@@ -119,7 +120,7 @@ namespace granhydro
     const auto  &cs = sum.convection;
     const auto  &ds = sum.diffusion;
     using N         = unsigned long long;
-    const std::vector<io::SummaryEntry> entries = {
+    std::vector<io::SummaryEntry> entries = {
       {"status", status},
       {"dimension", N(dim)},
       {"cells", N(sum.cells)},
@@ -127,7 +128,6 @@ namespace granhydro
       {"adaptations", N(sum.adaptations)},
       {"refined_cells", sum.refined_cells},
       {"coarsened_cells", sum.coarsened_cells},
-      {"ranks", N(sum.ranks)},
       {"time", sum.time_si},
       {"steps", N(sum.steps)},
       {"rejected_steps", N(sum.rejected_steps)},
@@ -181,6 +181,8 @@ namespace granhydro
       {"negative_temperature_faces", ds.faces.negative_temperature},
       {"musta_early_stops", cs.flux.early_stops},
       {"continuation_cells", sum.continuation_cells}};
+    const auto records = record_entries();
+    entries.insert(entries.end(), records.begin(), records.end());
     try
       {
         io::write_summary_csv(scene.output_directory, scene.output_file("_summary.csv"), entries);
@@ -189,6 +191,23 @@ namespace granhydro
       {
         throw RunError(e.what());
       }
+  }
+
+  template <int dim, class Description>
+  std::vector<io::SummaryEntry> Simulation<dim, Description>::record_entries() const
+  {
+    // the -p overrides as given, joined by ';' (for reading; a value may hold a ';' of its
+    // own, e.g. a velocity "0; 0": <base>_parameters.prm is the exact record)
+    std::string overrides;
+    for (const auto &o : scene.overrides)
+      overrides += (overrides.empty() ? "" : ";") + o;
+    using N = unsigned long long;
+    return {{"version", std::string(version())},
+            {"git_revision", std::string(git_revision())},
+            {"scene", scene.source},
+            {"overrides", overrides},
+            {"ranks", N(Utilities::MPI::n_mpi_processes(comm))},
+            {"start_time", started_utc_}};
   }
 
   GRANHYDRO_SIMULATION_INSTANCES

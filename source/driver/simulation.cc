@@ -5,6 +5,7 @@
  * The parts of a run: strang_step.cc (one time step), time_loop.cc (the time loop),
  * adapt_mesh.cc, simulation_checkpoint.cc and run_summary.cc.
  */
+#include <granhydro/driver/run_records.h>
 #include <granhydro/driver/simulation_instances.h>
 #include <granhydro/physics/packing_fraction.h>
 
@@ -13,6 +14,7 @@
 #include <deal.II/base/quadrature_lib.h>
 
 #include <cmath>
+#include <functional>
 #include <string>
 #include <type_traits>
 
@@ -318,33 +320,48 @@ namespace granhydro
       integrator->mesh_changed();
   }
 
-  template <int dim>
-  int run_dim(const Scene &scene, const MPI_Comm comm, std::ostream &log)
+  namespace
   {
-    if (scene.model == "granular")
-      {
-        Simulation<dim, physics::GranularGas<dim>> sim(scene, comm, log);
-        sim.setup();
-        const int sig = sim.run().interrupted_by;
-        return sig ? 128 + sig : 0;
-      }
-    Simulation<dim> sim(scene, comm, log);
-    sim.setup();
-    const int sig = sim.run().interrupted_by;
-    return sig ? 128 + sig : 0;
-  }
+    /// the scene on `dim` dimensions with the model it names; started() runs once the
+    /// mesh and the initial state are set up, before the first step
+    template <int dim, class Description>
+    int run_model(const Scene &scene, const MPI_Comm comm, std::ostream &log,
+                  const std::function<void()> &started)
+    {
+      Simulation<dim, Description> sim(scene, comm, log);
+      sim.setup();
+      started();
+      const int sig = sim.run().interrupted_by;
+      return sig ? 128 + sig : 0;
+    }
+
+    int run_any(const Scene &scene, const MPI_Comm comm, std::ostream &log,
+                const std::function<void()> &started)
+    {
+      const bool granular = scene.model == "granular";
+      switch (scene.dimension)
+        {
+          case 1:
+            return granular ? run_model<1, physics::GranularGas<1>>(scene, comm, log, started) :
+                              run_model<1, physics::IdealGas<1>>(scene, comm, log, started);
+          case 2:
+            return granular ? run_model<2, physics::GranularGas<2>>(scene, comm, log, started) :
+                              run_model<2, physics::IdealGas<2>>(scene, comm, log, started);
+          default:
+            return granular ? run_model<3, physics::GranularGas<3>>(scene, comm, log, started) :
+                              run_model<3, physics::IdealGas<3>>(scene, comm, log, started);
+        }
+    }
+  } // namespace
 
   int run_scene(const Scene &scene, const MPI_Comm comm, std::ostream &log)
   {
-    switch (scene.dimension)
-      {
-        case 1:
-          return run_dim<1>(scene, comm, log);
-        case 2:
-          return run_dim<2>(scene, comm, log);
-        default:
-          return run_dim<3>(scene, comm, log);
-      }
+    return run_any(scene, comm, log, [] {});
+  }
+
+  int run_scene(const Scene &scene, const MPI_Comm comm, RunRecords &records)
+  {
+    return run_any(scene, comm, records.log(), [&records] { records.start(); });
   }
 
   GRANHYDRO_SIMULATION_INSTANCES

@@ -17,6 +17,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
+#include <ctime>
 #include <iomanip>
 #include <limits>
 #include <optional>
@@ -34,6 +35,17 @@ namespace granhydro
     double seconds_since(const clock::time_point t)
     {
       return std::chrono::duration<double>(clock::now() - t).count();
+    }
+
+    /// the wall-clock time in ISO 8601, UTC, to the second (2026-12-06T09:30:00Z)
+    std::string utc_now()
+    {
+      const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+      std::tm           utc{};
+      gmtime_r(&now, &utc);
+      char text[32];
+      std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &utc);
+      return text;
     }
 
     std::string hms(double s)
@@ -128,6 +140,7 @@ namespace granhydro
   template <int dim, class Description>
   void Simulation<dim, Description>::start_run(TimeLoopState &L)
   {
+    started_utc_ = utc_now(); // rank 0's clock gives the summary's start_time
     L.t0       = units_.time();
     L.t_end    = scene.end_time / L.t0;
     L.dt_fixed = scene.fixed_time_step / L.t0;
@@ -157,7 +170,7 @@ namespace granhydro
     if (!conv->admissible(U, &why))
       throw RunError("initial state is inadmissible (n <= 0 or T <= 0): " + why);
     if (scene.write_summary && Utilities::MPI::this_mpi_process(comm) == 0)
-      io::write_running_summary(scene.output_file("_summary.csv"));
+      io::write_running_summary(scene.output_file("_summary.csv"), record_entries());
     // a run from the scene's initial state writes it; a restart (even from the t = 0
     // checkpoint) has it already
     if (L.step == 0 && scene.initial_checkpoint.empty())

@@ -18,12 +18,44 @@ namespace granhydro::io
     {
       return file + ".tmp." + std::to_string(::getpid());
     }
+
+    /// "key,value" and the entries: numbers with 10 significant digits, words quoted as
+    /// RFC 4180 wants where they hold a comma, a quote or a line break (a scene path,
+    /// an override "Domain/Cells=100, 50")
+    void write_entries(std::ostream &out, const std::vector<SummaryEntry> &entries)
+    {
+      out << std::setprecision(10) << "key,value\n";
+      for (const auto &e : entries)
+        {
+          out << e.key << ',';
+          if (const auto *word = std::get_if<std::string>(&e.value))
+            {
+              if (word->find_first_of(",\"\r\n") == std::string::npos)
+                out << *word;
+              else
+                {
+                  out << '"';
+                  for (const char c : *word)
+                    out << (c == '"' ? "\"\"" : std::string(1, c));
+                  out << '"';
+                }
+            }
+          else
+            std::visit([&out](const auto &v) { out << v; }, e.value);
+          out << "\n";
+        }
+    }
   } // namespace
 
-  void write_running_summary(const std::string &file)
+  void write_running_summary(const std::string &file, const std::vector<SummaryEntry> &entries)
   {
     const std::string tmp = summary_tmp(file);
-    std::ofstream(tmp) << "key,value\nstatus,running\n";
+    {
+      std::ofstream out(tmp);
+      std::vector<SummaryEntry> all = {{"status", std::string("running")}};
+      all.insert(all.end(), entries.begin(), entries.end());
+      write_entries(out, all);
+    }
     std::error_code ec;
     std::filesystem::rename(tmp, file, ec);
   }
@@ -37,13 +69,7 @@ namespace granhydro::io
     std::ofstream     out(tmp);
     if (!out)
       throw OutputError("cannot write " + file + " (Output/Directory)");
-    out << std::setprecision(10) << "key,value\n";
-    for (const auto &e : entries)
-      {
-        out << e.key << ',';
-        std::visit([&out](const auto &v) { out << v; }, e.value);
-        out << "\n";
-      }
+    write_entries(out, entries);
     out.close();
     std::filesystem::rename(tmp, file, ec);
     if (ec)

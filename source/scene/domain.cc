@@ -69,16 +69,8 @@ namespace granhydro
                                           const std::string &source_name)
   {
     prm.enter_subsection("Domain");
-    mesh_file        = prm.get("Mesh file");
+    mesh_file        = relative_to_scene(prm.get("Mesh file"), source_name);
     mesh_refinements = prm.get_integer("Mesh refinements");
-    if (!mesh_file.empty() && mesh_file[0] != '/' && !source_name.empty() &&
-        source_name[0] != '<')
-      {
-        // relative to the scene file, so that a scene runs from any working directory
-        const auto slash = source_name.rfind('/');
-        if (slash != std::string::npos)
-          mesh_file = source_name.substr(0, slash + 1) + mesh_file;
-      }
     lower = parse_list<double, 3>(prm.get("Lower corner"), "Domain/Lower corner", dim, 0.);
     upper = parse_list<double, 3>(prm.get("Upper corner"), "Domain/Upper corner", dim, 1.);
     {

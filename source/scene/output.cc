@@ -24,10 +24,12 @@ namespace granhydro
       prm.declare_entry("Directory", "output", Patterns::Anything(),
                         "Directory for VTU/PVTU/PVD and CSV files (created if missing).");
       prm.declare_entry("Base name", "solution", Patterns::FileName(),
-                        "Base name of output files.");
+                        "Base name of the output files: <Base name>.pvd, <Base name>_summary.csv, ...");
       prm.declare_entry("Interval", "0", Patterns::Double(0, Patterns::Double::max_double_value),
                         "Simulated time between outputs [s]; 0 = initial and final state only.");
-      prm.declare_entry("Write VTU", "true", Patterns::Bool(), "Write VTU/PVTU + PVD for ParaView.");
+      prm.declare_entry("Write VTU", "true", Patterns::Bool(),
+                        "Write <Base name>_NNNN.pvtu with its .vtu files at every output time, "
+                        "and <Base name>.pvd, the time series for ParaView.");
       prm.declare_entry("VTU files per output", "16", Patterns::Anything(),
                         "Bound on the .vtu files of one output time: 0 = one file per MPI "
                         "rank; K = one file per rank on up to K ranks, and on more ranks K "
@@ -37,22 +39,27 @@ namespace granhydro
                         "Write <Directory>/<Base name>.checkpoint at every output time and at "
                         "the end (replaced atomically), for 'Initial state/Checkpoint'.");
       prm.declare_entry("Write summary", "true", Patterns::Bool(),
-                        "Write summary.csv at the end of the run: one 'key,value' line per "
-                        "figure of the run summary (cells, steps, wall times, smallest and "
-                        "largest time step, the explicit diffusive limit, Newton/GMRES "
-                        "iterations, mass drift), for scripts such as tools/work_precision.py.");
+                        "Write <Base name>_summary.csv at the end of the run: one 'key,value' "
+                        "line per figure of the run summary (cells, steps, wall times, smallest "
+                        "and largest time step, the explicit diffusive limit, Newton/GMRES "
+                        "iterations, mass drift, version, git revision, scene, overrides, "
+                        "ranks, start time), for scripts such as tools/work_precision.py; "
+                        "and at the start the run records <Base name>_parameters.prm (the "
+                        "scene as it runs, every parameter: a scene file that runs it again) "
+                        "and <Base name>.log (what the run prints, with Verbose).");
       prm.declare_entry("Write profiles", "true", Patterns::Bool(),
-                        "Write profiles.csv: averages over the directions other than the "
-                        "profile direction.");
+                        "Write <Base name>_profiles.csv: averages over the directions other "
+                        "than the profile direction.");
       prm.declare_entry("Profile direction", "auto", Patterns::Selection("auto|x|y|z"),
                         "Direction of the profiles; auto = the last resolved direction.");
       prm.declare_entry("Cross-section direction", "none", Patterns::Selection("none|x|y|z"),
-                        "3D scenes: also write cross_section.csv, the averages along this "
-                        "direction as a map over the other two (e.g. x for the chute: the "
-                        "velocity field across the channel, paper fig. 8).");
+                        "3D scenes: also write <Base name>_cross_section.csv, the averages "
+                        "along this direction as a map over the other two (e.g. x for the "
+                        "chute: the velocity field across the channel, paper fig. 8).");
       prm.declare_entry("Progress interval", "5", Patterns::Double(0, Patterns::Double::max_double_value),
                         "Wall-clock seconds between progress lines (0 = every step).");
-      prm.declare_entry("Verbose", "true", Patterns::Bool(), "Print the run log.");
+      prm.declare_entry("Verbose", "true", Patterns::Bool(),
+                        "Print the run log (with 'Write summary' also into <Base name>.log).");
     }
     prm.leave_subsection();
   }

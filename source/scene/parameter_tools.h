@@ -78,4 +78,18 @@ namespace granhydro::scene_detail
 
   /// the scene in `prm` (declared by declare_scene_parameters() and parsed), validated
   Scene scene_from(dealii::ParameterHandler &prm, const std::string &source_name);
+
+  /// a file a scene names (Domain/Mesh file) relative to the scene file, so that a scene
+  /// runs from any working directory; unchanged if absolute or if the scene is not a file
+  /// ("<default scene>", "<test scene>": relative to the working directory)
+  inline std::string relative_to_scene(const std::string &file, const std::string &source_name)
+  {
+    if (!file.empty() && file[0] != '/' && !source_name.empty() && source_name[0] != '<')
+      {
+        const auto slash = source_name.rfind('/');
+        if (slash != std::string::npos)
+          return source_name.substr(0, slash + 1) + file;
+      }
+    return file;
+  }
 } // namespace granhydro::scene_detail

@@ -60,6 +60,12 @@ end
       const auto        eq    = o.find('=');
       if (eq == std::string::npos || eq == 0)
         throw SceneError(where + "expected \"Section/Name=value\" (e.g. -p \"Time/End time=0.1\")");
+      // what a scene file cannot hold either: the printed scene (<base>_parameters.prm)
+      // would read a different value
+      if (o.find_first_of("\r\n") != std::string::npos)
+        throw SceneError(where + "a value is one line (no line breaks)");
+      if (o.find('#') != std::string::npos)
+        throw SceneError(where + "'#' is not allowed (it starts a comment in a scene file)");
       const auto trim = [](std::string x) {
         const auto b = x.find_first_not_of(" \t"), e = x.find_last_not_of(" \t");
         return b == std::string::npos ? std::string() : x.substr(b, e - b + 1);
@@ -159,13 +165,12 @@ end
                          "' is never closed (an 'end' line is missing)");
     }
 
-    /// the scene in `text`; origin: "FILE, line N" of every line of it (null: `source_name`
-    /// and the line number of the text)
-    Scene parse_scene_text(const std::string &text, const std::string &source_name,
-                           const std::vector<std::string> &overrides,
-                           const std::vector<std::string> *origin)
+    /// prm declared, `text` parsed and the overrides applied; origin: "FILE, line N" of
+    /// every line of the text (null: `source_name` and the line number of the text)
+    void read_parameters(ParameterHandler &prm, const std::string &text,
+                         const std::string &source_name, const std::vector<std::string> &overrides,
+                         const std::vector<std::string> *origin)
     {
-      ParameterHandler prm;
       declare_scene_parameters(prm);
       check_sections(text, source_name, origin);
       try
@@ -182,10 +187,37 @@ end
         }
       for (const auto &o : overrides)
         apply_override(prm, o);
+    }
 
+    /// the parameters of prm as a scene file (expanded_scene_text())
+    std::string print_scene(ParameterHandler &prm, const std::string &source_name)
+    {
+      // the printed file does not sit beside the scene file: a mesh file named relative to
+      // that becomes absolute, so the printed scene reads the same mesh from anywhere
+      prm.enter_subsection("Domain");
+      const std::string mesh = relative_to_scene(prm.get("Mesh file"), source_name);
+      std::error_code   ec;
+      const auto        absolute = std::filesystem::absolute(mesh, ec);
+      if (!mesh.empty() && !ec)
+        prm.set("Mesh file", absolute.lexically_normal().string());
+      prm.leave_subsection();
+      std::ostringstream out;
+      prm.print_parameters(out, ParameterHandler::OutputStyle(ParameterHandler::PRM |
+                                                              ParameterHandler::KeepDeclarationOrder));
+      return out.str();
+    }
+
+    /// the scene in `text`, validated, with the record of how it was read
+    Scene parse_scene_text(const std::string &text, const std::string &source_name,
+                           const std::vector<std::string> &overrides,
+                           const std::vector<std::string> *origin)
+    {
+      ParameterHandler prm;
+      read_parameters(prm, text, source_name, overrides, origin);
+      Scene s;
       try
         {
-          return scene_from(prm, source_name);
+          s = scene_from(prm, source_name);
         }
       catch (const SceneError &e)
         {
@@ -206,6 +238,9 @@ end
           throw SceneError("in " + source_name + ": parameter '" + entry + "': " + m + " (" +
                            usable_decimal_rule + ")");
         }
+      s.overrides     = overrides;
+      s.expanded_text = print_scene(prm, source_name);
+      return s;
     }
   } // namespace
 
@@ -266,36 +301,61 @@ end
     }
   } // namespace
 
+  namespace
+  {
+    /// the text of scene file `filename` with its includes expanded (origin as for
+    /// expand_includes), refused unless it is a regular file of reasonable size that sets
+    /// at least one parameter
+    std::string scene_file_text(const std::string &filename, std::vector<std::string> &origin)
+    {
+      // a scene is a regular text file of reasonable size: a directory, /dev/null or
+      // /dev/zero would otherwise run the default scene or exhaust the memory
+      std::error_code ec;
+      const auto      status = std::filesystem::status(filename, ec);
+      if (ec || !std::filesystem::exists(status))
+        throw SceneError("cannot open scene file '" + filename + "': no such file");
+      if (!std::filesystem::is_regular_file(status))
+        throw SceneError("scene file '" + filename +
+                         "' is not a regular file (a directory or a device); give a .prm file");
+      constexpr std::uintmax_t max_bytes = 16u << 20;
+      if (std::filesystem::file_size(filename, ec) > max_bytes || ec)
+        throw SceneError("scene file '" + filename + "' is larger than 16 MiB (or unreadable); a "
+                         "scene is a short parameter file");
+      const std::string text = expand_includes(filename, {}, origin);
+      // only comments and blank lines: refuse rather than silently run every default
+      std::istringstream lines(text);
+      bool               statement = false;
+      for (std::string line; !statement && std::getline(lines, line);)
+        {
+          const auto b = line.find_first_not_of(" \t\r");
+          statement    = b != std::string::npos && line[b] != '#';
+        }
+      if (!statement)
+        throw SceneError("scene file '" + filename + "' sets no parameter (it is empty or holds only "
+                         "comments); run granhydro without a file for the default scene");
+      return text;
+    }
+  } // namespace
+
   Scene read_scene(const std::string &filename, const std::vector<std::string> &overrides)
   {
     if (filename.empty())
       return parse_scene(default_scene_text(), "<default scene>", overrides);
-    // a scene is a regular text file of reasonable size: a directory, /dev/null or
-    // /dev/zero would otherwise run the default scene or exhaust the memory
-    std::error_code ec;
-    const auto      status = std::filesystem::status(filename, ec);
-    if (ec || !std::filesystem::exists(status))
-      throw SceneError("cannot open scene file '" + filename + "': no such file");
-    if (!std::filesystem::is_regular_file(status))
-      throw SceneError("scene file '" + filename +
-                       "' is not a regular file (a directory or a device); give a .prm file");
-    constexpr std::uintmax_t max_bytes = 16u << 20;
-    if (std::filesystem::file_size(filename, ec) > max_bytes || ec)
-      throw SceneError("scene file '" + filename + "' is larger than 16 MiB (or unreadable); a "
-                       "scene is a short parameter file");
     std::vector<std::string> origin;
-    const std::string        text = expand_includes(filename, {}, origin);
-    // only comments and blank lines: refuse rather than silently run every default
-    std::istringstream lines(text);
-    bool               statement = false;
-    for (std::string line; !statement && std::getline(lines, line);)
-      {
-        const auto b = line.find_first_not_of(" \t\r");
-        statement    = b != std::string::npos && line[b] != '#';
-      }
-    if (!statement)
-      throw SceneError("scene file '" + filename + "' sets no parameter (it is empty or holds only "
-                       "comments); run granhydro without a file for the default scene");
+    const std::string        text = scene_file_text(filename, origin);
     return parse_scene_text(text, filename, overrides, &origin);
+  }
+
+  std::string expanded_scene_text(const std::string &filename, const std::vector<std::string> &overrides)
+  {
+    ParameterHandler prm;
+    if (filename.empty())
+      {
+        read_parameters(prm, default_scene_text(), "<default scene>", overrides, nullptr);
+        return print_scene(prm, "<default scene>");
+      }
+    std::vector<std::string> origin;
+    read_parameters(prm, scene_file_text(filename, origin), filename, overrides, &origin);
+    return print_scene(prm, filename);
   }
 } // namespace granhydro

@@ -16,7 +16,7 @@ namespace granhydro
       prm.declare_entry("End time", "0.2", Patterns::Double(0, Patterns::Double::max_double_value),
                         "Simulated end time [s].");
       prm.declare_entry("Maximum wall time", "0", Patterns::Double(0, Patterns::Double::max_double_value),
-                        "Stop cleanly (final output, checkpoint, summary.csv with status "
+                        "Stop cleanly (final output, checkpoint, <Base name>_summary.csv with status "
                         "'wall time limit') after this many wall-clock seconds; 0 = no limit. "
                         "Restart from the checkpoint to go on.");
       prm.declare_entry("Maximum steps", "0", Patterns::Integer(0),

@@ -12,6 +12,7 @@
 #include <granhydro/driver/run_summary.h>
 #include <granhydro/driver/time_loop.h>
 #include <granhydro/io/output.h>
+#include <granhydro/io/summary_csv.h>
 #include <granhydro/mesh/cartesian_patch.h>
 #include <granhydro/physics/granular_gas.h>
 #include <granhydro/physics/ideal_gas.h>
@@ -25,6 +26,8 @@
 #include <cstdint>
 #include <memory>
 #include <ostream>
+#include <string>
+#include <vector>
 
 namespace granhydro
 {
@@ -164,8 +167,11 @@ namespace granhydro
     // the run summary (run_summary.cc)
     /// the run summary lines of the log
     void print_run_summary(const RunSummary &sum) const;
-    /// summary.csv in the output directory (rank 0; written to .tmp, then renamed)
+    /// <base>_summary.csv in the output directory (rank 0; written to .tmp, then renamed)
     void write_summary(const RunSummary &sum, const std::string &status) const;
+    /// the rows of the summary that say which run it was (also in the running summary):
+    /// version, git_revision, scene, overrides, ranks, start_time
+    std::vector<io::SummaryEntry> record_entries() const;
     /// the frictional dissipation of the run in J (per m^(3 - dim) of the unresolved extent)
     double friction_dissipation_si(const RunSummary &sum) const
     {
@@ -195,6 +201,7 @@ namespace granhydro
     double             max_repair          = 0;
     double       owed_       = 0; ///< scaled convective time owed (merged Strang splitting)
     double       start_time_ = 0; ///< scaled
+    std::string  started_utc_;    ///< when run() started, ISO 8601 UTC (the summary's start_time)
     unsigned int start_step_ = 0;
     Vector                    U;
     unsigned int              adaptations = 0;
@@ -203,9 +210,14 @@ namespace granhydro
     unsigned long long        max_cells = 0, refined_cells = 0, coarsened_cells = 0;
   };
 
+  class RunRecords;
+
   /// read the scene's dimension and run it; returns the process exit code: 0, or
   /// 128 + the signal number when SIGTERM/SIGINT stopped it (143 / 130)
   int run_scene(const Scene &scene, const MPI_Comm comm, std::ostream &log);
+  /// the same with the run's records (driver/run_records.h): it prints to records.log(),
+  /// and records.start() writes them once the scene is set up
+  int run_scene(const Scene &scene, const MPI_Comm comm, RunRecords &records);
 
   /// SIGTERM and SIGINT make a run finish its current step, write the final output, a
   /// checkpoint (with the implicit step's history, so a restart continues exactly as the

@@ -52,6 +52,10 @@ namespace granhydro
   {
     std::string source = "<default scene>";
     unsigned int dimension = 1;
+    /// how the scene was read, for the run records: the -p overrides as given, and the
+    /// scene they gave as a scene file of its own (expanded_scene_text())
+    std::vector<std::string> overrides;
+    std::string              expanded_text;
 
     /// true if the implicit diffusion/source step V runs (granular model only)
     bool diffusion_active() const;
@@ -82,6 +86,18 @@ namespace granhydro
   /// the same from a string in .prm syntax (tests)
   Scene parse_scene(const std::string &text, const std::string &source_name,
                     const std::vector<std::string> &overrides = {});
+
+  /**
+   * The scene of `filename` ("" = embedded default) with its includes and overrides
+   * applied, as a scene file of its own: every parameter in declaration order, in deal.II's
+   * PRM format with the documentation as comments (granhydro --print-parameters,
+   * <base>_parameters.prm). 'Domain/Mesh file', relative to the scene file, is made
+   * absolute; the paths relative to the working directory (Output/Directory, Initial
+   * state/Checkpoint) stay as given. Read, not validated: throws SceneError for what
+   * cannot be read (unknown parameter, value against its pattern, bad override).
+   */
+  std::string expanded_scene_text(const std::string &filename,
+                                  const std::vector<std::string> &overrides = {});
 
   /// the effects the scene activates, each with the reason (doc/user-guide.md, "Running scenes")
   std::vector<std::pair<std::string, std::string>> active_effects(const Scene &scene);

@@ -109,17 +109,22 @@ def read_history(path):
     return read_columns(path)[0]
 
 
+# the rows that name the run: words even where they look like numbers (a commit 1234567)
+SUMMARY_WORDS = ("status", "version", "git_revision", "scene", "overrides", "start_time")
+
+
 def read_summary(path, base=None, numbers=False):
     """{key: value} of a run's B_summary.csv ('key,value' header, then one 'key,value'
-    row per entry; PATH: the file or the output directory). Values are strings, or with
-    numbers=True floats where they parse as numbers (status stays a string). A run that
-    is still going has only 'status,running'."""
+    row per entry, a value with a comma in double quotes; PATH: the file or the output
+    directory). Values are strings, or with numbers=True floats where they parse as
+    numbers (the rows of SUMMARY_WORDS stay strings). A run that is still going has
+    'status,running' and the rows that name the run."""
     summary = {}
     for row in read_rows(find_output_file(path, "summary", base)):
         if len(row) < 2 or row[0] == "key":
             continue
         value = ",".join(row[1:])
-        if numbers:
+        if numbers and row[0] not in SUMMARY_WORDS:
             try:
                 value = float(value)
             except ValueError:

@@ -76,7 +76,10 @@ def write_cross_section(path, times, ys, zs, field):
 SUMMARY = [("status", "completed"), ("dimension", 2), ("cells", 400), ("max_cells", 400),
            ("ranks", 1), ("time", 0.2), ("steps", 3068), ("rejected_steps", 0),
            ("wall_seconds", 0.786747808), ("min_dt", 2.961733689e-05), ("mass_drift", 2.883304625e-14),
-           ("flux_points", 935664), ("musta_stages", 1883574), ("friction_dissipation_J", 0.002542259529)]
+           ("flux_points", 935664), ("musta_stages", 1883574), ("friction_dissipation_J", 0.002542259529),
+           ("version", "0.9.0"), ("git_revision", "1234567"), ("scene", "parameters/blast_2d.prm"),
+           ("overrides", '"Time/End time=0.2;Domain/Cells=20, 20"'),  # quoted: it holds a comma
+           ("start_time", "2026-12-06T09:30:00Z")]
 
 
 def write_summary(path, entries=SUMMARY):

@@ -33,6 +33,10 @@ def test_read_summary(tmp_path):
     assert n["status"] == "completed"
     assert n["steps"] == 3068.0 and n["min_dt"] == 2.961733689e-05
     assert n["musta_stages"] / n["flux_points"] == pytest.approx(2.013088, rel=1e-6)
+    # the rows naming the run: words, the quoted one unquoted
+    assert s["overrides"] == n["overrides"] == "Time/End time=0.2;Domain/Cells=20, 20"
+    assert n["git_revision"] == "1234567" and n["version"] == "0.9.0"
+    assert n["start_time"] == "2026-12-06T09:30:00Z"
 
 
 def test_read_summary_of_a_running_and_of_a_missing_run(tmp_path):
