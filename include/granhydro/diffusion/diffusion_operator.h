@@ -162,7 +162,9 @@ namespace granhydro::diffusion
     };
     /// flux through a face normal to d between slots l and r; ihn: 1/(centre distance).
     /// With the frictional viscosity on, F holds its momentum flux but not its work, and
-    /// friction (if given) receives (work flux tau_f.u, frictional momentum flux, 0)
+    /// friction (if given) receives (work flux tau_f.u, frictional momentum flux, 0).
+    /// bounded, capped, cold (if given): the tensile normal stress was bounded by the
+    /// pressure, the frictional viscosity held at its bound, the face state's T < 0.
     void face_flux(const double *W, const unsigned int d, const double ihn, const unsigned int l,
                    const unsigned int r, const physics::State<dim> &UL,
                    const physics::State<dim> &UR, const WallFace &wall,

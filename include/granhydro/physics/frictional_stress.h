@@ -78,10 +78,13 @@ namespace granhydro::physics
 
     double n_dilation() const { return std::sqrt(3.) / (2. * sin_phi); }
 
+    /// the exponent n of Srivastava & Sundaresan: dilation (div u >= 0) or compression
+    double exponent(const double div) const { return div >= 0 ? n_dilation() : n_compression; }
+
     /// P_f / P_c of Srivastava & Sundaresan for div u and zeta = sqrt(S:S + Theta/d^2) > 0
     double pressure_ratio(const double div, const double zeta) const
     {
-      const double n = div >= 0 ? n_dilation() : n_compression;
+      const double n = exponent(div);
       const double b = 1. - div / (n * std::sqrt(2.) * sin_phi * zeta);
       return b > 0 ? std::pow(b, n - 1.) : 0.;
     }
@@ -92,7 +95,7 @@ namespace granhydro::physics
       const double zeta = std::sqrt(std::max(SS, 0.) + std::max(theta_d2, 0.));
       if (!(zeta > 0))
         return std::numeric_limits<double>::infinity(); // a pile at rest with T = 0: rigid
-      const double n = div >= 0 ? n_dilation() : n_compression;
+      const double n = exponent(div);
       const double r = pressure_ratio(div, zeta);
       const double f = std::sqrt(2.) * sin_phi * r * (n - (n - 1.) * std::pow(r, 1. / (n - 1.))) / (2. * zeta);
       return f > 0 ? f : 0.; // compression far beyond the critical state: MFIX sets it to 0
