@@ -121,7 +121,7 @@ def main():
     else:
         axes[0].legend(fontsize=7)
     out = a.out or default_out
-    fig.savefig(out, dpi=110)
+    fig.savefig(out, dpi=110, bbox_inches="tight")  # the colour bar's label inside the picture
     print(f"plot_profiles: wrote {out}")
 
 
