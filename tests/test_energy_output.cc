@@ -10,7 +10,9 @@
 //  - the column in a vibrated container (closure off): the kinetic and total energy
 //    densities are in the lab frame like the velocities, kinetic = m (n u)^2 / (2 n)
 //    from the lab-frame flux column of the same row (1D: one cell per layer);
-//  - the ideal gas (parameters/sod_1d.prm): contact 0, thermal = total - kinetic.
+//  - the ideal gas (parameters/sod_1d.prm): contact 0, thermal = total - kinetic; a
+//    convection-only run, whose summary counts one SSP-RK3 step per time step
+//    (convective_steps, also without splitting).
 // The VTU files carry the four energy fields.
 //   test_energy_output <parameters directory>
 #include "common/test_common.h"
@@ -208,8 +210,13 @@ int main(int argc, char **argv)
     Simulation<1, physics::IdealGas<1>> sim(
       scene(dir + "/sod_1d.prm", "\nsubsection Time\n  set End time = 0.05\nend\n", out), MPI_COMM_SELF, std::cout);
     sim.setup();
-    sim.run();
-    const Split e = split(read_csv(out + "/solution_profiles.csv"));
+    const RunSummary sum = sim.run();
+    const Split      e   = split(read_csv(out + "/solution_profiles.csv"));
+    // no diffusion step, no splitting: each attempt at a time step is one SSP-RK3 step
+    // (a rejected attempt too; this short run has none), so the count is the step count
+    chk.check(sum.steps > 10 && sum.rejected_steps == 0 && sum.convective_steps == sum.steps,
+              "ideal gas (convection only): convective_steps " + std::to_string(sum.convective_steps) + " = steps " +
+                std::to_string(sum.steps) + " (rejected " + std::to_string(sum.rejected_steps) + ")");
     chk.check(e.rows > 0 && e.max_contact == 0 && e.worst_sum <= 1e-12 && e.worst_ideal <= 1e-12,
               "ideal gas, " + std::to_string(e.rows) + " rows: contact 0, thermal = total - kinetic to " +
                 sci(e.worst_ideal));
