@@ -52,6 +52,7 @@ namespace granhydro
     for (unsigned int i = 0; i < pieces && ok; ++i)
       {
         ok = conv->ssp_rk3_step(V, h / pieces);
+        ++convective_pieces; // every step taken (also without splitting, also retried ones)
         if (ok)
           repair(V);
         ok = ok && conv->admissible(V);
@@ -86,7 +87,6 @@ namespace granhydro
         const double h      = owed_ + 0.5 * dt;
         const double limit  = max_convective_step > 0 ? max_convective_step : dt;
         const auto   pieces = static_cast<unsigned int>(std::max(1., std::ceil(h / limit * (1 - 1e-12))));
-        convective_pieces += pieces;
         if (!convect(U, h, pieces))
           return false;
       }
@@ -103,7 +103,6 @@ namespace granhydro
     repair(U);
     if (scene.convection && sync)
       {
-        ++convective_pieces;
         if (!convect(U, 0.5 * dt))
           return false;
       }

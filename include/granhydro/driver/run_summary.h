@@ -41,8 +41,10 @@ namespace granhydro
     /// cell updates that ended beyond phi_c - delta (linear continuations of chi and w)
     unsigned long long continuation_cells = 0;
     double             max_temperature_repair = 0;
-    /// SSP-RK3 steps of the convective part (with the diffusion step: 2 per step with
-    /// symmetric Strang splitting, about 1 with merged; retried steps included)
+    /// SSP-RK3 steps taken by the convective part since the start of this run: 1 per step
+    /// without the diffusion step, with it 2 per step with symmetric Strang splitting,
+    /// about 1 with merged; retried steps included, and the owed half-step a stop between
+    /// output times convects for its final output
     unsigned long long convective_steps = 0;
     /// peak resident memory of the process [bytes]: the largest over the ranks, and the
     /// sum over the ranks (at the end of the run; getrusage's ru_maxrss)

@@ -197,7 +197,7 @@ namespace granhydro
     unsigned long long temperature_repairs = 0;
     /// cell updates that ended beyond phi_c - delta (the continuations of chi and w)
     unsigned long long continuation_cells = 0;
-    unsigned long long convective_pieces   = 0; ///< SSP-RK3 steps of the split runs
+    unsigned long long convective_pieces   = 0; ///< SSP-RK3 steps taken (convect())
     double             max_repair          = 0;
     double       owed_       = 0; ///< scaled convective time owed (merged Strang splitting)
     double       start_time_ = 0; ///< scaled

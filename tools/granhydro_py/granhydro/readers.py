@@ -2,7 +2,7 @@
 
     from granhydro import readers
     summary = readers.read_summary("output")                # {'status': 'completed', 'cells': '100', ...}
-    columns, times = readers.read_profiles("output")        # {'time_s': array, 'y_m': array, ...}, times
+    columns, times = readers.read_profiles("output")        # {'time': array, 'y': array, ...}, times
     last = readers.select_time(columns, times[-1])          # the rows of the last output time
     scene = readers.read_parameters("parameters/sod_1d.prm")   # {'Dimension': '1', 'Domain': {...}}
 
@@ -12,14 +12,14 @@ base=NAME when several runs share the directory (granhydro.output.find_output_fi
   file                      reader              content (written by)
   B_summary.csv             read_summary        'key,value' rows (source/io/summary_csv.cc,
                                                 source/driver/run_summary.cc)
-  B_profiles.csv            read_profiles       time_s, <axis>_m, n_1/m3, n*u_<d>_1/(m2 s) per
-                                                direction, total_energy_density_J/m3,
-                                                packing_fraction, temperature_J, kinetic_/thermal_/
-                                                contact_energy_density_J/m3; one block of rows (one
-                                                per layer) per output time (source/io/output.cc)
-  B_cross_section.csv       read_cross_section  time_s, <a>_m, <b>_m, n_1/m3, u_x_m/s, u_y_m/s,
-                                                u_z_m/s, packing_fraction, temperature_J, energy
-                                                densities; 3D runs with Output/Cross-section
+  B_profiles.csv            read_profiles       time, <axis>, number_density, number_flux_<d> per
+                                                direction, total_energy_density, packing_fraction,
+                                                temperature, granular_temperature, kinetic_/
+                                                thermal_/contact_energy_density; one block of rows
+                                                (one per layer) per output time (source/io/output.cc)
+  B_cross_section.csv       read_cross_section  time, <a>, <b>, number_density, velocity_x/_y/_z,
+                                                packing_fraction, temperature, granular_temperature,
+                                                energy densities; 3D runs with Output/Cross-section
                                                 direction; one block per output time, <a> fastest
   B_history.csv             read_history        not written by the solver yet; the format it is
                                                 meant to have: see read_history
@@ -27,8 +27,13 @@ base=NAME when several runs share the directory (granhydro.output.find_output_fi
                                                 header and the cells' values in double precision
   scene (.prm)              read_parameters     deal.II ParameterHandler text: subsection/set/end
 
-Older runs began the profiles and cross-section CSVs with a '#' comment line; every
-reader skips lines starting with '#' and blank lines. The readers that return arrays
+The profiles and cross-section columns are named like the VTU fields, in SI units
+(doc/user-guide.md, "Profiles and cross-sections"). Older runs named them with their unit
+('time_s', 'y_m', 'n_1/m3', 'n*u_y_1/(m2 s)', 'u_x_m/s', 'temperature_J',
+'total_energy_density_J/m3', or 'n*E_J/m3' before the energy split) and had no
+granular_temperature: read_profiles and read_cross_section return the names of now
+(column_name), so a script reads old and new folders alike. Older runs also began these
+files with a '#' comment line; every reader skips lines starting with '#' and blank lines. The readers that return arrays
 import numpy when called (python3-numpy); the others need only the standard library.
 """
 import csv
@@ -39,6 +44,37 @@ from .output import find_output_file
 
 
 # ---------------------------------------------------------------- CSV files of a run
+# the profiles' and cross-section's column names of older runs (the unit in the name) ->
+# the names of now, the VTU fields' (source/io/output.cc); see column_name
+OLD_COLUMN_NAMES = {"time_s": "time", "n_1/m3": "number_density", "temperature_J": "temperature",
+                    "n*E_J/m3": "total_energy_density"}
+OLD_COLUMN_PATTERNS = [(re.compile(r"([xyz])_m"), r"\1"),                        # coordinates
+                       (re.compile(r"n\*u_([xyz])_1/\(m2 s\)"), r"number_flux_\1"),
+                       (re.compile(r"u_([xyz])_m/s"), r"velocity_\1"),
+                       (re.compile(r"(\w+_energy_density)_J/m3"), r"\1"),
+                       (re.compile(r"temperature_([xyz])_J"), r"temperature_\1")]  # DEM profiles
+
+
+def column_name(name):
+    """The name of now of a profiles or cross-section column named NAME by an older run
+    ('temperature_J' -> 'temperature', 'n*u_y_1/(m2 s)' -> 'number_flux_y', 'y_m' -> 'y');
+    a name of now, or any other, is returned as it is. The suffix '_se' (the standard
+    error columns of tools/dem/coarse_grain.py) is kept: 'n_1/m3_se' -> 'number_density_se'."""
+    if name.endswith("_se"):
+        return column_name(name[:-3]) + "_se"
+    if name in OLD_COLUMN_NAMES:
+        return OLD_COLUMN_NAMES[name]
+    for pattern, new in OLD_COLUMN_PATTERNS:
+        if pattern.fullmatch(name):
+            return pattern.sub(new, name)
+    return name
+
+
+def renamed(columns):
+    """{column_name(name): array} of columns from read_columns, in the same order."""
+    return {column_name(name): c for name, c in columns.items()}
+
+
 def read_rows(path):
     """The rows of a granhydro CSV file (lists of strings), header first, without
     comment lines ('#', written by older runs) and blank lines."""
@@ -47,18 +83,19 @@ def read_rows(path):
 
 
 def read_columns(path):
-    """(columns, times) of a granhydro table whose first column is time_s: columns maps
-    each header name, in the file's order, to a numpy array of that column over all rows;
-    times are the distinct values of time_s, ascending. ValueError for an empty file, a
-    first column other than time_s, a row of the wrong length or a value that is not a
-    number."""
+    """(columns, times) of a granhydro table whose first column is time (time_s in older
+    runs): columns maps each header name, as in the file and in its order, to a numpy
+    array of that column over all rows; times are the distinct values of the first
+    column, ascending. ValueError for an empty file, a first column other than time or
+    time_s, a row of the wrong length or a value that is not a number."""
     import numpy as np
     rows = read_rows(path)
     if not rows:
         raise ValueError("%s is empty" % path)
     header = rows[0]
-    if header[0] != "time_s":
-        raise ValueError("%s: the first column is %r, not time_s (not a granhydro table?)" % (path, header[0]))
+    if header[0] not in ("time", "time_s"):
+        raise ValueError("%s: the first column is %r, not time or time_s (not a granhydro table?)"
+                         % (path, header[0]))
     values = []
     for k, r in enumerate(rows[1:], 2):
         if len(r) != len(header):
@@ -73,9 +110,10 @@ def read_columns(path):
 
 
 def select_time(columns, t):
-    """The rows of columns (from read_columns) at time_s == t exactly (t one of the
-    times read_columns returned), as {name: array}."""
-    rows = columns["time_s"] == t
+    """The rows of columns (from read_columns) at time == t exactly (t one of the times
+    read_columns returned), as {name: array}; the time column is 'time', or 'time_s' as
+    read_columns gives it for an older file."""
+    rows = columns["time" if "time" in columns else "time_s"] == t
     return {name: c[rows] for name, c in columns.items()}
 
 
@@ -86,16 +124,19 @@ def blocks(columns, times):
 
 def read_profiles(path, base=None):
     """(columns, times) of a run's B_profiles.csv (PATH: the file or the output
-    directory; BASE: the run's Output/Base name); see read_columns. The second column
-    is the profile coordinate (x_m, y_m or z_m)."""
-    return read_columns(find_output_file(path, "profiles", base))
+    directory; BASE: the run's Output/Base name); see read_columns. The columns have the
+    names of now also for an older run's file (column_name). The second column is the
+    profile coordinate (x, y or z)."""
+    columns, times = read_columns(find_output_file(path, "profiles", base))
+    return renamed(columns), times
 
 
 def read_cross_section(path, base=None):
-    """(columns, times) of a run's B_cross_section.csv; see read_columns. Columns 2 and 3
-    are the two coordinates across the section direction (the first of them varies
-    fastest within a block)."""
-    return read_columns(find_output_file(path, "cross_section", base))
+    """(columns, times) of a run's B_cross_section.csv; see read_columns and
+    read_profiles (names of now). Columns 2 and 3 are the two coordinates across the
+    section direction (the first of them varies fastest within a block)."""
+    columns, times = read_columns(find_output_file(path, "cross_section", base))
+    return renamed(columns), times
 
 
 def read_history(path):

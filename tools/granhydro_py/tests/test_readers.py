@@ -65,9 +65,9 @@ def column_field(t, x):
     return phi, (0.0, -0.1 * t), 1e-8 * (1 + x / 0.01)
 
 
-def write_column(path, comment=False):
+def write_column(path, comment=False, old=False):
     ys = [(l + 0.5) * 1e-3 for l in range(10)]
-    return sf.write_profiles(path, 2, 1, [0.0, 0.05, 0.1], ys, 1e-3, column_field, comment=comment)
+    return sf.write_profiles(path, 2, 1, [0.0, 0.05, 0.1], ys, 1e-3, column_field, comment=comment, old=old)
 
 
 def test_read_profiles(tmp_path):
@@ -77,44 +77,87 @@ def test_read_profiles(tmp_path):
     assert list(times) == [0.0, 0.05, 0.1]
     assert all(len(c) == 30 for c in columns.values())
     last = readers.select_time(columns, times[-1])
-    assert len(last["y_m"]) == 10
-    assert last["y_m"][0] == 0.0005 and last["y_m"][-1] == 0.0095
+    assert len(last["y"]) == 10
+    assert last["y"][0] == 0.0005 and last["y"][-1] == 0.0095
     phi, _, T = column_field(0.1, 0.0005)
     assert last["packing_fraction"][0] == pytest.approx(phi, rel=1e-9)
-    assert last["temperature_J"][0] == pytest.approx(T, rel=1e-9)
-    n = last["n_1/m3"]
-    assert np.allclose(last["n*u_y_1/(m2 s)"] / n, -0.01, rtol=1e-9)
-    assert np.all(last["n*u_x_1/(m2 s)"] == 0)
-    parts = sum(last[c] for c in ("kinetic_energy_density_J/m3", "thermal_energy_density_J/m3",
-                                  "contact_energy_density_J/m3"))
-    assert np.allclose(parts, last["total_energy_density_J/m3"], rtol=1e-15)
+    assert last["temperature"][0] == pytest.approx(T, rel=1e-9)
+    # T/m: both columns to 10 digits, so 1e-9 relative
+    assert np.allclose(last["granular_temperature"], last["temperature"] / sf.GRAIN_MASS, rtol=1e-9)
+    n = last["number_density"]
+    assert np.allclose(last["number_flux_y"] / n, -0.01, rtol=1e-9)
+    assert np.all(last["number_flux_x"] == 0)
+    parts = sum(last[c] for c in ("kinetic_energy_density", "thermal_energy_density", "contact_energy_density"))
+    assert np.allclose(parts, last["total_energy_density"], rtol=1e-15)
     by_time = readers.blocks(columns, times)
     assert list(by_time) == [0.0, 0.05, 0.1]
     assert np.array_equal(by_time[0.1]["packing_fraction"], last["packing_fraction"])
 
 
 def test_read_profiles_of_an_older_run(tmp_path):
-    """profiles.csv without the base name, beginning with a '#' line"""
-    write_column(str(tmp_path / "profiles.csv"), comment=True)
+    """profiles.csv without the base name, beginning with a '#' line, old column names"""
+    write_column(str(tmp_path / "profiles.csv"), comment=True, old=True)
     columns, times = readers.read_profiles(str(tmp_path), base="solution")
-    assert len(times) == 3 and len(columns["time_s"]) == 30
+    assert len(times) == 3 and len(columns["time"]) == 30
+
+
+def test_old_and_new_column_names_read_alike(tmp_path):
+    """the same profiles and cross section written with the names of older runs (units in
+    the names) and of now: read_profiles and read_cross_section give the same columns
+    with the same values; the old files lack only granular_temperature"""
+    old, new = write_column(str(tmp_path / "old_profiles.csv"), old=True), write_column(str(tmp_path / "new_profiles.csv"))
+    assert open(old).readline().startswith("time_s,y_m,n_1/m3,n*u_x_1/(m2 s),")
+    (co, to), (cn, tn) = readers.read_profiles(old), readers.read_profiles(new)
+    assert list(to) == list(tn)
+    assert list(co) == [c for c in cn if c != "granular_temperature"]
+    assert list(co) == ["time", "y", "number_density", "number_flux_x", "number_flux_y", "total_energy_density",
+                        "packing_fraction", "temperature", "kinetic_energy_density", "thermal_energy_density",
+                        "contact_energy_density"]
+    for name in co:
+        assert np.array_equal(co[name], cn[name]), name  # the same digits in both files
+    ys, zs = [0.5e-3, 1.5e-3], [1e-3, 3e-3, 5e-3]
+
+    def field(t, y, z):
+        return 0.3, t * z, 1e-9
+
+    xo = sf.write_cross_section(str(tmp_path / "old_cross_section.csv"), [0.0, 0.5], ys, zs, field, old=True)
+    xn = sf.write_cross_section(str(tmp_path / "new_cross_section.csv"), [0.0, 0.5], ys, zs, field)
+    (co, _), (cn, _) = readers.read_cross_section(xo), readers.read_cross_section(xn)
+    assert list(co) == [c for c in cn if c != "granular_temperature"]
+    assert list(co)[:7] == ["time", "y", "z", "number_density", "velocity_x", "velocity_y", "velocity_z"]
+    for name in co:
+        assert np.array_equal(co[name], cn[name]), name
+
+
+def test_column_names_of_older_runs():
+    old = ["time_s", "z_m", "n_1/m3", "n*u_z_1/(m2 s)", "u_y_m/s", "temperature_J", "n*E_J/m3",
+           "contact_energy_density_J/m3", "packing_fraction", "n_1/m3_se", "temperature_x_J_se", "phase"]
+    assert [readers.column_name(c) for c in old] == [
+        "time", "z", "number_density", "number_flux_z", "velocity_y", "temperature", "total_energy_density",
+        "contact_energy_density", "packing_fraction", "number_density_se", "temperature_x_se", "phase"]
+    # the names of now are kept, and every one is a Python identifier (numpy's and pandas'
+    # attribute access, ParaView's Calculator)
+    new = sf.profiles_header(3, 2).split(",") + sf.cross_section_header().split(",")
+    assert all(readers.column_name(c) == c and c.isidentifier() for c in new)
 
 
 def test_read_profiles_of_the_committed_run():
+    """doc/validation keeps profiles.csv of an older run (names with units): read with the
+    names of now"""
     columns, times = readers.read_profiles(os.path.join(VALIDATION, "sedimentation_column", "granhydro"))
     assert len(times) == 21 and times[0] == 0 and times[-1] == pytest.approx(0.2)
     first, last = readers.select_time(columns, times[0]), readers.select_time(columns, times[-1])
-    assert len(first["x_m"]) == len(last["x_m"]) == 100
+    assert len(first["x"]) == len(last["x"]) == 100
     assert first["packing_fraction"][0] == 0.1
     assert 0.62 < last["packing_fraction"][0] < 0.63  # the pile at the floor
     # a closed column: the mean number density (the grains) is kept to the 10 digits
-    assert last["n_1/m3"].mean() == pytest.approx(first["n_1/m3"].mean(), rel=1e-9)
+    assert last["number_density"].mean() == pytest.approx(first["number_density"].mean(), rel=1e-9)
 
 
 def test_read_columns_refuses_what_is_not_a_table(tmp_path):
     p = tmp_path / "x_summary.csv"
     p.write_text("key,value\nstatus,completed\n")
-    with pytest.raises(ValueError, match="not time_s"):
+    with pytest.raises(ValueError, match="not time or time_s"):
         readers.read_columns(str(p))
     q = tmp_path / "cut_profiles.csv"
     q.write_text("time_s,x_m,n_1/m3\n0,0.5,1\n0,1.5\n")  # a run killed while writing
@@ -138,8 +181,8 @@ def test_read_cross_section(tmp_path):
     columns, times = readers.read_cross_section(str(tmp_path), base="chute")
     assert list(times) == [0.0, 0.5]
     d = readers.select_time(columns, 0.5)
-    assert len(d["y_m"]) == 12
-    ux = d["u_x_m/s"].reshape(len(zs), len(ys))  # y fastest
+    assert len(d["y"]) == 12
+    ux = d["velocity_x"].reshape(len(zs), len(ys))  # y fastest
     assert ux[2, 3] == pytest.approx(field(0.5, ys[3], zs[2])[1], rel=1e-9)
     assert d["packing_fraction"].reshape(3, 4)[:, 0] == pytest.approx([0.49, 0.47, 0.45], rel=1e-9)
 
@@ -153,7 +196,7 @@ def test_read_history(tmp_path):
     assert h["kinetic_energy_J"][2] == 1e-5
     q = tmp_path / "bad_history.csv"
     q.write_text("step,mass_kg\n0,1\n")
-    with pytest.raises(ValueError, match="not time_s"):
+    with pytest.raises(ValueError, match="not time or time_s"):
         readers.read_history(str(q))
 
 
@@ -268,3 +311,33 @@ def test_read_checkpoint_refuses_another_format(tmp_path):
     p.write_bytes(b"granhydro checkpoint v4\n" + bytes(300))
     with pytest.raises(ValueError, match="not a granhydro checkpoint"):
         readers.read_checkpoint(str(p))
+
+
+# ---------------------------------------------------------------- DEM profiles (tools/dem)
+def test_dem_profiles_of_an_older_version_and_of_now(tmp_path):
+    """tools/dem/coarse_grain.py: the committed DEM profiles (doc/validation, names with
+    units) read under the names coarse_grain.write_csv writes now, and a file with those
+    names reads back the same"""
+    import sys
+    from conftest import TOOLS
+    sys.path.insert(0, os.path.join(TOOLS, "dem"))
+    import coarse_grain
+    old = os.path.join(VALIDATION, "sedimentation_column", "dem", "dem_profiles.csv")
+    keycol, dem = coarse_grain.read_csv(old)
+    assert keycol == "time"
+    header = [l for l in open(old) if not l.startswith("#")][0].strip().split(",")
+    assert header[:3] == ["time_s", "x_m", "seeds"] and "n*u_x_1/(m2 s)_se" in header
+    first = dem[min(dem)]
+    assert list(first) == coarse_grain.csv_columns("x")
+    # the same numbers under the names of now
+    new = tmp_path / "dem_profiles.csv"
+    with open(old) as f, open(new, "w") as g:
+        lines = [l for l in f if not l.startswith("#")]
+        g.write(",".join(coarse_grain.csv_columns("x")) + "\n" + "".join(lines[1:]))
+    keycol_new, dem_new = coarse_grain.read_csv(str(new))
+    assert keycol_new == "time" and list(dem_new) == list(dem)
+    for k in dem:
+        for c in first:
+            assert np.array_equal(dem[k][c], dem_new[k][c], equal_nan=True), (k, c)
+    _, phased = coarse_grain.read_csv(os.path.join(VALIDATION, "bouncing_bed", "dem", "dem_profiles.csv"))
+    assert list(phased[min(phased)]) == coarse_grain.csv_columns("y", phase_bins=8)
