@@ -68,7 +68,7 @@ namespace granhydro
                 << " Jacobians (finite differences + Newton matrix; kept for " << ds.matrix_reuses
                 << " further steps, " << ds.stale_matrix_retries << " steps redone with a fresh one), "
                 << ds.preconditioner_seconds
-                << " s in preconditioner set-ups, " << ds.linear_seconds << " s in GMRES (rank 0)";
+                << " s in preconditioner set-ups, " << ds.linear_seconds << " s in GMRES (largest rank)";
         pcout << "\n";
       }
     if (sum.diffusion_active && std::isfinite(sum.diffusion.min_explicit_dt))
@@ -109,6 +109,7 @@ namespace granhydro
             << " cell updates of a cooling dense pile ended with T < " << physics::GranularGas<dim>::temperature_floor
             << " (scaled) and were set to it; largest thermal-energy deficit "
             << sum.max_temperature_repair * units_.energy() << " J per grain (doc/user-guide.md, 'Dense closure')\n";
+    pcout << phase_table(sum.phases, sum.ranks);
   }
 
   template <int dim, class Description>
@@ -181,6 +182,7 @@ namespace granhydro
       {"negative_temperature_faces", ds.faces.negative_temperature},
       {"musta_early_stops", cs.flux.early_stops},
       {"continuation_cells", sum.continuation_cells}};
+    append_phase_entries(entries, sum.phases);
     const auto records = record_entries();
     entries.insert(entries.end(), records.begin(), records.end());
     try

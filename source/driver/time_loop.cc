@@ -97,9 +97,8 @@ namespace granhydro
         // uninterrupted one did
         if (scene.max_level > 0 && L.step % scene.adapt_interval == 0 && L.step > 0)
           {
-            const auto c0 = clock::now();
+            const TimerOutput::Scope scope(timers_, "adaptation");
             adapt_mesh(false);
-            adapt_seconds += seconds_since(c0);
           }
         double       dt_cfl   = 0;
         const double dt_uncut = step_size(L, dt_cfl);
@@ -151,7 +150,7 @@ namespace granhydro
     // chosen (same additions), so the time steps and results are identical
     while (L.interval > 0 && L.t >= L.next_output * (1 - 1e-12) && L.next_output < L.t_end)
       L.next_output = std::min(L.next_output + L.interval, L.t_end);
-    conv_seconds = diff_seconds = adapt_seconds = 0;
+    timers_.reset();
     temperature_repairs = 0;
     continuation_cells  = 0;
     convective_pieces   = 0;
@@ -175,7 +174,7 @@ namespace granhydro
     // checkpoint) has it already
     if (L.step == 0 && scene.initial_checkpoint.empty())
       {
-        output->write(U, L.t * L.t0, 0);
+        write_output(U, L.t * L.t0, 0);
         checkpoint_now(L);
       }
     L.backup.reinit(U.get_partitioner());
@@ -276,7 +275,7 @@ namespace granhydro
   {
     if (L.t < L.t_end * (1 - 1e-12))
       {
-        output->write(U, L.t * L.t0, L.step);
+        write_output(U, L.t * L.t0, L.step);
         checkpoint_now(L);
       }
     L.next_output = L.interval > 0 ? std::min(L.next_output + L.interval, L.t_end) : L.t_end;
@@ -374,7 +373,10 @@ namespace granhydro
     if (integrator && !L.interrupted_by) // a restart starts here: the integrator forgets its history too
       integrator->restart_point();
     if (scene.write_checkpoint)
-      write_checkpoint(L.checkpoint, L.t, L.step, L.interrupted_by != 0);
+      {
+        const TimerOutput::Scope scope(timers_, "output");
+        write_checkpoint(L.checkpoint, L.t, L.step, L.interrupted_by != 0);
+      }
   }
 
   template <int dim, class Description>
@@ -392,10 +394,10 @@ namespace granhydro
             if (!synchronised_state(V))
               pcout << "  the convective half-step owed at the stop failed: the final output "
                        "shows the state before it\n";
-            output->write(V, L.t * t0, L.step);
+            write_output(V, L.t * t0, L.step);
           }
         else
-          output->write(U, L.t * t0, L.step);
+          write_output(U, L.t * t0, L.step);
         checkpoint_now(L);
       }
     RunSummary &sum = L.sum;
@@ -426,15 +428,11 @@ namespace granhydro
     }
     sum.time_si            = L.t * t0;
     sum.wall_seconds       = seconds_since(L.start);
-    sum.convection_seconds = Utilities::MPI::max(conv_seconds, comm);
-    sum.adaptation_seconds = Utilities::MPI::max(adapt_seconds, comm);
     sum.convection         = conv->global_statistics();
     sum.diffusion_active   = integrator != nullptr;
     if (integrator)
-      {
-        sum.diffusion         = integrator->global_statistics();
-        sum.diffusion_seconds = Utilities::MPI::max(diff_seconds, comm);
-      }
+      sum.diffusion = integrator->global_statistics();
+    measure_phases(sum);
     print_run_summary(sum);
     if (scene.write_summary)
       write_summary(sum, status);

@@ -6,14 +6,21 @@
  */
 #include <granhydro/convection/convection_operator.h>
 #include <granhydro/diffusion/implicit_integrator.h>
+#include <granhydro/driver/phase_times.h>
+
+#include <vector>
 
 namespace granhydro
 {
   struct RunSummary
   {
     unsigned int steps = 0, rejected_steps = 0;
+    /// wall_seconds: rank 0's; convection, adaptation (indicator, p4est, transfer, tables)
+    /// and diffusion_seconds: the largest rank's (also in phases)
     double       time_si = 0, wall_seconds = 0, convection_seconds = 0;
-    double       adaptation_seconds = 0; ///< indicator, p4est, transfer, tables (max over ranks)
+    double       adaptation_seconds = 0;
+    /// where the wall time went: min, avg, max over the ranks per phase (phase_times.h)
+    std::vector<PhaseTime> phases;
     convection::ConvectionStatistics convection;
     diffusion::IntegratorStatistics  diffusion;
     double                           diffusion_seconds = 0;

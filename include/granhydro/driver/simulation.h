@@ -20,6 +20,7 @@
 
 #include <cmath>
 #include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
 #include <deal.II/lac/la_parallel_vector.h>
 
 #include <functional>
@@ -169,6 +170,15 @@ namespace granhydro
     void print_run_summary(const RunSummary &sum) const;
     /// <base>_summary.csv in the output directory (rank 0; written to .tmp, then renamed)
     void write_summary(const RunSummary &sum, const std::string &status) const;
+    /// output->write(V, time_si, step), timed as the section "output"
+    void write_output(const Vector &V, const double time_si, const unsigned int step)
+    {
+      const dealii::TimerOutput::Scope scope(timers_, "output");
+      output->write(V, time_si, step);
+    }
+    /// the phases' wall times over the ranks into sum.phases and the *_seconds rows
+    /// (phase_times.cc; collective, after sum.wall_seconds is set)
+    void measure_phases(RunSummary &sum) const;
     /// the rows of the summary that say which run it was (also in the running summary):
     /// version, git_revision, scene, overrides, ranks, start_time
     std::vector<io::SummaryEntry> record_entries() const;
@@ -193,7 +203,9 @@ namespace granhydro
     std::unique_ptr<io::Output<dim, Description>> output;
     std::unique_ptr<diffusion::DiffusionOperator<dim>>  diff;
     std::unique_ptr<diffusion::ImplicitIntegrator<dim>> integrator;
-    double conv_seconds = 0, diff_seconds = 0, adapt_seconds = 0;
+    /// this rank's wall time in the sections convection, diffusion, adaptation and output
+    /// (no barriers: TimerOutput without a communicator); measure_phases() reduces them
+    dealii::TimerOutput timers_{pcout, dealii::TimerOutput::never, dealii::TimerOutput::wall_times};
     unsigned long long temperature_repairs = 0;
     /// cell updates that ended beyond phi_c - delta (the continuations of chi and w)
     unsigned long long continuation_cells = 0;
