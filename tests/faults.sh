@@ -99,8 +99,9 @@ corrupt)
   size=$(stat -c %s $g)
   head -c $((size / 2)) $g > truncated.ck
   cp $g flip_header.ck; printf '\x55' | dd of=flip_header.ck bs=1 seek=40 conv=notrunc status=none
-  # the part table: the row count of part 0 (after magic 24, header 240, part count 8, offset 8)
-  cp $g flip_table.ck; printf '\x55' | dd of=flip_table.ck bs=1 seek=$((24 + 240 + 8 + 8)) conv=notrunc status=none
+  # the part table: the row count of part 0 (after magic 24, header 4336 (format v6: 240
+  # and the run record of 4096), part count 8, offset 8)
+  cp $g flip_table.ck; printf '\x55' | dd of=flip_table.ck bs=1 seek=$((24 + 4336 + 8 + 8)) conv=notrunc status=none
   cp $g flip_value.ck; printf '\x7f' | dd of=flip_value.ck bs=1 seek=$((size - 30)) conv=notrunc status=none
   cp $g appended.ck; printf 'garbage' >> appended.ck
   : > empty.ck
@@ -111,8 +112,9 @@ corrupt)
   python3 - "$g" <<'EOF2' || fail "python3 could not craft the checkpoints"
 import struct, sys
 src = open(sys.argv[1], 'rb').read()
-magic = len(b"granhydro checkpoint v5\n")
-hdr = 240  # sizeof(CheckpointHeader) on x86-64
+magic = len(b"granhydro checkpoint v6\n")
+assert src.startswith(b"granhydro checkpoint v6\n")
+hdr = 240 + 4096  # sizeof(CheckpointHeader) on x86-64: the v5 fields and the run record
 PART = struct.Struct('<QQqqQ')  # offset, rows, first key, last key, checksum
 def fnv(b, h=14695981039346656037):
     for x in b:
