@@ -20,7 +20,8 @@
 #              the header / in the part table / in a value, appended bytes, empty, not a
 #              checkpoint, the older formats v3 and v4, and (with valid checksums) a NaN
 #              value, a negative density, a time of -1e300, a time beyond the end time, a
-#              cell count of 2^40, and (written by 2 or more ranks) a cell in two parts.
+#              cell count of 2^40, a run record without its end, and (written by 2 or more
+#              ranks) a cell in two parts.
 # Environment: FAULTS_KINDS (corrupt: a subset of the kinds), FAULTS_NO_ULIMIT=1 (disk_full:
 # skip (b), which several ranks on one node cannot run: Open MPI's shared memory hits the
 # limit inside MPI_Init).
@@ -147,6 +148,8 @@ b = bytearray(src); struct.pack_into('<d', b, first_value, -1.0); sign(b, 'negat
 b = bytearray(src); struct.pack_into('<d', b, off_time, -1e300); sign(b, 'time_negative.ck')
 b = bytearray(src); struct.pack_into('<d', b, off_time, 1e300); sign(b, 'time_future.ck')
 b = bytearray(src); struct.pack_into('<Q', b, off_ncells, 1 << 40); sign(b, 'cells_huge.ck')
+# the run record (format v6) without its terminating NUL
+b = bytearray(src); b[magic + 240:magic + hdr] = b'x' * (hdr - 240); sign(b, 'run_record.ck')
 # a cell in two parts (with two or more parts): one part's last key replaced by another
 # part's last key where that keeps the part's keys increasing
 if n_parts >= 2:
@@ -164,7 +167,7 @@ sign(src, 'resigned.ck')
 EOF2
   cmp -s resigned.ck $g || fail "re-signing the unmodified checkpoint changed it (test offsets wrong)"
   kinds="truncated flip_header flip_table flip_value appended empty text old_format old_format_v4 nan_value
-         negative_density time_negative time_future cells_huge"
+         negative_density time_negative time_future cells_huge run_record"
   [ -f duplicate_key.ck ] && kinds="$kinds duplicate_key"
   kinds=${FAULTS_KINDS:-$kinds} # a subset (the multi-rank ctest)
   for f in $kinds; do

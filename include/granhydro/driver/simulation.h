@@ -167,6 +167,10 @@ namespace granhydro
     RunSummary segment_summary(const TimeLoopState &L) const;
     /// the unit factors of the run record
     RecordUnits record_units() const;
+    // the history (run_history.cc)
+    /// <base>_history.csv with Output/History interval: started with the row of the
+    /// initial state (totals s0) by a fresh run, continued by a restarted one
+    void start_history(TimeLoopState &L, const bool fresh, const io::StateTotals<dim> &s0);
     /// a row of <base>_history.csv is due after the step that ended at L.t, begun at t_before
     bool history_due(const TimeLoopState &L, const double t_before) const;
     /// a row of <base>_history.csv from the totals s of the state (collective through s)
