@@ -96,6 +96,29 @@ namespace
                  "(final output, checkpoint and summary written; go on with --resume).\n";
   }
 
+  /// --resume: the scene's own latest checkpoint <Directory>/<Base name>.checkpoint, if
+  /// it exists, added to the overrides as 'Initial state/Checkpoint' (the scene's end time
+  /// stays); rank 0 looks, every rank gets its answer. Returns the line saying which
+  std::string resume_from_own_checkpoint(const std::string &file, std::vector<std::string> &overrides,
+                                         const MPI_Comm comm)
+  {
+    if (file.empty())
+      throw granhydro::SceneError("--resume needs a scene file (its Output/Directory and Output/Base "
+                                  "name give the checkpoint to continue from)");
+    const granhydro::Scene first = granhydro::read_scene(file, overrides);
+    const std::string      cp    = first.output_file(".checkpoint");
+    std::error_code        ec;
+    const bool             root  = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+    if (dealii::Utilities::MPI::broadcast(comm, root && std::filesystem::is_regular_file(cp, ec), 0))
+      {
+        overrides.push_back("Initial state/Checkpoint=" + cp);
+        return "granhydro: --resume: continuing from the checkpoint " + cp;
+      }
+    return "granhydro: --resume: no checkpoint " + cp + " yet: starting from the initial state" +
+           (first.initial_checkpoint.empty() ? std::string() :
+                                               " (the scene's checkpoint " + first.initial_checkpoint + ")");
+  }
+
   /// --checkpoint-info: verify the checkpoint cp and print what it holds; the exit code
   int checkpoint_info(const std::string &cp, const bool root)
   {
@@ -235,33 +258,7 @@ int main(int argc, char **argv)
             std::cout << text;
           return 0;
         }
-      if (resume && file.empty())
-        {
-          if (root)
-            std::cerr << "granhydro: error: --resume needs a scene file (its Output/Directory and "
-                         "Output/Base name give the checkpoint to continue from)\n";
-          return 2;
-        }
-      // --resume: the scene's own latest checkpoint, as if 'Initial state/Checkpoint' named
-      // it (the scene's end time stays); rank 0 looks, every rank gets its answer
-      std::string resume_note;
-      if (resume)
-        {
-          const granhydro::Scene first = granhydro::read_scene(file, overrides);
-          const std::string      cp    = first.output_file(".checkpoint");
-          std::error_code        ec;
-          const bool             there =
-            dealii::Utilities::MPI::broadcast(comm, root && std::filesystem::is_regular_file(cp, ec), 0);
-          if (there)
-            {
-              overrides.push_back("Initial state/Checkpoint=" + cp);
-              resume_note = "granhydro: --resume: continuing from the checkpoint " + cp;
-            }
-          else
-            resume_note = "granhydro: --resume: no checkpoint " + cp + " yet: starting from the initial state" +
-                          (first.initial_checkpoint.empty() ? std::string() :
-                                                              " (the scene's checkpoint " + first.initial_checkpoint + ")");
-        }
+      const std::string resume_note = resume ? resume_from_own_checkpoint(file, overrides, comm) : "";
       const granhydro::Scene scene = granhydro::read_scene(file, overrides);
       check_memory(scene, dealii::Utilities::MPI::n_mpi_processes(comm));
       if (check_only)
