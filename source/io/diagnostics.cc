@@ -6,6 +6,7 @@
 #include <mpi.h>
 
 #include <cmath>
+#include <type_traits>
 
 #include <deal.II/base/mpi.h>
 
@@ -46,10 +47,15 @@ namespace granhydro::io
             m2 += u[1 + d] * u[1 + d];
           }
         sum[dim + 1] += u[dim + 1] * v;
-        const double T = desc.temperature(S);
+        const double w = physics::contact_energy_density<dim>(desc, u[0]);
+        double       T;
+        if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
+          T = desc.temperature(S, w); // what desc.temperature(S) gives, w evaluated once
+        else
+          T = desc.temperature(S);
         sum[dim + 2] += desc.kinetic_energy(S) * v;
         sum[dim + 3] += desc.heat_capacity() * u[0] * T * v;
-        sum[dim + 4] += physics::contact_energy_density<dim>(desc, u[0]) * v;
+        sum[dim + 4] += w * v;
         const auto x = patch.center(s);
         for (unsigned int d = 0; d < dim; ++d)
           sum[dim + 5 + d] += u[0] * x[d] * v;
