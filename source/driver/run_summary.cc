@@ -244,10 +244,12 @@ namespace granhydro
             << " s (at t = " << sum.diffusion.min_explicit_dt_time * t0 << " s); steps up to "
             << sum.diffusion.max_dt_over_explicit << " x that limit\n";
     pcout << "  mass drift " << sum.mass_drift << " (relative)\n";
-    if (sum.segments != 1 || sum.counted_from_step > 0)
-      pcout << "  the run in " << sum.segments << " segments (restarted from checkpoints); the figures above "
-            << "are of the whole run" << (sum.counted_from_step > 0 ? " from step " + std::to_string(sum.counted_from_step) : std::string())
-            << "\n";
+    if (sum.segments > 1)
+      pcout << "  the run in " << sum.segments << " segments (" << sum.segments - 1
+            << " restart(s) from checkpoints): the figures above are of the whole run\n";
+    if (sum.counted_from_step > 0)
+      pcout << "  the figures above count from step " << sum.counted_from_step
+            << " (the checkpoint the run restarted from there carries no counts of the steps before it)\n";
     pcout << "  memory: peak resident " << sum.peak_memory_max / 1048576. << " MiB (largest rank), "
           << sum.peak_memory_total / 1024. / std::max<double>(sum.max_cells, 1)
           << " KiB per cell (all ranks, at the most cells)\n";
