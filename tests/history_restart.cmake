@@ -14,7 +14,8 @@
 #          no -p: the history of the two segments is byte for byte the uninterrupted
 #          run's, and the summary's whole-run counts are the uninterrupted run's, with 2
 #          segments. Resuming from an earlier checkpoint in a folder whose history runs
-#          further drops the later rows and writes them again (byte for byte the same).
+#          further drops the later rows and writes them again (byte for byte the same);
+#          so it does after a row torn by a kill.
 #          A checkpoint of format v5 (made from a v6 one) restarts, and the summary says
 #          it counts from its step.
 # fresh:   --resume without a checkpoint starts from the initial state (the same history
@@ -177,6 +178,25 @@ elseif(MODE STREQUAL "restart")
              "subsection Output\n  set Directory = back\n  set History interval = 3 steps\nend\n")
   run_expect(0 --resume back.prm)
   same_file(full/solution_history.csv back/solution_history.csv "history resumed at ${earlier}")
+
+  # the same where the history ends in a row torn by a kill in the middle of its write:
+  # the rows up to the checkpoint's step, then half a row (its step field whole and
+  # below the checkpoint's step, so only the count of its fields tells it is torn)
+  file(COPY "${WORKDIR}/full/" DESTINATION "${WORKDIR}/torn")
+  file(COPY_FILE "${WORKDIR}/torn/${earlier}" "${WORKDIR}/torn/solution.checkpoint")
+  check_with_python([=[
+import sys
+step = int(sys.argv[2][len('solution_checkpoint_'):-len('.checkpoint')])
+lines = open(sys.argv[1]).read().split('\n')
+kept = [lines[0]] + [l for l in lines[1:] if l and int(l.split(',')[2]) <= step]
+open(sys.argv[1], 'w').write('\n'.join(kept) + '\n' + '0.001,0.0001,1,28.6')
+print('history cut to %d rows up to step %d and a torn row' % (len(kept) - 1, step))
+]=] "${WORKDIR}/torn/solution_history.csv" "${earlier}")
+  string(REPLACE "set Directory = back" "set Directory = torn" torn_text "${scene_text}\nsubsection Time\n  set End time = 0.05\nend\n"
+         "subsection Output\n  set Directory = back\n  set History interval = 3 steps\nend\n")
+  file(WRITE "${WORKDIR}/torn.prm" "${torn_text}")
+  run_expect(0 --resume torn.prm)
+  same_file(full/solution_history.csv torn/solution_history.csv "history with a torn last row resumed at ${earlier}")
 
   # a checkpoint of format v5 (the v6 one without its run record): still read; the summary
   # counts from its step

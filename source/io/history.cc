@@ -7,6 +7,7 @@
 #include <granhydro/io/history.h>
 #include <granhydro/io/output.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -85,8 +86,9 @@ namespace granhydro::io
             if (begin != std::string::npos)
               ++begin;
           }
-        if (begin == std::string::npos)
-          break; // a torn last line
+        if (begin == std::string::npos ||
+            std::size_t(std::count(line.begin(), line.end(), ',')) + 1 != columns_.size())
+          break; // a torn last line (a kill in the middle of a write)
         char                    *end = nullptr;
         const unsigned long long k   = std::strtoull(line.c_str() + begin, &end, 10);
         if (end == line.c_str() + begin || (*end != ',' && *end != '\0') || k > step)
