@@ -7,6 +7,7 @@
  */
 #include <granhydro/driver/run_records.h>
 #include <granhydro/driver/simulation_instances.h>
+#include <granhydro/io/diagnostics.h>
 #include <granhydro/physics/packing_fraction.h>
 
 #include <deal.II/base/function_parser.h>
@@ -297,16 +298,13 @@ namespace granhydro
   template <int dim, class Description>
   typename Simulation<dim, Description>::State Simulation<dim, Description>::totals() const
   {
-    State t;
-    t.fill(0.);
-    for (unsigned int s = 0; s < patch_->n_owned(); ++s)
-      {
-        const double v = patch_->cell_volume(s) / std::pow(units_.length, dim);
-        for (unsigned int c = 0; c < dim + 2; ++c)
-          t[c] += U.local_element(std::size_t(s) * (dim + 2) + c) * v;
-      }
-    for (unsigned int c = 0; c < dim + 2; ++c)
-      t[c] = Utilities::MPI::sum(t[c], comm);
+    // one formula for the totals: the history rows and the summary use the same
+    const io::StateTotals<dim> s = io::state_totals(*patch_, U, desc, units_.length, comm);
+    State                      t;
+    t[0] = s.n;
+    for (unsigned int d = 0; d < dim; ++d)
+      t[1 + d] = s.nu[d];
+    t[dim + 1] = s.energy;
     return t;
   }
 

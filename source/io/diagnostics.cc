@@ -1,14 +1,86 @@
 #include <granhydro/io/diagnostics.h>
+#include <granhydro/physics/energy_parts.h>
+#include <granhydro/physics/models.h>
 #include <granhydro/physics/packing_fraction.h>
+
+#include <mpi.h>
+
+#include <cmath>
+#include <type_traits>
 
 #include <deal.II/base/mpi.h>
 
+#include <algorithm>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace granhydro::io
 {
   using namespace dealii;
+
+  template <int dim, class Description>
+  StateTotals<dim> state_totals(const CartesianPatch<dim>                              &patch,
+                                const LinearAlgebra::distributed::Vector<double> &V,
+                                const Description &desc, const double length, const MPI_Comm comm)
+  {
+    constexpr unsigned int NC = dim + 2;
+    // sums: n, n u (dim), nE, kinetic, thermal, contact, n x (dim)
+    constexpr unsigned int NS = 2 * dim + 5;
+    double                 sum[NS] = {};
+    // maxima: phi, -T, |u|
+    double             ext[3] = {-std::numeric_limits<double>::infinity(),
+                                 -std::numeric_limits<double>::infinity(), 0.};
+    const double       scale  = std::pow(length, dim);
+    physics::State<dim> S;
+    for (unsigned int s = 0; s < patch.n_owned(); ++s)
+      {
+        const double *u = V.begin() + std::size_t(s) * NC;
+        const double  v = patch.cell_volume(s) / scale;
+        for (unsigned int c = 0; c < NC; ++c)
+          S[c] = u[c];
+        sum[0] += u[0] * v;
+        double m2 = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            sum[1 + d] += u[1 + d] * v;
+            m2 += u[1 + d] * u[1 + d];
+          }
+        sum[dim + 1] += u[dim + 1] * v;
+        const double w = physics::contact_energy_density<dim>(desc, u[0]);
+        double       T;
+        if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
+          T = desc.temperature(S, w); // what desc.temperature(S) gives, w evaluated once
+        else
+          T = desc.temperature(S);
+        sum[dim + 2] += desc.kinetic_energy(S) * v;
+        sum[dim + 3] += desc.heat_capacity() * u[0] * T * v;
+        sum[dim + 4] += w * v;
+        const auto x = patch.center(s);
+        for (unsigned int d = 0; d < dim; ++d)
+          sum[dim + 5 + d] += u[0] * x[d] * v;
+        ext[0] = std::max(ext[0], physics::packing_fraction(u[0]));
+        ext[1] = std::max(ext[1], -T);
+        ext[2] = std::max(ext[2], std::sqrt(m2) / u[0]);
+      }
+    MPI_Allreduce(MPI_IN_PLACE, sum, NS, MPI_DOUBLE, MPI_SUM, comm);
+    MPI_Allreduce(MPI_IN_PLACE, ext, 3, MPI_DOUBLE, MPI_MAX, comm);
+    StateTotals<dim> t;
+    t.n = sum[0];
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        t.nu[d] = sum[1 + d];
+        t.nx[d] = sum[dim + 5 + d];
+      }
+    t.energy               = sum[dim + 1];
+    t.kinetic              = sum[dim + 2];
+    t.thermal              = sum[dim + 3];
+    t.contact              = sum[dim + 4];
+    t.max_packing_fraction = ext[0];
+    t.min_temperature      = -ext[1];
+    t.max_speed            = ext[2];
+    return t;
+  }
 
   template <int dim>
   std::string overpacking_report(const CartesianPatch<dim>                              &patch,
@@ -85,6 +157,13 @@ namespace granhydro::io
            "closure/Model = johnson-jackson' (doc/user-guide.md, 'Dense closure'). Details: " +
            details;
   }
+
+#define GRANHYDRO_INSTANTIATE(d, D)                                                                 \
+  template StateTotals<d> state_totals<d, D>(const CartesianPatch<d> &,                              \
+                                             const LinearAlgebra::distributed::Vector<double> &,     \
+                                             const D &, const double, const MPI_Comm);
+  GRANHYDRO_FOR_EACH_MODEL(GRANHYDRO_INSTANTIATE)
+#undef GRANHYDRO_INSTANTIATE
 
   template std::string overpacking_report<1>(const CartesianPatch<1> &,
                                              const LinearAlgebra::distributed::Vector<double> &,

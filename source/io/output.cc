@@ -1,4 +1,5 @@
 #include <granhydro/io/output.h>
+#include <granhydro/physics/energy_parts.h>
 #include <granhydro/physics/models.h>
 #include <granhydro/physics/packing_fraction.h>
 
@@ -23,20 +24,7 @@ namespace granhydro::io
 
   namespace
   {
-    /// contact potential energy per volume n w(phi) of the dense closure (scaled units):
-    /// part of nE for the granular gas (0 with the closure off), none for the ideal gas
-    template <int dim, class Description>
-    double contact_energy_density(const Description &desc, const double n)
-    {
-      if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
-        return desc.contact.energy_density(n);
-      else
-        {
-          (void)desc;
-          (void)n;
-          return 0.;
-        }
-    }
+    using physics::contact_energy_density;
 
     /// the granular temperature T/m [m^2/s^2] of a temperature T in scaled units: T [J]
     /// over the grain mass m [kg] (the two-fluid codes' temperature; doc/user-guide.md)

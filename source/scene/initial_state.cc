@@ -43,7 +43,8 @@ namespace granhydro
                         "(Output/Write checkpoint): the state, time and step are read from "
                         "it and the run continues to 'Time/End time' (any number of MPI "
                         "ranks). The expressions above are then ignored. Empty: start from "
-                        "the expressions at t = 0.");
+                        "the expressions at t = 0. 'granhydro --resume' sets it to the scene's "
+                        "own <Directory>/<Base name>.checkpoint when that exists.");
     }
     prm.leave_subsection();
   }

@@ -10,6 +10,10 @@
 
 #include <vector>
 
+#include <string>
+#include <utility>
+#include <vector>
+
 namespace granhydro
 {
   struct RunSummary
@@ -56,5 +60,39 @@ namespace granhydro
     /// peak resident memory of the process [bytes]: the largest over the ranks, and the
     /// sum over the ranks (at the end of the run; getrusage's ru_maxrss)
     double peak_memory_max = 0, peak_memory_total = 0;
+    /// the run's segments: 1 + the restarts from a checkpoint that carried the record of
+    /// the earlier ones (a checkpoint of format v5 carries none: the counts then start at
+    /// counted_from_step, the step of that checkpoint)
+    unsigned int       segments          = 1;
+    unsigned long long counted_from_step = 0;
+    /// the total number of grains at the start of the counted run (scaled; the mass drift
+    /// is taken against it)
+    double initial_grains = 0;
+    /// the total mass [kg] and energy [J] of the final state (per m^(3 - dim) of the
+    /// unresolved extent; the last row of <base>_history.csv has the same)
+    double final_mass_si = 0, final_energy_si = 0;
   };
+
+  /// the unit factors of a run record: a run restarted with other units (another
+  /// material) converts the scaled values it carries
+  struct RecordUnits
+  {
+    double time = 1;           ///< [s] per scaled time
+    double energy = 1;         ///< [J] per scaled energy (a grain's)
+    double extent = 1;         ///< length^(dim - 3) [m^(dim - 3)]: grains or energy per m^(3 - dim)
+  };
+
+  /// the whole run so far: the record of the earlier segments combined with this
+  /// segment's figures (counts and wall times added, the extremes combined, steps and
+  /// the end-of-run figures - cells, time, mass drift, memory of this process - from now)
+  RunSummary combine_segments(const RunSummary &earlier, const RunSummary &now);
+
+  /// what a checkpoint carries of the run (io::CheckpointHeader::run_record): every
+  /// figure combine_segments() adds or combines, scaled values with the units to convert
+  std::vector<std::pair<std::string, double>> to_run_record(const RunSummary &sum, const RecordUnits &units);
+  /// the figures of a run record read back in the units `units` (keys it does not know
+  /// are ignored, a missing one keeps its default); false if the record is empty (a
+  /// checkpoint of format v5)
+  bool from_run_record(const std::vector<std::pair<std::string, double>> &record, const RecordUnits &units,
+                       RunSummary &sum);
 } // namespace granhydro

@@ -11,6 +11,8 @@
 #include <granhydro/diffusion/implicit_integrator.h>
 #include <granhydro/driver/run_summary.h>
 #include <granhydro/driver/time_loop.h>
+#include <granhydro/io/diagnostics.h>
+#include <granhydro/io/history.h>
 #include <granhydro/io/output.h>
 #include <granhydro/io/summary_csv.h>
 #include <granhydro/mesh/cartesian_patch.h>
@@ -158,8 +160,22 @@ namespace granhydro
     /// the progress line, at most every Output/Progress interval
     void progress_line(TimeLoopState &L, const double dt);
     /// a checkpoint (a restart starts here: the integrator forgets its history too,
-    /// unless the run was interrupted)
-    void checkpoint_now(const TimeLoopState &L);
+    /// unless the run was interrupted), carrying the record of the whole run so far
+    /// (`whole`, or computed now); with Output/Keep checkpoints > 1 also its numbered copy
+    void checkpoint_now(const TimeLoopState &L, const RunSummary *whole = nullptr);
+    /// this segment's figures so far (collective): what finish() reports, before it is
+    /// combined with the earlier segments' record (combine_segments())
+    RunSummary segment_summary(const TimeLoopState &L) const;
+    /// the unit factors of the run record
+    RecordUnits record_units() const;
+    // the history (run_history.cc)
+    /// <base>_history.csv with Output/History interval: started with the row of the
+    /// initial state (totals s0) by a fresh run, continued by a restarted one
+    void start_history(TimeLoopState &L, const bool fresh, const io::StateTotals<dim> &s0);
+    /// a row of <base>_history.csv is due after the step that ended at L.t, begun at t_before
+    bool history_due(const TimeLoopState &L, const double t_before) const;
+    /// a row of <base>_history.csv from the totals s of the state (collective through s)
+    void write_history_row(TimeLoopState &L, const io::StateTotals<dim> &s);
     /// final output and checkpoint, the run summary lines and summary.csv: at the end
     /// time, at a steady state, or (status failed/overpacking) with the last admissible
     /// state
@@ -220,6 +236,16 @@ namespace granhydro
     double                    busy_at_adapt_ = 0; ///< conv->busy_seconds() at the last adaptation
     double                    fixed_cost_    = 0; ///< set_cost_per_cell()
     unsigned long long        max_cells = 0, refined_cells = 0, coarsened_cells = 0;
+    /// the record of the run's earlier segments, read from the checkpoint it restarted
+    /// from (none: no segments, counted from step 0)
+    RunSummary earlier_ = [] {
+      RunSummary none;
+      none.segments = 0;
+      return none;
+    }();
+    /// what the next checkpoint carries of the run (io::CheckpointHeader::run_record)
+    std::vector<std::pair<std::string, double>> record_;
+    std::unique_ptr<io::HistoryFile>            history_; ///< <base>_history.csv, when written
   };
 
   class RunRecords;

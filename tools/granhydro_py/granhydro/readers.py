@@ -21,10 +21,12 @@ base=NAME when several runs share the directory (granhydro.output.find_output_fi
                                                 packing_fraction, temperature, granular_temperature,
                                                 energy densities; 3D runs with Output/Cross-section
                                                 direction; one block per output time, <a> fastest
-  B_history.csv             read_history        not written by the solver yet; the format it is
-                                                meant to have: see read_history
-  B.checkpoint              read_checkpoint     binary, format v5 (include/granhydro/io/checkpoint.h):
-                                                header and the cells' values in double precision
+  B_history.csv             read_history        time, dt, step, mass, momentum, energies, centre
+                                                of mass, extremes and the run's counts; one row
+                                                per history time (source/driver/run_history.cc)
+  B.checkpoint              read_checkpoint     binary, format v6 or v5 (include/granhydro/io/
+                                                checkpoint.h): header, run record and the cells'
+                                                values in double precision
   scene (.prm)              read_parameters     deal.II ParameterHandler text: subsection/set/end
 
 The profiles and cross-section columns are named like the VTU fields, in SI units
@@ -139,15 +141,50 @@ def read_cross_section(path, base=None):
     return renamed(columns), times
 
 
-def read_history(path):
-    """{column: array} of a time series B_history.csv.
+# the columns of B_history.csv that hold words, not numbers
+HISTORY_WORDS = ("integrator",)
 
-    The solver does not write a history file yet. The format this reader expects (the
-    one such a file should have): a header row whose first column is time_s, then one
-    column per quantity named <quantity>_<SI unit> like the other CSV files (e.g.
-    mass_kg, kinetic_energy_J), then one row of numbers per time, in time order; lines
-    starting with '#' are skipped. PATH is the file itself."""
-    return read_columns(path)[0]
+
+def read_history(path, base=None):
+    """{column: array} of a run's B_history.csv (PATH: the file or the output directory;
+    BASE: the run's Output/Base name), columns in the file's order: numbers as float
+    arrays ('nan' where a value does not apply, e.g. max_packing_fraction of the ideal
+    gas), the word columns of HISTORY_WORDS as str arrays.
+
+    The file (source/driver/run_history.cc, doc/user-guide.md "Output"): a header row,
+    time first, then one row per history time (Output/History interval), in step
+    order: time, dt, step, mass, momentum_<d> per direction,
+    kinetic_/thermal_/contact_/total_energy, centre_of_mass_<d> per direction,
+    max_packing_fraction, min_temperature, max_speed (SI units: s, kg, kg m/s, J, m, J,
+    m/s), and the counts of the whole run so far: rejected_steps, integrator,
+    convective_steps, diffusion_steps, rkl2_steps, rkl2_stages, implicit_steps,
+    newton_iterations, gmres_iterations. In 1D and 2D the extensive values are per
+    m^(3 - dim) of the unresolved extent. Lines starting with '#' are skipped.
+    ValueError for an empty file, a first column other than time, a row of the wrong
+    length or a value that is not a number."""
+    import numpy as np
+    path = find_output_file(path, "history", base)
+    rows = read_rows(path)
+    if not rows:
+        raise ValueError("%s is empty" % path)
+    header = rows[0]
+    if header[0] not in ("time", "time_s"):
+        raise ValueError("%s: the first column is %r, not time or time_s (not a granhydro history?)" %
+                         (path, header[0]))
+    for k, r in enumerate(rows[1:], 2):
+        if len(r) != len(header):
+            raise ValueError("%s: data row %d has %d values, the header %d columns" % (path, k, len(r), len(header)))
+    columns = {}
+    for i, name in enumerate(header):
+        values = [r[i] for r in rows[1:]]
+        if name in HISTORY_WORDS:
+            columns[name] = np.array(values, dtype=str)
+            continue
+        try:
+            columns[name] = np.array([float(v) for v in values], dtype=float)
+        except ValueError as e:
+            raise ValueError("%s: column %s: %s" % (path, name, e))
+    return columns
 
 
 # the rows that name the run: words even where they look like numbers (a commit 1234567)
@@ -259,11 +296,14 @@ def flatten_parameters(params, prefix=""):
 
 
 # ---------------------------------------------------------------- checkpoint (binary)
-CHECKPOINT_MAGIC = b"granhydro checkpoint v5\n"  # keys: fine-lattice key * 8 + level
+CHECKPOINT_MAGIC = b"granhydro checkpoint v6\n"  # keys: fine-lattice key * 8 + level
+CHECKPOINT_MAGIC_V5 = b"granhydro checkpoint v5\n"
 # io::CheckpointHeader (include/granhydro/io/checkpoint.h) with x86-64 alignment: dims,
 # cells, corners, units, time, step/n_cells/outputs, model, n_values, the implicit
 # step's history (5 int32 + padding, t, dt, N[4]), the convective time owed; 240 bytes
+# (format v5); format v6 appends the run record, 4096 bytes of "key value" lines
 CHECKPOINT_HEADER = struct.Struct("=ii3Q3d3d4d3Q16si4x5i4x2d4dd")
+CHECKPOINT_RUN_RECORD = 4096
 # then the part count and the part table: offset, rows, first key, last key, checksum
 CHECKPOINT_PART = struct.Struct("<QQqqQ")
 
@@ -274,17 +314,30 @@ def read_checkpoint(path):
     variables in the file's scaled units (double precision).
 
     Returns {'dim', 'cells' (3 counts), 'time_scaled', 'length', 'mass', 'velocity' (the
-    scaled units), 'key' (int64 array), 'U' (array, one row of n_components values per
-    cell)}. Format v5 only; the checksums and key ranges are not verified (the solver's
-    reader, source/io/checkpoint_read.cc, does that)."""
+    scaled units), 'step', 'version' (5 or 6), 'run_record' ({key: float}: the counts of
+    the run up to the checkpoint, summed over its segments; empty in format v5), 'key'
+    (int64 array), 'U' (array, one row of n_components values per cell)}. Formats v5
+    and v6; the checksums and key ranges are not verified (the solver's reader,
+    source/io/checkpoint_read.cc, does that)."""
     import numpy as np
     with open(path, "rb") as f:
         data = f.read()
-    if not data.startswith(CHECKPOINT_MAGIC):
-        raise ValueError("%s is not a granhydro checkpoint (format v5)" % path)
+    if data.startswith(CHECKPOINT_MAGIC):
+        version = 6
+    elif data.startswith(CHECKPOINT_MAGIC_V5):
+        version = 5
+    else:
+        raise ValueError("%s is not a granhydro checkpoint (format v5 or v6)" % path)
     o = len(CHECKPOINT_MAGIC)
     h = CHECKPOINT_HEADER.unpack_from(data, o)
     o += CHECKPOINT_HEADER.size
+    record = {}
+    if version == 6:
+        text = data[o:o + CHECKPOINT_RUN_RECORD].split(b"\0", 1)[0].decode()
+        for line in text.splitlines():
+            key, value = line.split()
+            record[key] = float(value)
+        o += CHECKPOINT_RUN_RECORD
     dim, nc = h[0], h[1]
     cells = h[2:5]
     length, mass, velocity, t = h[11], h[12], h[13], h[14]
@@ -295,4 +348,5 @@ def read_checkpoint(path):
     rows = np.concatenate([np.frombuffer(data, dtype=rec, count=n, offset=off) for off, n, _, _, _ in parts])
     rows = rows[np.argsort(rows["key"], kind="stable")]
     return {"dim": dim, "cells": cells, "time_scaled": t, "length": length, "mass": mass,
-            "velocity": velocity, "key": rows["key"], "U": rows["u"][:, :nc]}
+            "velocity": velocity, "step": h[15], "version": version, "run_record": record,
+            "key": rows["key"], "U": rows["u"][:, :nc]}

@@ -4,7 +4,7 @@ The headers and number formats follow the solver: source/io/output.cc (profiles 
 cross section: 10 significant digits, the energy densities with all 17; old=True: the
 header of older runs, units in the names and no granular_temperature),
 source/io/summary_csv.cc and source/driver/run_summary.cc (summary: 'key,value', 10
-digits), include/granhydro/io/checkpoint.h (checkpoint format v5).
+digits), include/granhydro/io/checkpoint.h (checkpoint formats v6 and v5).
 """
 import math
 import os
@@ -108,22 +108,30 @@ def write_summary(path, entries=SUMMARY):
     return path
 
 
-MAGIC = b"granhydro checkpoint v5\n"
+MAGIC = b"granhydro checkpoint v6\n"
+MAGIC_V5 = b"granhydro checkpoint v5\n"
 HEADER = struct.Struct("=ii3Q3d3d4d3Q16si4x5i4x2d4dd")
+RUN_RECORD = 4096  # format v6: the run record after the v5 header
 PART = struct.Struct("<QQqqQ")
 
 
-def write_checkpoint(path, dim, cells, units, time_scaled, parts, n_components, history=False):
-    """A checkpoint of format v5; parts: one list of (key, values) per writing rank, each
-    sorted by key; values: n_components numbers (and as many more with history). The
-    checksums are written as 0 (granhydro.readers does not verify them)."""
+def write_checkpoint(path, dim, cells, units, time_scaled, parts, n_components, history=False,
+                     record=None, version=6):
+    """A checkpoint of format v6 (or v5); parts: one list of (key, values) per writing
+    rank, each sorted by key; values: n_components numbers (and as many more with
+    history); record: the run record {key: value} (v6). The checksums are written as 0
+    (granhydro.readers does not verify them)."""
     n_values = 2 * n_components if history else n_components
     n_cells = sum(len(p) for p in parts)
     header = HEADER.pack(dim, n_components, *cells, 0, 0, 0, 1, 1, 1, *units, time_scaled,
                          17, n_cells, 3, b"granular", n_values,
                          0, 1 if history else 0, 0, 0, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    if version == 6:
+        text = "".join("%s %.17g\n" % kv for kv in (record or {}).items()).encode()
+        header += text + bytes(RUN_RECORD - len(text))
+    magic = MAGIC if version == 6 else MAGIC_V5
     row = struct.Struct("<q%dd" % n_values)
-    offset = len(MAGIC) + HEADER.size + 8 + len(parts) * PART.size + 8
+    offset = len(magic) + len(header) + 8 + len(parts) * PART.size + 8
     table, body = b"", b""
     for p in parts:
         table += PART.pack(offset, len(p), p[0][0] if p else -1, p[-1][0] if p else -1, 0)
@@ -131,5 +139,30 @@ def write_checkpoint(path, dim, cells, units, time_scaled, parts, n_components, 
             body += row.pack(key, *values)
         offset += len(p) * row.size
     with open(path, "wb") as f:
-        f.write(MAGIC + header + struct.pack("<Q", len(parts)) + table + struct.pack("<Q", 0) + body)
+        f.write(magic + header + struct.pack("<Q", len(parts)) + table + struct.pack("<Q", 0) + body)
+    return path
+
+
+def history_columns(dim):
+    """The header of B_history.csv of a dim-D run (source/driver/time_loop.cc)."""
+    ax = "xyz"[:dim]
+    return (["time", "dt", "step", "mass"] + ["momentum_%s" % a for a in ax] +
+            ["%s_energy" % p for p in ("kinetic", "thermal", "contact", "total")] +
+            ["centre_of_mass_%s" % a for a in ax] +
+            ["max_packing_fraction", "min_temperature", "max_speed", "rejected_steps", "integrator",
+             "convective_steps", "diffusion_steps", "rkl2_steps", "rkl2_stages", "implicit_steps",
+             "newton_iterations", "gmres_iterations"])
+
+
+def write_history(path, header, rows):
+    """B_history.csv as the solver writes it: numbers with 17 significant digits (nan as
+    'nan'), counts as integers, words as they are."""
+    def cell(v):
+        if isinstance(v, float):
+            return "nan" if v != v else "%.17g" % v
+        return str(v)
+    with open(path, "w") as f:
+        f.write(",".join(header) + "\n")
+        for r in rows:
+            f.write(",".join(cell(v) for v in r) + "\n")
     return path

@@ -188,16 +188,35 @@ def test_read_cross_section(tmp_path):
 
 
 def test_read_history(tmp_path):
-    p = tmp_path / "solution_history.csv"
-    p.write_text("time_s,mass_kg,kinetic_energy_J\n0,1.5e-3,0\n0.01,1.5e-3,2.5e-6\n0.02,1.5e-3,1e-5\n")
-    h = readers.read_history(str(p))
-    assert list(h) == ["time_s", "mass_kg", "kinetic_energy_J"]
-    assert list(h["time_s"]) == [0, 0.01, 0.02]
-    assert h["kinetic_energy_J"][2] == 1e-5
+    """a history as the solver writes it (source/driver/time_loop.cc: 17 digits, the
+    integrator as a word, nan for the ideal gas's packing fraction), found in its folder"""
+    header = sf.history_columns(2)
+    rows = [[0.0, 0.0, 0, 1.5e-3, 0.0, -2.5e-7, 0.0, 1e-9, 0.0, 1e-9, 0.05, 0.01, float("nan"), 1e-9, 0.0,
+             0, "none", 0, 0, 0, 0, 0, 0, 0],
+            [0.01, 1e-3, 10, 1.5e-3, 0.0, -2.5e-6, 2.5e-6, 1e-9, 0.0, 2.5e-6 + 1e-9, 0.05, 0.0099999999999999985,
+             float("nan"), 1e-9, 0.25, 2, "none", 10, 0, 0, 0, 0, 0, 0]]
+    p = sf.write_history(str(tmp_path / "solution_history.csv"), header, rows)
+    h = readers.read_history(str(tmp_path))
+    assert list(h) == header
+    assert list(h["time"]) == [0, 0.01]
+    assert list(h["step"]) == [0, 10]
+    assert h["centre_of_mass_y"][1] == 0.0099999999999999985  # 17 digits read back exactly
+    assert list(h["integrator"]) == ["none", "none"]
+    assert all(h["max_packing_fraction"] != h["max_packing_fraction"])  # nan
+    assert h["total_energy"][1] == 2.5e-6 + 1e-9
+    assert readers.read_history(p)["rejected_steps"][1] == 2
     q = tmp_path / "bad_history.csv"
-    q.write_text("step,mass_kg\n0,1\n")
-    with pytest.raises(ValueError, match="not time or time_s"):
+    q.write_text("step,mass\n0,1\n")
+    with pytest.raises(ValueError, match="not time or time"):
         readers.read_history(str(q))
+    r = tmp_path / "short_history.csv"
+    r.write_text("time,mass\n0\n")
+    with pytest.raises(ValueError, match="has 1 values"):
+        readers.read_history(str(r))
+    w = tmp_path / "word_history.csv"
+    w.write_text("time,mass\n0,heavy\n")
+    with pytest.raises(ValueError, match="column mass"):
+        readers.read_history(str(w))
 
 
 # ---------------------------------------------------------------- parameter files
@@ -298,12 +317,28 @@ def test_read_checkpoint(tmp_path):
                             [rank0, rank1], nc, history=True)
     c = readers.read_checkpoint(p)
     assert readers.CHECKPOINT_HEADER.size == 240  # include/granhydro/io/checkpoint.h
+    assert c["version"] == 6 and c["run_record"] == {} and c["step"] == 17
     assert c["dim"] == 2 and tuple(c["cells"]) == (5, 1, 1)
     assert (c["length"], c["mass"], c["velocity"], c["time_scaled"]) == (1e-3, 2e-6, 0.1, 12.5)
     assert list(c["key"]) == [8, 16, 24, 32, 40]
     assert c["U"].shape == (5, nc)
     assert list(c["U"][:, 0]) == [8.25, 16.25, 24.25, 32.25, 40.25]
     assert list(c["U"][:, 2]) == [16.0, 32.0, 48.0, 64.0, 80.0]
+
+
+def test_read_checkpoint_run_record_and_v5(tmp_path):
+    """format v6 carries the run record; format v5 (no record) is still read"""
+    rows = [(k, [1.0 + k, 0.5, 2.0]) for k in (8, 16)]
+    record = {"segments": 2.0, "rejected_steps": 3.0, "wall_seconds": 0.125}
+    p = sf.write_checkpoint(str(tmp_path / "a.checkpoint"), 1, (2, 1, 1), (1e-3, 2e-6, 0.1), 1.5,
+                            [rows], 3, record=record)
+    c = readers.read_checkpoint(p)
+    assert c["version"] == 6 and c["run_record"] == record
+    q = sf.write_checkpoint(str(tmp_path / "b.checkpoint"), 1, (2, 1, 1), (1e-3, 2e-6, 0.1), 1.5,
+                            [rows], 3, version=5)
+    d = readers.read_checkpoint(q)
+    assert d["version"] == 5 and d["run_record"] == {}
+    assert list(d["U"][:, 0]) == list(c["U"][:, 0]) == [9.0, 17.0]
 
 
 def test_read_checkpoint_refuses_another_format(tmp_path):
