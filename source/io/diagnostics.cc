@@ -3,6 +3,7 @@
 
 #include <deal.II/base/mpi.h>
 
+#include <cstdlib>
 #include <iomanip>
 #include <sstream>
 
@@ -68,11 +69,27 @@ namespace granhydro::io
        << " retries with halved time step (last dt = " << dt_si << " s)";
     if (!why.empty())
       os << "; first bad " << why;
-    os << ". Lower 'Numerics/CFL number' or use a more diffusive reconstruction"
-       << (newton_failures ? ", or check the diffusion step (Newton failures: " +
-                               std::to_string(*newton_failures) + ")" :
-                             std::string())
-       << ".";
+    // the likely cause where the first bad cell tells it, with the parameter that helps
+    const auto   at  = why.find("packing fraction ");
+    const double phi = at == std::string::npos ? -1 : std::strtod(why.c_str() + at + 17, nullptr);
+    if (why.find("Newton") != std::string::npos && phi >= 0 && phi < 1e-3)
+      os << ". Likely cause: a nearly empty granular cell (packing fraction " << phi
+         << "), whose mean free path makes the transport coefficients so large that the "
+            "implicit step's Newton iteration cannot follow; cap them with 'Material/Maximum "
+            "mean free path' (e.g. the grain diameter), or raise the packing fraction there";
+    else if (why.find("convective") != std::string::npos && why.find("T = -") != std::string::npos)
+      os << ". Likely cause: the kinetic energy swamps the thermal energy in a convective "
+            "stage (a fast no-slip wall, 'Domain/Wall velocity', a strong 'Effects/Gravity' "
+            "or a cold gas, 'Initial state/Temperature'); lower 'Numerics/CFL number', use "
+            "'Numerics/Reconstruction = first order' or raise the temperature";
+    else
+      os << ". Lower 'Numerics/CFL number' or use a more diffusive reconstruction"
+         << (newton_failures ? ", or check the diffusion step (Newton failures: " +
+                                 std::to_string(*newton_failures) +
+                                 "; 'Material/Maximum mean free path' caps the transport of "
+                                 "dilute cells)" :
+                               std::string());
+    os << ".";
     return os.str();
   }
 
