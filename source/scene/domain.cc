@@ -31,7 +31,11 @@ namespace granhydro
                         "face's direction (deal.II's colorize convention: a box read from a "
                         "file behaves exactly like the generated box). Faces the file gives no "
                         "id get id 0. Periodic boundaries are not available with a mesh file. "
-                        "With a mesh file 'Lower corner', 'Upper corner' and 'Cells' are ignored.");
+                        "With a mesh file 'Lower corner', 'Upper corner' and 'Cells' are ignored. "
+                        "The file must be a regular file of at most 256 MiB; as for a box, its "
+                        "vertices lie within +-1e6 m, its cells (after 'Mesh refinements') are at "
+                        "least 1e-3 grain diameters, and it spans at least 2 cells per direction "
+                        "(1 with first-order reconstruction).");
       prm.declare_entry("Mesh refinements", "0", Patterns::Integer(0, 8),
                         "Global refinements of the mesh file's coarse cells (each halves the "
                         "cell size).");

@@ -29,7 +29,7 @@ namespace granhydro
                         "D_ii d_i U as in the paper's eq. 5.6.");
       prm.declare_entry("Gravity", "0, 0, 0", Patterns::Anything(),
                         "Body force per unit mass g [m/s^2], one value per dimension "
-                        "(e.g. 0, -9.81 in 2D). Granular model only.");
+                        "(e.g. 0, -9.81 in 2D), |g| up to 1e5 m/s^2. Granular model only.");
       prm.declare_entry("Vibration amplitude", "0", Patterns::Double(0, Patterns::Double::max_double_value),
                         "Amplitude A [m] of the container motion s(t) = A sin(2 pi f t) e_s. "
                         "The equations are solved in the container frame (all walls at rest) "

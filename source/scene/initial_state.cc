@@ -35,9 +35,12 @@ namespace granhydro
                         "Expressions for the velocity components [m/s], separated by ';' "
                         "(one per dimension or 3).");
       prm.declare_entry("Temperature", "1e-8", Patterns::Anything(),
-                        "Expression for the granular temperature T [J] (energy units, > 0).");
+                        "Expression for the granular temperature T [J] (energy units, > 0): at "
+                        "least 1e-12 m V0^2 (V0 the velocity unit), and it must survive the "
+                        "conversion to the conserved energy beside the kinetic energy.");
       prm.declare_entry("Constants", "", Patterns::Anything(),
-                        "Constants for the expressions, 'name=value, name=value'.");
+                        "Constants for the expressions, 'name=value, name=value' (names other "
+                        "than x, y, z, t, pi and the expressions' functions such as sin).");
       prm.declare_entry("Quadrature points", "3", Patterns::Integer(1, 8),
                         "Gauss points per direction used to average the initial state "
                         "over each cell (finite-volume cell averages).");
@@ -46,7 +49,8 @@ namespace granhydro
                         "(Output/Write checkpoint): the state, time and step are read from "
                         "it and the run continues to 'Time/End time' (any number of MPI "
                         "ranks). The expressions above are then ignored. Empty: start from "
-                        "the expressions at t = 0.");
+                        "the expressions at t = 0. A path relative to the working directory; "
+                        "--check matches its mesh (cells, corners) against the scene's.");
     }
     prm.leave_subsection();
   }

@@ -46,7 +46,8 @@ namespace granhydro
                         "transport coefficients eta, gamma, kappa, mu are scaled by L/l, so the "
                         "diffusivities stay below ~L sqrt(T/m) instead of diverging as n -> 0 "
                         "(doc/physics.md P14). Hydrodynamics has no meaning there anyway; use a few "
-                        "cell sizes for scenes with near-vacuum.");
+                        "cell sizes for scenes with near-vacuum. Required (> 0) where the initial "
+                        "packing fraction falls below 1e-6 and viscosity or heat conduction is on.");
       prm.declare_entry("Cohesionless", "true", Patterns::Bool(),
                         "Granular model: grains cannot pull. At every face of the diffusion "
                         "step the tensile viscous normal stress (kinetic and frictional) is "
