@@ -132,10 +132,12 @@ namespace
     char        buf[4096];
     for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, f)) > 0;)
       text.append(buf, n);
-    const std::string running = "status,running\n";
-    if (text.compare(0, running.size(), running) == 0 && status.size() + 8 <= running.size())
+    // the line "status,running" (after the header line "key,value")
+    const std::string running = "\nstatus,running\n";
+    const auto        at      = text.find(running);
+    if (at != std::string::npos && status.size() + 9 <= running.size())
       {
-        text = "status," + status + "\n" + text.substr(running.size());
+        text = text.substr(0, at) + "\nstatus," + status + "\n" + text.substr(at + running.size());
         std::rewind(f);
         if (std::fwrite(text.data(), 1, text.size(), f) == text.size() && std::fflush(f) == 0)
           if (::ftruncate(fileno(f), off_t(text.size())) != 0)

@@ -146,8 +146,8 @@ end
 
     /// every 'subsection' closed by an 'end', every 'end' closing one: named by line (deal.II
     /// only says that the counts differ); and in a scene file (origin given) no parameter set
-    /// twice with different values (a repeated 'subsection Output' with another 'Directory'
-    /// silently won)
+    /// twice with different values within one file (a repeated 'subsection Output' with
+    /// another 'Directory' silently won); a value from an included file may be overridden
     void check_sections(const std::string &text, const std::string &source,
                         const std::vector<std::string> *origin)
     {
@@ -181,7 +181,12 @@ end
               path += collapse_blanks(rest.substr(0, eq));
               const std::string value = collapse_blanks(rest.substr(eq + 1));
               const auto [it, fresh]  = values.emplace(path, std::make_pair(value, number));
-              if (!fresh && it->second.first != value)
+              // the file of a line ("FILE, line N"): a file may override what it includes
+              const auto file_of = [&](const unsigned long n) {
+                const std::string w = place(source, origin, n);
+                return w.substr(0, w.rfind(", line "));
+              };
+              if (!fresh && it->second.first != value && file_of(number) == file_of(it->second.second))
                 {
                   const auto clip = [](const std::string &v) {
                     return v.size() <= 80 ? v : v.substr(0, 80) + "...";
@@ -193,7 +198,7 @@ end
                                    "): set each parameter once (a repeated subsection must not "
                                    "contradict the first; -p overrides a value)");
                 }
-              it->second.second = number;
+              it->second = {value, number};
             }
           else if (word == "subsection")
             {
