@@ -71,7 +71,7 @@ for sc in ["bb", "bed1d", "hv"]:
         rr = [r for r in rows if r["scene"] == sc and r["config"] == c]
         d = st.median(float(r["diffusion"]) for r in rr); cv = st.median(float(r["convection"]) for r in rr)
         e = []
-        for col in ["packing_fraction", "temperature_J"]:
+        for col in ["packing_fraction", "temperature"]:  # a prefix: older runs' temperature_J too
             ref = last_block(find_output_file("out-%s-ref" % sc, "profiles"), col)
             x = last_block(find_output_file("out-%s-%s" % (sc, c), "profiles"), col)
             e.append(np.abs(x - ref).max() / np.abs(ref).max())

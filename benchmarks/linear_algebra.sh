@@ -85,7 +85,7 @@ for sc in ["bb", "bed1d", "hv"]:
             base = [r for r in rows if r["scene"] == sc and r["config"] == t[:-6]]
             ratio = "%.2f" % (st.median(float(r["diffusion"]) for r in base) / m("diffusion"))
             e = []
-            for col in ["packing_fraction", "temperature_J"]:
+            for col in ["packing_fraction", "temperature"]:  # a prefix: older runs' temperature_J too
                 a = last_block(find_output_file("out-%s-%s" % (sc, t), "profiles"), col)
                 b = last_block(find_output_file("out-%s-%s" % (sc, t[:-6]), "profiles"), col)
                 e.append(np.abs(a - b).max() / np.abs(b).max())

@@ -70,7 +70,7 @@ for sc in ["bb", "bed1d", "hv", "sed"]:
         rr = [r for r in rows if r["scene"] == sc and r["config"] == c]
         med = lambda k: st.median(float(r[k]) for r in rr)
         e = []
-        for col in ["packing_fraction", "temperature_J"]:
+        for col in ["packing_fraction", "temperature"]:  # a prefix: older runs' temperature_J too
             ref = last_block(find_output_file(refdir, "profiles"), col)
             x = last_block(find_output_file("out-%s-%s" % (sc, c), "profiles"), col)
             e.append(np.abs(x - ref).max() / np.abs(ref).max())

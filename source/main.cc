@@ -4,6 +4,9 @@
  *                                default without a file), with parameters overridden
  *   granhydro --print-parameters [-p ...] [scene.prm]   write the scene (the default
  *                                without a file) expanded, every parameter documented
+ *   granhydro --resume [-p ...] scene.prm   continue the scene from its own latest checkpoint
+ *                                (<Directory>/<Base name>.checkpoint) if there is one, else
+ *                                start it from its initial state
  *   granhydro --check scene.prm  validate a scene without running it
  *   granhydro --checkpoint-info FILE   verify a checkpoint and print what it holds
  *   granhydro --version
@@ -26,6 +29,7 @@
 #include <csignal>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -151,6 +155,9 @@ namespace
     std::cout << "usage: granhydro [-p \"Section/Name=value\" ...] [scene.prm]\n"
                  "       granhydro --print-parameters [-p ...] [scene.prm]   (the scene expanded,\n"
                  "                 every parameter documented; without a file the default scene)\n"
+                 "       granhydro --resume [-p ...] scene.prm   (continue the scene from its latest\n"
+                 "                 checkpoint <Directory>/<Base name>.checkpoint if it exists, to the\n"
+                 "                 scene's end time; else start it from its initial state)\n"
                  "       granhydro --check [-p ...] scene.prm   (validate the scene, run nothing)\n"
                  "       granhydro --checkpoint-info FILE   (verify a checkpoint, print its contents)\n"
                  "       granhydro --version\n"
@@ -158,7 +165,30 @@ namespace
                  "parameter of the scene (nested sections joined by '/'), e.g.\n"
                  "  granhydro -p \"Time/End time=0.1\" -p \"Output/Directory=run2\" scene.prm\n"
                  "Exit codes: 0 done, 2 bad input, 3 run failure, 130/143 stopped by SIGINT/SIGTERM\n"
-                 "(final output, checkpoint and summary written; restart from the checkpoint).\n";
+                 "(final output, checkpoint and summary written; go on with --resume).\n";
+  }
+
+  /// --resume: the scene's own latest checkpoint <Directory>/<Base name>.checkpoint, if
+  /// it exists, added to the overrides as 'Initial state/Checkpoint' (the scene's end time
+  /// stays); rank 0 looks, every rank gets its answer. Returns the line saying which
+  std::string resume_from_own_checkpoint(const std::string &file, std::vector<std::string> &overrides,
+                                         const MPI_Comm comm)
+  {
+    if (file.empty())
+      throw granhydro::SceneError("--resume needs a scene file (its Output/Directory and Output/Base "
+                                  "name give the checkpoint to continue from)");
+    const granhydro::Scene first = granhydro::read_scene(file, overrides);
+    const std::string      cp    = first.output_file(".checkpoint");
+    std::error_code        ec;
+    const bool             root  = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+    if (dealii::Utilities::MPI::broadcast(comm, root && std::filesystem::is_regular_file(cp, ec), 0))
+      {
+        overrides.push_back("Initial state/Checkpoint=" + cp);
+        return "granhydro: --resume: continuing from the checkpoint " + cp;
+      }
+    return "granhydro: --resume: no checkpoint " + cp + " yet: starting from the initial state" +
+           (first.initial_checkpoint.empty() ? std::string() :
+                                               " (the scene's checkpoint " + first.initial_checkpoint + ")");
   }
 
   /// --checkpoint-info: verify the checkpoint cp and print what it holds; the exit code
@@ -172,7 +202,7 @@ namespace
         const std::uint64_t digest = granhydro::io::state_digest(d);
         if (root)
           {
-            std::printf("checkpoint %s: valid (format v5, every checksum verified)\n", cp.c_str());
+            std::printf("checkpoint %s: valid (format v%d, every checksum verified)\n", cp.c_str(), d.version());
             std::printf("  dimension %d, model %s, %llu cells, step %llu, outputs %llu\n", h.dim,
                         h.model, (unsigned long long)h.n_cells, (unsigned long long)h.step,
                         (unsigned long long)h.outputs);
@@ -180,6 +210,15 @@ namespace
             std::printf("  implicit-step history: %s\n",
                         h.history.matrix_valid ? "kept Newton matrix (interrupted run)" : "none");
             std::printf("  parts %zu (one per writing rank)\n", d.parts().size());
+            const auto record = granhydro::io::run_record(h);
+            double     segments = 0;
+            for (const auto &[key, value] : record)
+              if (key == "segments")
+                segments = value;
+            if (record.empty())
+              std::printf("  run record: none (the summary of a restart counts from this step)\n");
+            else
+              std::printf("  run record: %zu figures of %.0f segment(s)\n", record.size(), segments);
             std::printf("  state digest %016llx\n", (unsigned long long)digest);
           }
         return 0;
@@ -199,7 +238,7 @@ int main(int argc, char **argv)
   const MPI_Comm comm  = MPI_COMM_WORLD;
   const bool     root  = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
   std::string    file;
-  bool           check_only = false, print_only = false;
+  bool           check_only = false, print_only = false, resume = false;
   std::vector<std::string> overrides;
   for (int i = 1; i < argc; ++i)
     {
@@ -249,12 +288,17 @@ int main(int argc, char **argv)
           check_only = true;
           continue;
         }
+      if (a == "--resume")
+        {
+          resume = true;
+          continue;
+        }
       if (!a.empty() && a[0] == '-')
         {
           if (root)
             std::cerr << "granhydro: error: unknown option '" << a
                       << "' (allowed: --help, --version, --print-parameters, --check, "
-                         "--checkpoint-info, -p, a scene file)\n";
+                         "--resume, --checkpoint-info, -p, a scene file)\n";
           return 2;
         }
       if (!file.empty())
@@ -289,6 +333,7 @@ int main(int argc, char **argv)
             std::cout << text;
           return 0;
         }
+      const std::string resume_note = resume ? resume_from_own_checkpoint(file, overrides, comm) : "";
       const granhydro::Scene scene = granhydro::read_scene(file, overrides);
       check_memory(scene, comm);
       if (check_only)
@@ -304,6 +349,8 @@ int main(int argc, char **argv)
       records = std::make_unique<granhydro::RunRecords>(scene, comm, std::cout);
       if (scene.write_summary)
         summary_file = scene.output_file("_summary.csv");
+      if (!resume_note.empty() && root)
+        records->log() << resume_note << "\n";
       return granhydro::run_scene(scene, comm, *records);
     }
   catch (const granhydro::SceneError &e)

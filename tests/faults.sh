@@ -20,7 +20,8 @@
 #              the header / in the part table / in a value, appended bytes, empty, not a
 #              checkpoint, the older formats v3 and v4, and (with valid checksums) a NaN
 #              value, a negative density, a time of -1e300, a time beyond the end time, a
-#              cell count of 2^40, and (written by 2 or more ranks) a cell in two parts.
+#              cell count of 2^40, a run record without its end, and (written by 2 or more
+#              ranks) a cell in two parts.
 # Environment: FAULTS_KINDS (corrupt: a subset of the kinds), FAULTS_NO_ULIMIT=1 (disk_full:
 # skip (b), which several ranks on one node cannot run: Open MPI's shared memory hits the
 # limit inside MPI_Init).
@@ -109,8 +110,9 @@ corrupt)
   size=$(stat -c %s $g)
   head -c $((size / 2)) $g > truncated.ck
   cp $g flip_header.ck; printf '\x55' | dd of=flip_header.ck bs=1 seek=40 conv=notrunc status=none
-  # the part table: the row count of part 0 (after magic 24, header 240, part count 8, offset 8)
-  cp $g flip_table.ck; printf '\x55' | dd of=flip_table.ck bs=1 seek=$((24 + 240 + 8 + 8)) conv=notrunc status=none
+  # the part table: the row count of part 0 (after magic 24, header 4336 (format v6: 240
+  # and the run record of 4096), part count 8, offset 8)
+  cp $g flip_table.ck; printf '\x55' | dd of=flip_table.ck bs=1 seek=$((24 + 4336 + 8 + 8)) conv=notrunc status=none
   cp $g flip_value.ck; printf '\x7f' | dd of=flip_value.ck bs=1 seek=$((size - 30)) conv=notrunc status=none
   cp $g appended.ck; printf 'garbage' >> appended.ck
   : > empty.ck
@@ -121,8 +123,9 @@ corrupt)
   python3 - "$g" <<'EOF2' || fail "python3 could not craft the checkpoints"
 import struct, sys
 src = open(sys.argv[1], 'rb').read()
-magic = len(b"granhydro checkpoint v5\n")
-hdr = 240  # sizeof(CheckpointHeader) on x86-64
+magic = len(b"granhydro checkpoint v6\n")
+assert src.startswith(b"granhydro checkpoint v6\n")
+hdr = 240 + 4096  # sizeof(CheckpointHeader) on x86-64: the v5 fields and the run record
 PART = struct.Struct('<QQqqQ')  # offset, rows, first key, last key, checksum
 def fnv(b, h=14695981039346656037):
     for x in b:
@@ -157,6 +160,8 @@ b = bytearray(src); struct.pack_into('<d', b, off_time, 1e300); sign(b, 'time_fu
 b = bytearray(src); struct.pack_into('<Q', b, off_ncells, 1 << 40); sign(b, 'cells_huge.ck')
 # an unknown material model behind valid checksums (--checkpoint-info reported it valid)
 b = bytearray(src); b[magic + 136:magic + 152] = b'foo'.ljust(16, b'\0'); sign(b, 'model_unknown.ck')
+# the run record (format v6) without its terminating NUL
+b = bytearray(src); b[magic + 240:magic + hdr] = b'x' * (hdr - 240); sign(b, 'run_record.ck')
 # a cell in two parts (with two or more parts): one part's last key replaced by another
 # part's last key where that keeps the part's keys increasing
 if n_parts >= 2:
@@ -174,7 +179,7 @@ sign(src, 'resigned.ck')
 EOF2
   cmp -s resigned.ck $g || fail "re-signing the unmodified checkpoint changed it (test offsets wrong)"
   kinds="truncated flip_header flip_table flip_value appended empty text old_format old_format_v4 nan_value
-         negative_density time_negative time_future cells_huge model_unknown"
+         negative_density time_negative time_future cells_huge model_unknown run_record"
   [ -f duplicate_key.ck ] && kinds="$kinds duplicate_key"
   kinds=${FAULTS_KINDS:-$kinds} # a subset (the multi-rank ctest)
   for f in $kinds; do

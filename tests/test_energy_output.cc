@@ -10,11 +10,16 @@
 //  - the column in a vibrated container (closure off): the kinetic and total energy
 //    densities are in the lab frame like the velocities, kinetic = m (n u)^2 / (2 n)
 //    from the lab-frame flux column of the same row (1D: one cell per layer);
-//  - the ideal gas (parameters/sod_1d.prm): contact 0, thermal = total - kinetic.
-// The VTU files carry the four energy fields.
+//  - the ideal gas (parameters/sod_1d.prm): contact 0, thermal = total - kinetic; a
+//    convection-only run, whose summary counts one SSP-RK3 step per time step
+//    (convective_steps, also without splitting).
+// The VTU files carry the four energy fields and granular_temperature; profiles.csv has the
+// VTU fields' names (identifier-safe, units in doc/user-guide.md), and its
+// granular_temperature column is temperature / m (m the grain mass).
 //   test_energy_output <parameters directory>
 #include "common/test_common.h"
 
+#include <cctype>
 #include <filesystem>
 #include <iomanip>
 #include <map>
@@ -25,12 +30,19 @@ using namespace granhydro::testing;
 
 namespace
 {
-  const std::string energy_names[4] = {"kinetic_energy_density_J/m3", "thermal_energy_density_J/m3",
-                                       "contact_energy_density_J/m3", "total_energy_density_J/m3"};
+  const std::string energy_names[4] = {"kinetic_energy_density", "thermal_energy_density",
+                                       "contact_energy_density", "total_energy_density"};
+
+  /// the header of a 1D run's profiles.csv along x: the VTU fields' names
+  const std::vector<std::string> profile_columns_1d = {
+    "time", "x", "number_density", "number_flux_x", "total_energy_density", "packing_fraction", "temperature",
+    "granular_temperature", "kinetic_energy_density", "thermal_energy_density", "contact_energy_density"};
 
   struct Csv
   {
+    std::string                        file;
     std::map<std::string, unsigned int> column;
+    std::vector<std::string>           names; ///< the header, in the file's order
     std::vector<std::vector<double>>   rows;
     double get(const std::vector<double> &r, const std::string &name) const { return r.at(column.at(name)); }
   };
@@ -42,6 +54,7 @@ namespace
       throw std::runtime_error("cannot read " + file);
     Csv         csv;
     std::string line;
+    csv.file = file;
     bool        header = true;
     while (std::getline(in, line))
       {
@@ -52,7 +65,10 @@ namespace
         std::vector<double> r;
         for (unsigned int i = 0; std::getline(ss, cell, ','); ++i)
           if (header)
-            csv.column[cell] = i;
+            {
+              csv.column[cell] = i;
+              csv.names.push_back(cell);
+            }
           else
             r.push_back(std::stod(cell));
         if (!header)
@@ -100,29 +116,57 @@ namespace
     return s;
   }
 
-  /// all four energy fields appear in the directory's first VTU file under plain names
-  /// (ParaView's Calculator takes them unquoted) with their SI unit as metadata
-  bool vtu_has_energy_fields(const std::string &directory)
-  {
-    const std::string text = read_text_file(directory + "/solution_0000.0.vtu");
-    for (const char *part : {"kinetic", "thermal", "contact", "total"})
-      {
-        const std::string tag = "Name=\"" + std::string(part) + "_energy_density\"";
-        const auto        at  = text.find(tag);
-        if (at == std::string::npos)
-          return false;
-        const auto end = text.find('>', at), unit = text.find("units=\"J/m^3\"", at);
-        if (unit == std::string::npos || unit > end)
-          return false;
-      }
-    return true;
-  }
-
   std::string sci(const double x)
   {
     std::ostringstream os;
     os << std::scientific << std::setprecision(2) << x;
     return os.str();
+  }
+
+  /// the field appears in the directory's first VTU file under its plain name (ParaView's
+  /// Calculator takes it unquoted) with its SI unit as metadata
+  bool vtu_has_field(const std::string &directory, const std::string &name, const std::string &unit)
+  {
+    const std::string text = read_text_file(directory + "/solution_0000.0.vtu");
+    const auto        at   = text.find("Name=\"" + name + "\"");
+    if (at == std::string::npos)
+      return false;
+    const auto end = text.find('>', at), u = text.find("units=\"" + unit + "\"", at);
+    return u != std::string::npos && u < end;
+  }
+
+  /// all four energy fields and the granular temperature T/m
+  bool vtu_has_energy_fields(const std::string &directory)
+  {
+    for (const char *part : {"kinetic", "thermal", "contact", "total"})
+      if (!vtu_has_field(directory, std::string(part) + "_energy_density", "J/m^3"))
+        return false;
+    return vtu_has_field(directory, "granular_temperature", "m^2/s^2");
+  }
+
+  /// the header is profile_columns_1d, every name an identifier (numpy's record arrays,
+  /// pandas' attributes and ParaView's Calculator take it as it is), and
+  /// granular_temperature = temperature / m in every row: both columns have 10
+  /// significant digits (relative rounding <= 5e-10 each), so 1e-9 relative
+  void check_columns(const Csv &csv, const double m, const std::string &what, Checker &chk)
+  {
+    bool identifiers = true;
+    for (const auto &name : csv.names)
+      for (unsigned int i = 0; i < name.size(); ++i)
+        identifiers = identifiers && (name[i] == '_' || std::isalpha(static_cast<unsigned char>(name[i])) ||
+                                      (i > 0 && std::isdigit(static_cast<unsigned char>(name[i]))));
+    std::string header;
+    for (const auto &name : csv.names)
+      header += (header.empty() ? "" : ",") + name;
+    chk.check(csv.names == profile_columns_1d && identifiers, what + ": " + csv.file + " columns " + header);
+    double worst = 0;
+    for (const auto &r : csv.rows)
+      {
+        const double T = csv.get(r, "temperature");
+        worst = std::max(worst, std::abs(csv.get(r, "granular_temperature") * m - T) / std::max(std::abs(T), 1e-300));
+      }
+    chk.check(!csv.rows.empty() && worst <= 1e-9,
+              what + ": granular_temperature = temperature / m to " + sci(worst) + " relative (<= 1e-9)");
   }
 } // namespace
 
@@ -141,6 +185,7 @@ int main(int argc, char **argv)
     sim.run();
     const Csv   csv = read_csv(out + "/solution_profiles.csv");
     const Split e   = split(csv);
+    check_columns(csv, sim.units().mass, "closure on", chk);
     chk.check(e.rows == 16 * 100 && e.worst_sum <= 1e-12,
               "closure on, " + std::to_string(e.rows) + " rows: max |kinetic + thermal + contact - total| / total = " +
                 sci(e.worst_sum) + " (<= 1e-12)");
@@ -156,7 +201,8 @@ int main(int argc, char **argv)
       }
     chk.check(worst <= 1e-14 * scale, "closure on: total column = nE of the final state, max difference / max nE = " +
                                         sci(worst / scale));
-    chk.check(vtu_has_energy_fields(out), "closure on: VTU has the kinetic, thermal, contact and total energy fields");
+    chk.check(vtu_has_energy_fields(out),
+              "closure on: VTU has the kinetic, thermal, contact and total energy fields and granular_temperature");
   }
 
   const std::string no_closure = "\nsubsection Dense closure\n  set Model = none\nend\n"
@@ -194,7 +240,7 @@ int main(int argc, char **argv)
     // roundings of that sum (each 1e-16 of |u| + |ds/dt|) dominate the relative difference
     for (const auto &r : csv.rows)
       {
-        const double n = csv.get(r, "n_1/m3"), flux = csv.get(r, "n*u_x_1/(m2 s)");
+        const double n = csv.get(r, "number_density"), flux = csv.get(r, "number_flux_x");
         const double k = csv.get(r, energy_names[0]);
         worst = std::max(worst, std::abs(k - 0.5 * m * flux * flux / n) / std::max(k, 1e-6 * frame));
       }
@@ -208,12 +254,19 @@ int main(int argc, char **argv)
     Simulation<1, physics::IdealGas<1>> sim(
       scene(dir + "/sod_1d.prm", "\nsubsection Time\n  set End time = 0.05\nend\n", out), MPI_COMM_SELF, std::cout);
     sim.setup();
-    sim.run();
-    const Split e = split(read_csv(out + "/solution_profiles.csv"));
+    const RunSummary sum = sim.run();
+    const Csv        csv = read_csv(out + "/solution_profiles.csv");
+    const Split      e   = split(csv);
+    check_columns(csv, sim.units().mass, "ideal gas", chk);
+    // no diffusion step, no splitting: each attempt at a time step is one SSP-RK3 step
+    // (a rejected attempt too; this short run has none), so the count is the step count
+    chk.check(sum.steps > 10 && sum.rejected_steps == 0 && sum.convective_steps == sum.steps,
+              "ideal gas (convection only): convective_steps " + std::to_string(sum.convective_steps) + " = steps " +
+                std::to_string(sum.steps) + " (rejected " + std::to_string(sum.rejected_steps) + ")");
     chk.check(e.rows > 0 && e.max_contact == 0 && e.worst_sum <= 1e-12 && e.worst_ideal <= 1e-12,
               "ideal gas, " + std::to_string(e.rows) + " rows: contact 0, thermal = total - kinetic to " +
                 sci(e.worst_ideal));
-    chk.check(vtu_has_energy_fields(out), "ideal gas: VTU has the four energy fields");
+    chk.check(vtu_has_energy_fields(out), "ideal gas: VTU has the four energy fields and granular_temperature");
   }
   return chk.failed != 0;
 }

@@ -64,9 +64,9 @@ def layer(path, time):
                 return blk[n]
         raise KeyError(f"{path}: none of the columns {names}")
 
-    z = pick("y_m", "z_m")
-    n = pick("n_1/m3", "number_density")
-    nu = pick("n*u_x_1/(m2 s)", "number_flux_x")
+    z = pick("y", "z")  # the profile coordinate (read_profiles gives older runs' names as these)
+    n = pick("number_density")
+    nu = pick("number_flux_x")
     phi = pick("packing_fraction")
     return t, z, phi, nu / n
 

@@ -112,7 +112,7 @@ def scene_text(base, run):
 
 def profile_blocks(path):
     """profiles CSV of a 1D run -> {time: array with columns x, n, nu, nE, phi, T, ...}
-    (the columns after time_s)."""
+    (the columns after time)."""
     columns, times = read_profiles(path)
     names = list(columns)[1:]
     return {t: np.column_stack([b[n] for n in names]) for t, b in blocks(columns, times).items()}

@@ -26,7 +26,7 @@ def read(path):
     columns, _ = read_profiles(path)
     coordinate = list(columns)[1]
     blocks = {}
-    for t, x, phi, T in zip(*(columns[c].tolist() for c in ('time_s', coordinate, 'packing_fraction', 'temperature_J'))):
+    for t, x, phi, T in zip(*(columns[c].tolist() for c in ('time', coordinate, 'packing_fraction', 'temperature'))):
         blocks.setdefault(round(t, 9), []).append((x, phi, T))
     return blocks
 

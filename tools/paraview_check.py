@@ -13,8 +13,9 @@ What it does, all through ParaView's own readers and filters (paraview.simple):
  1. opens OUTPUT_DIR/B.pvd with the PVD reader and goes to its last time step (checks
     that the dataset's TIME field equals that time);
  2. checks that the point-data arrays have plain names (packing_fraction,
-    number_density, mass_density, velocity (3 components), temperature, pressure,
-    kinetic_/thermal_/contact_/total_energy_density, mpi_rank, refinement_level,
+    number_density, mass_density, velocity (3 components), temperature,
+    granular_temperature, pressure, kinetic_/thermal_/contact_/total_energy_density,
+    mpi_rank, refinement_level,
     uniform_stencil) and that the .pvtu carries their SI units in 'units' attributes;
  3. Calculator (point data, double result) with expressions on the plain names:
     'mass_density/number_density' must equal the grain mass m at every point, and
@@ -38,7 +39,7 @@ What it does, all through ParaView's own readers and filters (paraview.simple):
 
 The solver's total mass (the reference of step 5), route chosen: the profiles CSV.
 B_profiles.csv holds, for each output time, the average number density n_l (column
-'n_1/m3') over every layer l of the finest lattice along the profile direction; the
+'number_density', 'n_1/m3' in older runs) over every layer l of the finest lattice along the profile direction; the
 solver averages with cell-volume weights, so sum_l n_l * (V / N_layers) is the exact
 number of grains in a box domain of volume V, also on an adaptive mesh. The total mass
 is m * V * mean_l(n_l) at the block whose time equals the last PVD time. V is the box
@@ -85,6 +86,7 @@ EXPECTED_ARRAYS = {  # plain name -> (components, SI unit in the .pvtu or None: 
     "mass_density": (1, "kg/m^3"),
     "velocity": (3, "m/s"),
     "temperature": (1, "J"),
+    "granular_temperature": (1, "m^2/s^2"),
     "pressure": (1, "Pa"),
     "kinetic_energy_density": (1, "J/m^3"),
     "thermal_energy_density": (1, "J/m^3"),
@@ -164,7 +166,7 @@ def profile_blocks(path):
     except ValueError as e:
         raise InputError("not a granhydro profiles CSV: %s" % e)
     header = list(columns)
-    if len(header) < 3 or header[2] != "n_1/m3":
+    if len(header) < 3 or header[2] != "number_density":  # read_profiles: older runs' n_1/m3 too
         raise InputError("%s: not a granhydro profiles CSV (header %r)" % (path, header))
     axis = header[1][0]
     blocks = {}
@@ -317,6 +319,12 @@ def run(args):
         err_p = float(np.max(np.abs(cp - ref) / scale))
         R.check(err_p <= TOL and float(np.max(np.abs(ref))) > 0, "Calculator mass_density*mag(velocity)",
                 "max %.6g kg/(m^2 s), max rel. error vs numpy %.2e" % (float(np.max(cp)), err_p))
+    if pd.GetArray("granular_temperature") is not None and pd.GetArray("temperature") is not None:
+        # T/m [m^2/s^2] against the temperature [J] over the grain mass, point by point
+        T = vtk_to_numpy(pd.GetArray("temperature")).astype(float)
+        Tm = vtk_to_numpy(pd.GetArray("granular_temperature")).astype(float)
+        err_t = float(np.max(np.abs(Tm * m - T) / np.maximum(np.abs(T), 1e-300)))
+        R.check(err_t <= TOL, "granular_temperature = T/m", "max rel. error %.2e (m from %s)" % (err_t, m_from))
 
     # 4. IntegrateVariables on the data as loaded ----------------------------------
     def integrate(src, t):

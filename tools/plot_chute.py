@@ -44,7 +44,7 @@ def main():
     across = list(columns)[1:3]  # the two coordinates of the section, the first fastest
     y, z = np.unique(d[across[0]]), np.unique(d[across[1]])
     grid = lambda name: d[name].reshape(len(z), len(y))
-    ux, phi = grid("u_x_m/s"), grid("packing_fraction")
+    ux, phi = grid("velocity_x"), grid("packing_fraction")
     fig, ax = plt.subplots(1, 3, figsize=(15, 4.5))
     c = ax[0].contourf(y * 1e3, z * 1e3, ux, 20, cmap="viridis")
     fig.colorbar(c, ax=ax[0], label="u_x [m/s]")

@@ -4,7 +4,9 @@ profiles.csv in older output folders): packing fraction, temperature,
 vertical mass flux and the energy density split into its thermal (3/2 n T, solid),
 contact (n w of the dense closure, dashed) and kinetic (n m |u|^2/2, dotted) parts
 against the profile coordinate, one colour per output time.  Files written before
-the split (one n*E_J/m3 column) get the total energy density in that panel.
+the split (one n*E_J/m3 column, read as total_energy_density) get the total energy
+density in that panel. Older runs' column names (units in the names) are read as the
+names of now (granhydro.readers.column_name).
 Debian: apt-get install python3-matplotlib python3-numpy
 
     /usr/bin/python3 tools/plot_profiles.py OUTPUT_DIR [--base NAME] [--out profiles.png] [--spacetime] [--title T]
@@ -56,18 +58,18 @@ def main():
     header, blocks = read(path)
     col = {h: i for i, h in enumerate(header)}
     coord = header[1]
-    # the mass flux along the profile direction (coordinate column "y_m" -> "n*u_y...")
-    along = [h for h in header if h.startswith("n*u_" + coord[0])]
-    flux = along[0] if along else [h for h in header if h.startswith("n*u_")][-1]
-    panels = [("packing_fraction", "packing fraction"), ("temperature_J", "T [J]"),
-              (flux, flux)]
+    # the number flux along the profile direction (coordinate column "y" -> "number_flux_y")
+    along = [h for h in header if h == "number_flux_" + coord]
+    flux = along[0] if along else [h for h in header if h.startswith("number_flux_")][-1]
+    panels = [("packing_fraction", "packing fraction"), ("temperature", "T [J]"),
+              (flux, "n u_%s [1/(m^2 s)]" % flux[-1])]
     # the energy panel: (column, legend label, line style)
     energy = [(c, label, style) for c, label, style in (
-        ("thermal_energy_density_J/m3", "thermal 3/2 n T", "-"),
-        ("contact_energy_density_J/m3", "contact n w", "--"),
-        ("kinetic_energy_density_J/m3", "kinetic n m |u|^2/2", ":")) if c in col]
+        ("thermal_energy_density", "thermal 3/2 n T", "-"),
+        ("contact_energy_density", "contact n w", "--"),
+        ("kinetic_energy_density", "kinetic n m |u|^2/2", ":")) if c in col]
     if not energy:  # the profiles of an older run: only the total
-        energy = [("n*E_J/m3", "total nE", "-")]
+        energy = [("total_energy_density", "total nE", "-")]
     if a.spacetime:
         import numpy as np
         times = sorted(t for t, rows in blocks.items() if len(rows) == len(blocks[min(blocks)]))
@@ -80,7 +82,7 @@ def main():
                 label = "log10 " + label
             m = ax.pcolormesh(times, y, z, shading="nearest", cmap="viridis")
             fig.colorbar(m, ax=ax, label=label)
-            ax.set_ylabel(coord)
+            ax.set_ylabel(coord + " [m]")
         axes[1].set_xlabel("time [s]")
         fig.suptitle(a.title or os.path.abspath(a.directory))
         fig.tight_layout()
@@ -112,7 +114,7 @@ def main():
     axes[3].set_xlabel("energy density [J/m^3]")
     axes[3].legend(handles=[plt.Line2D([], [], color="k", linestyle=style, label=label)
                             for _, label, style in energy], fontsize=7)
-    axes[0].set_ylabel(coord)
+    axes[0].set_ylabel(coord + " [m]")
     fig.suptitle(a.title or os.path.abspath(a.directory))
     fig.tight_layout()
     if many:
@@ -121,7 +123,7 @@ def main():
     else:
         axes[0].legend(fontsize=7)
     out = a.out or default_out
-    fig.savefig(out, dpi=110)
+    fig.savefig(out, dpi=110, bbox_inches="tight")  # the colour bar's label inside the picture
     print(f"plot_profiles: wrote {out}")
 
 

@@ -495,7 +495,9 @@ namespace granhydro::convection
       // the wait for the other ranks is not this rank's cost (busy_seconds())
       const auto t0 = std::chrono::steady_clock::now();
       halo.finish(channel(d, j), stage_array(j), m_out[j]);
-      busy_seconds_ -= std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      busy_seconds_ -= waited;
+      halo_wait_seconds_ += waited;
     };
     // with several stages, the last stage's values of direction d are received (and its
     // fluxes computed) only after stage A of direction d + 1 has run: stage A writes

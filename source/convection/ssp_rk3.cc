@@ -9,6 +9,7 @@
 #include <deal.II/base/mpi.h>
 
 #include <algorithm>
+#include <chrono>
 #include <sstream>
 
 namespace granhydro::convection
@@ -59,7 +60,9 @@ namespace granhydro::convection
                   }
               }
           }
+        const auto         t0     = std::chrono::steady_clock::now();
         const unsigned int global = Utilities::MPI::sum(new_flags, patch.communicator());
+        vote_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (global == 0)
           break;
         if (global >= (1u << 20) || iter > 8)

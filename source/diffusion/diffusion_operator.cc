@@ -24,6 +24,22 @@ namespace granhydro::diffusion
       std::copy(W + std::size_t(s) * (dim + 2), W + std::size_t(s + 1) * (dim + 2), U.begin());
       return U;
     }
+
+    /// the thermal state U* = U - (0, .., 0, n w(n)) of face_flux_lanes, lane by lane
+    /// (the contact energy has branches and pow); U* = U without a dense closure
+    template <int dim, class V, class SV>
+    inline void thermal_state(const physics::GranularGas<dim> &desc, const SV &U, SV &Us)
+    {
+      namespace lanes = physics::lanes;
+      Us              = U;
+      if (desc.contact.active)
+        {
+          V nw;
+          for (unsigned int i = 0; i < lanes::width<V>; ++i)
+            lanes::ref(nw, i) = desc.contact.energy_density(lanes::get(U[0], i));
+          Us[dim + 1] -= nw;
+        }
+    }
   } // namespace
 
   template <int dim>
@@ -158,20 +174,10 @@ namespace granhydro::diffusion
     // physics::primitive_gradients(..., dw_dn) is the pointwise form of the same
     // correction. Without a closure U* = U and nothing changes. The contact energy has
     // branches and pow: it is evaluated lane by lane.
-    auto thermal = [&](const SV &U, SV &Us) {
-      Us = U;
-      if (desc.contact.active)
-        {
-          V nw;
-          for (unsigned int i = 0; i < L; ++i)
-            lanes::ref(nw, i) = desc.contact.energy_density(lanes::get(U[0], i));
-          Us[dim + 1] -= nw;
-        }
-    };
     SV                                  Uf, SL, SR;
     physics::StateGradient<dim, V>      dU;
-    thermal(UL, SL);
-    thermal(UR, SR);
+    thermal_state<dim, V>(desc, UL, SL);
+    thermal_state<dim, V>(desc, UR, SR);
     for (unsigned int c = 0; c < NC; ++c)
       {
         Uf[c]    = 0.5 * (SL[c] + SR[c]);
@@ -213,8 +219,8 @@ namespace granhydro::diffusion
                 }
               if (!lanes::any(use))
                 continue;
-              thermal(SV(up), up);
-              thermal(SV(um), um);
+              thermal_state<dim, V>(desc, SV(up), up);
+              thermal_state<dim, V>(desc, SV(um), um);
               for (unsigned int c = 0; c < NC; ++c)
                 {
                   const V sum = dU[j][c] + w * (up[c] - um[c]);

@@ -11,10 +11,177 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 namespace granhydro
 {
   using namespace dealii;
+
+  namespace
+  {
+    /// how a figure of two segments combines, and the unit its scaled value is in
+    enum class Rule
+    {
+      sum,
+      min, ///< the smaller of the positive finite values (0 or infinity: none)
+      max
+    };
+    enum class Unit
+    {
+      none,
+      time,
+      energy,
+      extensive_energy, ///< energy per m^(3 - dim)
+      grains            ///< grains per m^(3 - dim)
+    };
+
+    struct Field
+    {
+      const char                                *key;
+      Rule                                       rule;
+      Unit                                       unit;
+      std::function<double(const RunSummary &)>  get;
+      std::function<void(RunSummary &, double)>  set;
+    };
+
+#define GRANHYDRO_FIELD(key, member, rule, unit)                                                 \
+  Field                                                                                         \
+  {                                                                                             \
+    key, Rule::rule, Unit::unit, [](const RunSummary &s) { return double(s.member); },          \
+      [](RunSummary &s, const double v) { s.member = static_cast<decltype(s.member)>(v); }      \
+  }
+
+    /// every figure a checkpoint carries of the run; the keys are the run record's
+    /// (a new figure is one more line; an older record without it reads as absent)
+    const std::vector<Field> &fields()
+    {
+      static const std::vector<Field> f = {
+        GRANHYDRO_FIELD("segments", segments, sum, none),
+        GRANHYDRO_FIELD("rejected_steps", rejected_steps, sum, none),
+        GRANHYDRO_FIELD("wall_seconds", wall_seconds, sum, none),
+        GRANHYDRO_FIELD("convection_seconds", convection_seconds, sum, none),
+        GRANHYDRO_FIELD("adaptation_seconds", adaptation_seconds, sum, none),
+        GRANHYDRO_FIELD("diffusion_seconds", diffusion_seconds, sum, none),
+        GRANHYDRO_FIELD("convective_steps", convective_steps, sum, none),
+        GRANHYDRO_FIELD("temperature_repairs", temperature_repairs, sum, none),
+        GRANHYDRO_FIELD("continuation_cells", continuation_cells, sum, none),
+        GRANHYDRO_FIELD("max_temperature_repair", max_temperature_repair, max, energy),
+        GRANHYDRO_FIELD("adaptations", adaptations, sum, none),
+        GRANHYDRO_FIELD("refined_cells", refined_cells, sum, none),
+        GRANHYDRO_FIELD("coarsened_cells", coarsened_cells, sum, none),
+        GRANHYDRO_FIELD("max_cells", max_cells, max, none),
+        GRANHYDRO_FIELD("peak_memory_max", peak_memory_max, max, none),
+        GRANHYDRO_FIELD("peak_memory_total", peak_memory_total, max, none),
+        GRANHYDRO_FIELD("min_dt", min_dt_si, min, none),
+        GRANHYDRO_FIELD("max_dt", max_dt_si, max, none),
+        GRANHYDRO_FIELD("flux_points", convection.flux.points, sum, none),
+        GRANHYDRO_FIELD("musta_stages", convection.flux.stages, sum, none),
+        GRANHYDRO_FIELD("musta_fallbacks", convection.flux.fallbacks, sum, none),
+        GRANHYDRO_FIELD("musta_early_stops", convection.flux.early_stops, sum, none),
+        GRANHYDRO_FIELD("limited_reconstructions", convection.limited_cells, sum, none),
+        GRANHYDRO_FIELD("first_order_fallbacks", convection.fallback_cells, sum, none),
+        GRANHYDRO_FIELD("cell_updates", convection.cell_updates, sum, none),
+        GRANHYDRO_FIELD("rhs_evaluations", convection.rhs_evaluations, sum, none),
+        GRANHYDRO_FIELD("wall_tension_bounded_convective", convection.wall_tension_bounded, sum, none),
+        GRANHYDRO_FIELD("diffusion_steps", diffusion.steps, sum, none),
+        GRANHYDRO_FIELD("newton_iterations", diffusion.newton_iterations, sum, none),
+        GRANHYDRO_FIELD("gmres_iterations", diffusion.linear_iterations, sum, none),
+        GRANHYDRO_FIELD("newton_failures", diffusion.newton_failures, sum, none),
+        GRANHYDRO_FIELD("gmres_failures", diffusion.linear_failures, sum, none),
+        GRANHYDRO_FIELD("switches_to_midpoint", diffusion.switches_to_midpoint, sum, none),
+        GRANHYDRO_FIELD("explicit_substeps", diffusion.explicit_substeps, sum, none),
+        GRANHYDRO_FIELD("jacobians", diffusion.jacobians, sum, none),
+        GRANHYDRO_FIELD("full_jacobian_retries", diffusion.full_jacobian_retries, sum, none),
+        GRANHYDRO_FIELD("matrix_reuses", diffusion.matrix_reuses, sum, none),
+        GRANHYDRO_FIELD("stale_matrix_retries", diffusion.stale_matrix_retries, sum, none),
+        GRANHYDRO_FIELD("jacobian_seconds", diffusion.jacobian_seconds, sum, none),
+        GRANHYDRO_FIELD("preconditioner_seconds", diffusion.preconditioner_seconds, sum, none),
+        GRANHYDRO_FIELD("gmres_seconds", diffusion.linear_seconds, sum, none),
+        GRANHYDRO_FIELD("rkl2_steps", diffusion.rkl2_steps, sum, none),
+        GRANHYDRO_FIELD("rkl2_stages", diffusion.rkl2_stages, sum, none),
+        GRANHYDRO_FIELD("rkl2_fallbacks", diffusion.rkl2_fallbacks, sum, none),
+        GRANHYDRO_FIELD("implicit_steps", diffusion.implicit_steps, sum, none),
+        GRANHYDRO_FIELD("rkl2_seconds", diffusion.rkl2_seconds, sum, none),
+        GRANHYDRO_FIELD("implicit_seconds", diffusion.implicit_seconds, sum, none),
+        GRANHYDRO_FIELD("max_dt_over_explicit", diffusion.max_dt_over_explicit, max, none),
+        GRANHYDRO_FIELD("friction_dissipation", diffusion.friction_dissipation, sum, extensive_energy),
+        GRANHYDRO_FIELD("diffusive_face_fluxes", diffusion.faces.faces, sum, none),
+        GRANHYDRO_FIELD("tension_bounded_faces", diffusion.faces.tension_bounded, sum, none),
+        GRANHYDRO_FIELD("tension_bounded_wall_faces", diffusion.faces.tension_bounded_walls, sum, none),
+        GRANHYDRO_FIELD("friction_capped_faces", diffusion.faces.friction_capped, sum, none),
+        GRANHYDRO_FIELD("negative_temperature_faces", diffusion.faces.negative_temperature, sum, none),
+        // (the smallest steps with the time they occurred: combined by hand below)
+        GRANHYDRO_FIELD("min_cfl_dt", min_cfl_dt_si, min, none),
+        GRANHYDRO_FIELD("min_cfl_dt_time", min_cfl_dt_time_si, min, none),
+        GRANHYDRO_FIELD("min_explicit_dt", diffusion.min_explicit_dt, min, time),
+        GRANHYDRO_FIELD("min_explicit_dt_time", diffusion.min_explicit_dt_time, min, time),
+        GRANHYDRO_FIELD("counted_from_step", counted_from_step, min, none),
+        GRANHYDRO_FIELD("initial_grains", initial_grains, min, grains)};
+      return f;
+    }
+#undef GRANHYDRO_FIELD
+
+    double factor(const Unit u, const RecordUnits &r)
+    {
+      return u == Unit::time             ? r.time :
+             u == Unit::energy           ? r.energy :
+             u == Unit::extensive_energy ? r.energy * r.extent :
+             u == Unit::grains           ? r.extent :
+                                           1.;
+    }
+
+    bool present(const double v) { return std::isfinite(v) && v > 0; }
+  } // namespace
+
+  RunSummary combine_segments(const RunSummary &earlier, const RunSummary &now)
+  {
+    RunSummary all = now;
+    for (const Field &f : fields())
+      {
+        const double a = f.get(earlier), b = f.get(now);
+        if (f.rule == Rule::sum)
+          f.set(all, a + b);
+        else if (f.rule == Rule::max)
+          f.set(all, std::max(a, b));
+      }
+    // the smallest step (0: none) and the smallest limits with the time they occurred
+    if (present(earlier.min_dt_si) && (!present(now.min_dt_si) || earlier.min_dt_si < now.min_dt_si))
+      all.min_dt_si = earlier.min_dt_si;
+    if (present(earlier.min_cfl_dt_si) && (!present(now.min_cfl_dt_si) || earlier.min_cfl_dt_si <= now.min_cfl_dt_si))
+      {
+        all.min_cfl_dt_si      = earlier.min_cfl_dt_si;
+        all.min_cfl_dt_time_si = earlier.min_cfl_dt_time_si;
+      }
+    const auto &ed = earlier.diffusion, &nd = now.diffusion;
+    if (present(ed.min_explicit_dt) && (!present(nd.min_explicit_dt) || ed.min_explicit_dt <= nd.min_explicit_dt))
+      {
+        all.diffusion.min_explicit_dt      = ed.min_explicit_dt;
+        all.diffusion.min_explicit_dt_time = ed.min_explicit_dt_time;
+      }
+    // where the counts start, and the grains they started with: the earlier segments'
+    all.counted_from_step = earlier.counted_from_step;
+    if (earlier.initial_grains > 0)
+      all.initial_grains = earlier.initial_grains;
+    return all;
+  }
+
+  std::vector<std::pair<std::string, double>> to_run_record(const RunSummary &sum, const RecordUnits &units)
+  {
+    std::vector<std::pair<std::string, double>> r;
+    for (const Field &f : fields())
+      r.emplace_back(f.key, f.get(sum) * factor(f.unit, units));
+    return r;
+  }
+
+  bool from_run_record(const std::vector<std::pair<std::string, double>> &record, const RecordUnits &units,
+                       RunSummary &sum)
+  {
+    for (const auto &[key, value] : record)
+      for (const Field &f : fields())
+        if (key == f.key)
+          f.set(sum, value / factor(f.unit, units));
+    return !record.empty();
+  }
 
   template <int dim, class Description>
   void Simulation<dim, Description>::print_run_summary(const RunSummary &sum) const
@@ -68,7 +235,7 @@ namespace granhydro
                 << " Jacobians (finite differences + Newton matrix; kept for " << ds.matrix_reuses
                 << " further steps, " << ds.stale_matrix_retries << " steps redone with a fresh one), "
                 << ds.preconditioner_seconds
-                << " s in preconditioner set-ups, " << ds.linear_seconds << " s in GMRES (rank 0)";
+                << " s in preconditioner set-ups, " << ds.linear_seconds << " s in GMRES (largest rank)";
         pcout << "\n";
       }
     if (sum.diffusion_active && std::isfinite(sum.diffusion.min_explicit_dt))
@@ -77,6 +244,12 @@ namespace granhydro
             << " s (at t = " << sum.diffusion.min_explicit_dt_time * t0 << " s); steps up to "
             << sum.diffusion.max_dt_over_explicit << " x that limit\n";
     pcout << "  mass drift " << sum.mass_drift << " (relative)\n";
+    if (sum.segments > 1)
+      pcout << "  the run in " << sum.segments << " segments (" << sum.segments - 1
+            << " restart(s) from checkpoints): the figures above are of the whole run\n";
+    if (sum.counted_from_step > 0)
+      pcout << "  the figures above count from step " << sum.counted_from_step
+            << " (the checkpoint the run restarted from there carries no counts of the steps before it)\n";
     pcout << "  memory: peak resident " << sum.peak_memory_max / 1048576. << " MiB (largest rank), "
           << sum.peak_memory_total / 1024. / std::max<double>(sum.max_cells, 1)
           << " KiB per cell (all ranks, at the most cells)\n";
@@ -109,6 +282,7 @@ namespace granhydro
             << " cell updates of a cooling dense pile ended with T < " << physics::GranularGas<dim>::temperature_floor
             << " (scaled) and were set to it; largest thermal-energy deficit "
             << sum.max_temperature_repair * units_.energy() << " J per grain (doc/user-guide.md, 'Dense closure')\n";
+    pcout << phase_table(sum.phases, sum.ranks);
   }
 
   template <int dim, class Description>
@@ -180,7 +354,12 @@ namespace granhydro
       {"friction_capped_faces", ds.faces.friction_capped},
       {"negative_temperature_faces", ds.faces.negative_temperature},
       {"musta_early_stops", cs.flux.early_stops},
-      {"continuation_cells", sum.continuation_cells}};
+      {"continuation_cells", sum.continuation_cells},
+      {"final_mass_kg", sum.final_mass_si},
+      {"final_total_energy_J", sum.final_energy_si},
+      {"segments", N(sum.segments)},
+      {"counted_from_step", sum.counted_from_step}};
+    append_phase_entries(entries, sum.phases);
     const auto records = record_entries();
     entries.insert(entries.end(), records.begin(), records.end());
     try

@@ -7,6 +7,7 @@
  */
 #include <granhydro/driver/run_records.h>
 #include <granhydro/driver/simulation_instances.h>
+#include <granhydro/io/diagnostics.h>
 #include <granhydro/physics/packing_fraction.h>
 
 #include <deal.II/base/function_parser.h>
@@ -300,56 +301,13 @@ namespace granhydro
   template <int dim, class Description>
   typename Simulation<dim, Description>::State Simulation<dim, Description>::totals() const
   {
-    // a sum independent of the partition (the summary's mass_drift was not: the same state
-    // on 1 and N ranks gave different roundings): every cell's value as an integer multiple
-    // of 2^-k, k from the largest value (95 bits of headroom below it, so 2^31 cells per rank
-    // cannot overflow), summed exactly in 128-bit integers, across ranks in 32-bit limbs
-    __extension__ typedef __int128          i128; // GCC's 128-bit integers
-    __extension__ typedef unsigned __int128 u128;
-    constexpr unsigned int NC = dim + 2;
-    std::vector<double>    x(std::size_t(patch_->n_owned()) * NC);
-    double                 largest[NC] = {};
-    for (unsigned int s = 0; s < patch_->n_owned(); ++s)
-      {
-        const double v = patch_->cell_volume(s) / std::pow(units_.length, dim);
-        for (unsigned int c = 0; c < NC; ++c)
-          {
-            x[std::size_t(s) * NC + c] = U.local_element(std::size_t(s) * NC + c) * v;
-            largest[c] = std::max(largest[c], std::abs(x[std::size_t(s) * NC + c]));
-          }
-      }
-    Utilities::MPI::max(ArrayView<const double>(largest, NC), comm, ArrayView<double>(largest, NC));
-    State t;
-    t.fill(0.);
-    int           shift[NC];
-    i128          local[NC] = {};
-    std::uint64_t limbs[4 * NC];
-    for (unsigned int c = 0; c < NC; ++c)
-      {
-        shift[c] = std::isfinite(largest[c]) && largest[c] > 0 ? 94 - std::ilogb(largest[c]) : 0;
-        for (unsigned int s = 0; s < patch_->n_owned(); ++s)
-          local[c] += static_cast<i128>(std::ldexp(x[std::size_t(s) * NC + c], shift[c]));
-        const u128 u = static_cast<u128>(local[c]);
-        for (unsigned int l = 0; l < 4; ++l)
-          limbs[4 * c + l] = std::uint64_t(u >> (32 * l)) & 0xffffffffu;
-      }
-    Utilities::MPI::sum(ArrayView<const std::uint64_t>(limbs, 4 * NC), comm,
-                        ArrayView<std::uint64_t>(limbs, 4 * NC));
-    for (unsigned int c = 0; c < NC; ++c)
-      {
-        if (!(std::isfinite(largest[c]) && largest[c] > 0)) // nothing to sum, or not a number
-          {
-            double plain = 0;
-            for (unsigned int s = 0; s < patch_->n_owned(); ++s)
-              plain += x[std::size_t(s) * NC + c];
-            t[c] = Utilities::MPI::sum(plain, comm);
-            continue;
-          }
-        u128 u = 0;
-        for (unsigned int l = 0; l < 4; ++l)
-          u += static_cast<u128>(limbs[4 * c + l]) << (32 * l);
-        t[c] = std::ldexp(double(static_cast<i128>(u)), -shift[c]);
-      }
+    // one formula for the totals: the history rows and the summary use the same
+    const io::StateTotals<dim> s = io::state_totals(*patch_, U, desc, units_.length, comm);
+    State                      t;
+    t[0] = s.n;
+    for (unsigned int d = 0; d < dim; ++d)
+      t[1 + d] = s.nu[d];
+    t[dim + 1] = s.energy;
     return t;
   }
 

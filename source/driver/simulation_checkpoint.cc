@@ -51,6 +51,14 @@ namespace granhydro
     h.convection_owed = owed_;
     h.outputs         = output ? output->count() : 0;
     std::snprintf(h.model, sizeof(h.model), "%s", scene.model.c_str());
+    try
+      {
+        io::set_run_record(h, record_);
+      }
+    catch (const io::CheckpointError &e)
+      {
+        throw io::OutputError("cannot write the checkpoint: " + std::string(e.what()));
+      }
     auto &hh        = h.history;
     hh.rkl2_blocked = history.rkl2_blocked;
     hh.matrix_valid = history.matrix_valid;
@@ -145,6 +153,19 @@ namespace granhydro
                 history.matrix_N[a][b] = h.history.matrix_N[a * ns + b];
           }
         integrator->restore(history);
+      }
+    // the record of the run's earlier segments (none in a checkpoint of format v5: the
+    // counts then start at this checkpoint's step)
+    RunSummary earlier;
+    if (from_run_record(io::run_record(h), record_units(), earlier))
+      earlier_ = earlier;
+    else
+      {
+        earlier_                   = RunSummary();
+        earlier_.segments          = 0;
+        earlier_.counted_from_step = h.step;
+        pcout << "  the checkpoint carries no record of the run before it (format v" << reader->version()
+              << "): the summary counts from step " << h.step << "\n";
       }
     output->resume(h.outputs, start_time());
     pcout << "  initial state: checkpoint " << file << " (t = " << start_time() << " s, step "

@@ -7,7 +7,6 @@
 #include <granhydro/driver/simulation_instances.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <type_traits>
 
@@ -46,17 +45,16 @@ namespace granhydro
   template <int dim, class Description>
   bool Simulation<dim, Description>::convect(Vector &V, const double h, const unsigned int pieces)
   {
-    using clock   = std::chrono::steady_clock;
-    const auto c0 = clock::now();
-    bool       ok = true;
+    const dealii::TimerOutput::Scope scope(timers_, "convection");
+    bool                             ok = true;
     for (unsigned int i = 0; i < pieces && ok; ++i)
       {
         ok = conv->ssp_rk3_step(V, h / pieces);
+        ++convective_pieces; // every step taken (also without splitting, also retried ones)
         if (ok)
           repair(V);
         ok = ok && conv->admissible(V);
       }
-    conv_seconds += std::chrono::duration<double>(clock::now() - c0).count();
     return ok;
   }
 
@@ -76,7 +74,6 @@ namespace granhydro
   bool Simulation<dim, Description>::advance(const double t, const double dt, const bool sync,
                                              const double max_convective_step)
   {
-    using clock = std::chrono::steady_clock;
     if (!integrator) // nothing is ever owed without the diffusion step
       return convect(U, dt);
     if (scene.convection)
@@ -86,14 +83,15 @@ namespace granhydro
         const double h      = owed_ + 0.5 * dt;
         const double limit  = max_convective_step > 0 ? max_convective_step : dt;
         const auto   pieces = static_cast<unsigned int>(std::max(1., std::ceil(h / limit * (1 - 1e-12))));
-        convective_pieces += pieces;
         if (!convect(U, h, pieces))
           return false;
       }
-    const auto c0       = clock::now();
     const auto switches = integrator->statistics().switches_to_midpoint;
-    const bool ok       = integrator->step(U, t, dt);
-    diff_seconds += std::chrono::duration<double>(clock::now() - c0).count();
+    bool       ok;
+    {
+      const dealii::TimerOutput::Scope scope(timers_, "diffusion");
+      ok = integrator->step(U, t, dt);
+    }
     if (integrator->statistics().switches_to_midpoint > switches)
       pcout << "  diffusion step: Gauss-Legendre Newton iteration did not converge, step "
             << (ok ? "done with implicit midpoint" : "failed with both methods") << " (dt = "
@@ -103,7 +101,6 @@ namespace granhydro
     repair(U);
     if (scene.convection && sync)
       {
-        ++convective_pieces;
         if (!convect(U, 0.5 * dt))
           return false;
       }

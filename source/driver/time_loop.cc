@@ -5,6 +5,7 @@
  * or the wall time limit, the progress line, and the final output and summary.
  */
 #include <granhydro/driver/simulation_instances.h>
+#include <granhydro/io/checkpoint.h>
 #include <granhydro/io/diagnostics.h>
 #include <granhydro/io/summary_csv.h>
 
@@ -97,9 +98,8 @@ namespace granhydro
         // uninterrupted one did
         if (scene.max_level > 0 && L.step % scene.adapt_interval == 0 && L.step > 0)
           {
-            const auto c0 = clock::now();
+            const TimerOutput::Scope scope(timers_, "adaptation");
             adapt_mesh(false);
-            adapt_seconds += seconds_since(c0);
           }
         double       dt_cfl   = 0;
         const double dt_uncut = step_size(L, dt_cfl);
@@ -107,8 +107,12 @@ namespace granhydro
         dt                    = std::min(dt, L.next_output - L.t);
         unsigned int tries    = 0;
         dt                    = take_step(L, dt, dt_cfl, tries);
+        const double t_before = L.t;
         L.t += dt;
         ++L.step;
+        L.last_dt = dt;
+        if (history_due(L, t_before))
+          write_history_row(L, io::state_totals(*patch_, U, desc, units_.length, comm));
         // a step cut short to land on an output or end time says nothing about the
         // scheme's step; halved (retried) steps do and are kept
         if (tries == 0 && dt < dt_uncut)
@@ -151,7 +155,7 @@ namespace granhydro
     // chosen (same additions), so the time steps and results are identical
     while (L.interval > 0 && L.t >= L.next_output * (1 - 1e-12) && L.next_output < L.t_end)
       L.next_output = std::min(L.next_output + L.interval, L.t_end);
-    conv_seconds = diff_seconds = adapt_seconds = 0;
+    timers_.reset();
     temperature_repairs = 0;
     continuation_cells  = 0;
     convective_pieces   = 0;
@@ -173,14 +177,18 @@ namespace granhydro
       io::write_running_summary(scene.output_file("_summary.csv"), record_entries());
     // a run from the scene's initial state writes it; a restart (even from the t = 0
     // checkpoint) has it already
-    if (L.step == 0 && scene.initial_checkpoint.empty())
+    const bool fresh = L.step == 0 && scene.initial_checkpoint.empty();
+    if (fresh)
       {
-        output->write(U, L.t * L.t0, 0);
+        write_output(U, L.t * L.t0, 0);
         checkpoint_now(L);
       }
     L.backup.reinit(U.get_partitioner());
     L.backup  = U;
-    L.mass0   = totals()[0];
+    const io::StateTotals<dim> s0 = io::state_totals(*patch_, U, desc, units_.length, comm);
+    // the mass drift is taken against the mass at the start of the counted run
+    L.mass0 = earlier_.initial_grains > 0 ? earlier_.initial_grains : s0.n;
+    start_history(L, fresh, s0);
     L.g_eff   = std::sqrt(scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
                           scene.gravity[2] * scene.gravity[2]) +
               scene.vibration_amplitude * std::pow(2 * M_PI * scene.vibration_frequency, 2);
@@ -276,9 +284,11 @@ namespace granhydro
   {
     if (L.t < L.t_end * (1 - 1e-12))
       {
-        output->write(U, L.t * L.t0, L.step);
+        write_output(U, L.t * L.t0, L.step);
         checkpoint_now(L);
       }
+    if (history_)
+      history_->check(); // a failed history write stops every rank here
     L.next_output = L.interval > 0 ? std::min(L.next_output + L.interval, L.t_end) : L.t_end;
     return scene.steady_tolerance > 0 && L.interval > 0 && steady_state(L);
   }
@@ -369,42 +379,48 @@ namespace granhydro
   }
 
   template <int dim, class Description>
-  void Simulation<dim, Description>::checkpoint_now(const TimeLoopState &L)
+  void Simulation<dim, Description>::checkpoint_now(const TimeLoopState &L, const RunSummary *whole)
   {
     if (integrator && !L.interrupted_by) // a restart starts here: the integrator forgets its history too
       integrator->restart_point();
-    if (scene.write_checkpoint)
-      write_checkpoint(L.checkpoint, L.t, L.step, L.interrupted_by != 0);
+    if (!scene.write_checkpoint)
+      return;
+    const TimerOutput::Scope scope(timers_, "output");
+    record_ = to_run_record(whole ? *whole : combine_segments(earlier_, segment_summary(L)), record_units());
+    write_checkpoint(L.checkpoint, L.t, L.step, L.interrupted_by != 0);
+    if (scene.keep_checkpoints > 1)
+      {
+        // the numbered copy and the deletion of the oldest: rank 0, now that every rank
+        // has verified its part of the new checkpoint
+        std::string error;
+        if (Utilities::MPI::this_mpi_process(comm) == 0)
+          error = io::keep_recent_checkpoints(L.checkpoint, L.step, scene.keep_checkpoints);
+        error = io::first_error(error, comm);
+        if (!error.empty())
+          throw io::OutputError(error + " (Output/Keep checkpoints)");
+      }
   }
 
   template <int dim, class Description>
-  void Simulation<dim, Description>::finish(TimeLoopState &L, const std::string &status)
+  RecordUnits Simulation<dim, Description>::record_units() const
   {
-    const double t0 = L.t0;
-    if (!(status == "steady" && L.t < L.t_end * (1 - 1e-12))) // a steady stop has just written its output
-      {
-        // stopped between output times (signal, wall time, failure) with convective
-        // time owed: the output shows the synchronised state, the checkpoint keeps the
-        // state and the owed time, so that a restart continues exactly
-        if (owed_ > 0)
-          {
-            Vector V;
-            if (!synchronised_state(V))
-              pcout << "  the convective half-step owed at the stop failed: the final output "
-                       "shows the state before it\n";
-            output->write(V, L.t * t0, L.step);
-          }
-        else
-          output->write(U, L.t * t0, L.step);
-        checkpoint_now(L);
-      }
-    RunSummary &sum = L.sum;
+    RecordUnits r;
+    r.time   = units_.time();
+    r.energy = units_.energy();
+    r.extent = std::pow(units_.length, dim - 3.);
+    return r;
+  }
+
+  template <int dim, class Description>
+  RunSummary Simulation<dim, Description>::segment_summary(const TimeLoopState &L) const
+  {
+    const double t0  = L.t0;
+    RunSummary   sum = L.sum; // rejected steps, steady, interrupted_by
     sum.steps       = L.step;
     sum.min_dt_si   = (std::isfinite(L.min_dt) ? L.min_dt : (std::isfinite(L.min_cut_dt) ? L.min_cut_dt : 0)) * t0;
     sum.max_dt_si   = L.max_dt * t0;
     sum.min_cfl_dt_si      = std::isfinite(L.min_cfl) ? L.min_cfl * t0 : 0;
     sum.min_cfl_dt_time_si = L.min_cfl_t * t0;
-    sum.mass_drift         = std::abs(totals()[0] - L.mass0) / L.mass0;
     sum.cells              = patch_->n_global_cells();
     sum.max_cells          = std::max<unsigned long long>(max_cells, sum.cells);
     sum.adaptations        = adaptations;
@@ -426,15 +442,58 @@ namespace granhydro
     }
     sum.time_si            = L.t * t0;
     sum.wall_seconds       = seconds_since(L.start);
-    sum.convection_seconds = Utilities::MPI::max(conv_seconds, comm);
-    sum.adaptation_seconds = Utilities::MPI::max(adapt_seconds, comm);
     sum.convection         = conv->global_statistics();
     sum.diffusion_active   = integrator != nullptr;
     if (integrator)
       {
-        sum.diffusion         = integrator->global_statistics();
-        sum.diffusion_seconds = Utilities::MPI::max(diff_seconds, comm);
+        sum.diffusion = integrator->global_statistics();
       }
+    measure_phases(sum); // this segment's phases (one reduction); sets the *_seconds rows
+    sum.segments          = 1;
+    sum.counted_from_step = 0;
+    sum.initial_grains    = L.mass0;
+    return sum;
+  }
+
+  template <int dim, class Description>
+  void Simulation<dim, Description>::finish(TimeLoopState &L, const std::string &status)
+  {
+    const double t0 = L.t0;
+    if (!(status == "steady" && L.t < L.t_end * (1 - 1e-12))) // a steady stop has just written its output
+      {
+        // the checkpoint's record of the run: taken before the owed half-step below,
+        // which the restarted run takes (and counts) itself
+        const RunSummary whole = combine_segments(earlier_, segment_summary(L));
+        // stopped between output times (signal, wall time, failure) with convective
+        // time owed: the output shows the synchronised state, the checkpoint keeps the
+        // state and the owed time, so that a restart continues exactly
+        if (owed_ > 0)
+          {
+            Vector V;
+            if (!synchronised_state(V))
+              pcout << "  the convective half-step owed at the stop failed: the final output "
+                       "shows the state before it\n";
+            write_output(V, L.t * t0, L.step);
+          }
+        else
+          write_output(U, L.t * t0, L.step);
+        checkpoint_now(L, &whole);
+      }
+    // the whole run: the earlier segments' record and this segment
+    RunSummary sum = combine_segments(earlier_, segment_summary(L));
+    // the final state's totals, once: the summary's and the history's last row (the state
+    // the checkpoint holds)
+    const io::StateTotals<dim> s = io::state_totals(*patch_, U, desc, units_.length, comm);
+    sum.mass_drift      = std::abs(s.n - L.mass0) / L.mass0;
+    sum.final_mass_si   = s.n * units_.mass * std::pow(units_.length, dim - 3.);
+    sum.final_energy_si = s.energy * units_.energy() * std::pow(units_.length, dim - 3.);
+    if (history_)
+      {
+        if (L.history_step != (long long)L.step)
+          write_history_row(L, s);
+        history_->check();
+      }
+    L.sum = sum;
     print_run_summary(sum);
     if (scene.write_summary)
       write_summary(sum, status);
@@ -447,6 +506,8 @@ namespace granhydro
           pcout << " " << scene.base_name << "_profiles.csv";
         if (scene.write_summary)
           pcout << " " << scene.base_name << "_summary.csv";
+        if (history_)
+          pcout << " " << scene.base_name << "_history.csv";
         pcout << "\n";
       }
   }

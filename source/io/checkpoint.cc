@@ -5,11 +5,17 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdio>
+#include <filesystem>
 #include <climits>
 #include <cstdlib>
+#include <cstddef>
 #include <cstring>
+#include <iomanip>
 #include <iostream>
+#include <sstream>
 
 namespace granhydro::io
 {
@@ -168,8 +174,85 @@ namespace granhydro::io
 
   const std::string &checkpoint_magic()
   {
-    static const std::string m = "granhydro checkpoint v5\n";
+    static const std::string m = "granhydro checkpoint v6\n";
     return m;
+  }
+
+  // the v5 header is the v6 header without its run record
+  static_assert(offsetof(CheckpointHeader, run_record) == 240, "the v5 header is 240 bytes");
+  static_assert(sizeof(CheckpointHeader) == 240 + sizeof(CheckpointHeader::run_record), "no padding after the run record");
+
+  std::size_t header_bytes(const int version)
+  {
+    return version == 5 ? offsetof(CheckpointHeader, run_record) : sizeof(CheckpointHeader);
+  }
+
+  std::vector<std::pair<std::string, double>> run_record(const CheckpointHeader &h)
+  {
+    std::vector<std::pair<std::string, double>> r;
+    const std::size_t n = ::strnlen(h.run_record, sizeof(h.run_record));
+    std::istringstream in(std::string(h.run_record, n));
+    std::string        key, value;
+    while (in >> key >> value)
+      r.emplace_back(key, std::strtod(value.c_str(), nullptr));
+    return r;
+  }
+
+  void set_run_record(CheckpointHeader &h, const std::vector<std::pair<std::string, double>> &record)
+  {
+    std::ostringstream os;
+    os << std::setprecision(17);
+    for (const auto &[key, value] : record)
+      os << key << ' ' << value << '\n';
+    const std::string text = os.str();
+    if (text.size() >= sizeof(h.run_record))
+      throw CheckpointError("run record of " + std::to_string(text.size()) + " bytes does not fit in the header");
+    std::memset(h.run_record, 0, sizeof(h.run_record));
+    std::memcpy(h.run_record, text.data(), text.size());
+  }
+
+  std::string keep_recent_checkpoints(const std::string &file, const std::uint64_t step, const unsigned int keep)
+  {
+    namespace fs              = std::filesystem;
+    const std::string suffix  = ".checkpoint";
+    const std::string stem    = file.size() > suffix.size() && file.compare(file.size() - suffix.size(), suffix.size(), suffix) == 0 ?
+                                  file.substr(0, file.size() - suffix.size()) :
+                                  file;
+    char number[32];
+    std::snprintf(number, sizeof(number), "%08llu", static_cast<unsigned long long>(step));
+    const std::string copy = stem + "_checkpoint_" + number + suffix;
+    std::error_code   ec;
+    fs::remove(copy, ec); // one of an abandoned later run at the same step
+    if (::link(file.c_str(), copy.c_str()) != 0)
+      {
+        fs::copy_file(file, copy, fs::copy_options::overwrite_existing, ec);
+        if (ec)
+          {
+            fs::remove(copy, ec);
+            return "cannot keep the checkpoint as '" + copy + "': " + ec.message();
+          }
+      }
+    // the numbered checkpoints of this run up to this step, newest first
+    const fs::path    dir    = fs::path(stem).has_parent_path() ? fs::path(stem).parent_path() : fs::path(".");
+    const std::string prefix = fs::path(stem).filename().string() + "_checkpoint_";
+    std::vector<std::pair<std::uint64_t, fs::path>> numbered;
+    for (const auto &entry : fs::directory_iterator(dir, ec))
+      {
+        const std::string name = entry.path().filename().string();
+        if (name.size() < prefix.size() + 8 + suffix.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+            name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+          continue;
+        const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+        if (digits.size() > 19 || digits.find_first_not_of("0123456789") != std::string::npos)
+          continue;
+        const std::uint64_t k = std::stoull(digits);
+        if (k <= step && entry.is_regular_file(ec))
+          numbered.emplace_back(k, entry.path());
+      }
+    std::sort(numbered.begin(), numbered.end(), [](const auto &a, const auto &b) { return a.first > b.first; });
+    for (std::size_t i = keep; i < numbered.size(); ++i)
+      fs::remove(numbered[i].second, ec);
+    return {};
   }
 
   std::string first_error(const std::string &error, const MPI_Comm comm)

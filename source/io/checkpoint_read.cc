@@ -25,7 +25,7 @@ namespace granhydro::io
 
   namespace
   {
-    /// the version of an older format ("granhydro checkpoint vK\n", K < 5), or empty
+    /// the version of a refused older format ("granhydro checkpoint vK\n", K < 5), or empty
     std::string older_format(const std::string &buf)
     {
       for (const char *v : {"2", "3", "4"})
@@ -187,13 +187,16 @@ namespace granhydro::io
         throw CheckpointError("has a corrupted header (implicit-step history)");
       if (!std::isfinite(h.convection_owed) || h.convection_owed < 0)
         throw CheckpointError("has a corrupted header (convective time owed)");
+      if (std::memchr(h.run_record, '\0', sizeof(h.run_record)) == nullptr)
+        throw CheckpointError("has a corrupted header (run record)");
     }
 
     /// the part table against the header and the file size
-    void check_table(const CheckpointHeader &h, const std::vector<CheckpointPart> &parts, const std::uint64_t size)
+    void check_table(const CheckpointHeader &h, const std::vector<CheckpointPart> &parts, const std::uint64_t size,
+                     const int version)
     {
       const std::uint64_t row    = row_bytes(h.n_values);
-      std::uint64_t       offset = head_bytes(parts.size()), rows = 0;
+      std::uint64_t       offset = head_bytes(parts.size(), version), rows = 0;
       for (std::size_t p = 0; p < parts.size(); ++p)
         {
           const auto &t = parts[p];
@@ -232,22 +235,29 @@ namespace granhydro::io
       throw CheckpointError("is not a regular file (a folder or a device)");
     const std::uint64_t size = st.st_size;
     const File          f(file);
-    const auto         &magic  = checkpoint_magic();
-    const std::size_t   prefix = magic.size() + sizeof(CheckpointHeader) + 8;
-    std::string         buf(std::size_t(std::min<std::uint64_t>(size, prefix)), '\0');
+    const auto         &magic = checkpoint_magic();
+    // the magic line tells the version (v5: the header without the run record)
+    const std::string v5 = "granhydro checkpoint v5\n";
+    std::string       first(std::size_t(std::min<std::uint64_t>(size, magic.size())), '\0');
+    if (!pread_all(f.fd, first.data(), first.size(), 0))
+      throw CheckpointError("cannot be read");
+    version_                = first == v5 ? 5 : 6;
+    const std::size_t hsize = header_bytes(version_);
+    const std::size_t prefix = magic.size() + hsize + 8;
+    std::string       buf(std::size_t(std::min<std::uint64_t>(size, prefix)), '\0');
     if (!pread_all(f.fd, buf.data(), buf.size(), 0))
       throw CheckpointError("cannot be read");
     if (const std::string v = older_format(buf); !v.empty())
       throw CheckpointError("was written by an older granhydro (checkpoint format v" + v +
-                            "; this version writes v5); restart it with that version or start "
-                            "from the scene");
-    if (buf.size() < magic.size() || buf.compare(0, magic.size(), magic) != 0)
+                            "; this version writes v6 and reads v5 and v6); restart it with that "
+                            "version or start from the scene");
+    if (buf.size() < magic.size() || (buf.compare(0, magic.size(), magic) != 0 && version_ != 5))
       throw CheckpointError("is not a granhydro checkpoint file");
     if (size < prefix + 8)
       throw CheckpointError("is truncated (" + std::to_string(size) + " bytes)");
     std::uint64_t n_parts = 0;
-    std::memcpy(&h_, buf.data() + magic.size(), sizeof(h_));
-    std::memcpy(&n_parts, buf.data() + magic.size() + sizeof(h_), sizeof(n_parts));
+    std::memcpy(&h_, buf.data() + magic.size(), hsize); // a v5 header leaves the run record empty
+    std::memcpy(&n_parts, buf.data() + magic.size() + hsize, sizeof(n_parts));
     if (n_parts == 0 || n_parts > (size - prefix - 8) / sizeof(CheckpointPart))
       throw CheckpointError("is truncated or corrupted: its part table (" + std::to_string(n_parts) +
                             " parts) does not fit in its " + std::to_string(size) + " bytes");
@@ -266,7 +276,7 @@ namespace granhydro::io
         (h_.n_values != h_.n_components && h_.n_values != 2 * h_.n_components))
       throw CheckpointError("has a corrupted header (dimension " + std::to_string(h_.dim) + ", components " +
                             std::to_string(h_.n_components) + ")");
-    check_table(h_, parts_, size);
+    check_table(h_, parts_, size, version_);
     check_header(h_);
   }
 

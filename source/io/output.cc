@@ -1,4 +1,5 @@
 #include <granhydro/io/output.h>
+#include <granhydro/physics/energy_parts.h>
 #include <granhydro/physics/models.h>
 #include <granhydro/physics/packing_fraction.h>
 
@@ -24,19 +25,13 @@ namespace granhydro::io
 
   namespace
   {
-    /// contact potential energy per volume n w(phi) of the dense closure (scaled units):
-    /// part of nE for the granular gas (0 with the closure off), none for the ideal gas
-    template <int dim, class Description>
-    double contact_energy_density(const Description &desc, const double n)
+    using physics::contact_energy_density;
+
+    /// the granular temperature T/m [m^2/s^2] of a temperature T in scaled units: T [J]
+    /// over the grain mass m [kg] (the two-fluid codes' temperature; doc/user-guide.md)
+    double granular_temperature(const Units &units, const double T)
     {
-      if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
-        return desc.contact.energy_density(n);
-      else
-        {
-          (void)desc;
-          (void)n;
-          return 0.;
-        }
+      return T * units.energy() / units.mass;
     }
 
     /// deal.II's generic ExcIO paragraph ("An input/output error has occurred. There are a
@@ -104,6 +99,7 @@ namespace granhydro::io
             for (unsigned int d = 0; d < dim; ++d)
               out[q][k++] = U[1 + d] / n * units.velocity + frame_velocity[d];
             out[q][k++] = T * units.energy();
+            out[q][k++] = granular_temperature(units, T);
             out[q][k++] = p * units.pressure();
             // nE = kinetic + thermal + contact; kinetic and total in the lab frame like
             // the velocity (thermal and contact energy do not depend on the frame)
@@ -121,6 +117,7 @@ namespace granhydro::io
         for (unsigned int d = 0; d < dim; ++d)
           names.push_back("velocity");
         names.push_back("temperature");
+        names.push_back("granular_temperature");
         names.push_back("pressure");
         for (const char *part : {"kinetic", "thermal", "contact", "total"})
           names.push_back(std::string(part) + "_energy_density");
@@ -134,7 +131,7 @@ namespace granhydro::io
           3, DataComponentInterpretation::component_is_scalar);
         for (unsigned int d = 0; d < dim; ++d)
           v.push_back(DataComponentInterpretation::component_is_part_of_vector);
-        v.insert(v.end(), 2 + 4, DataComponentInterpretation::component_is_scalar);
+        v.insert(v.end(), 3 + 4, DataComponentInterpretation::component_is_scalar);
         return v;
       }
 
@@ -269,6 +266,7 @@ namespace granhydro::io
             {"mass_density", "kg/m^3"},
             {"velocity", "m/s"},
             {"temperature", "J"},
+            {"granular_temperature", "m^2/s^2"},
             {"pressure", "Pa"},
             {"kinetic_energy_density", "J/m^3"},
             {"thermal_energy_density", "J/m^3"},
@@ -360,11 +358,12 @@ namespace granhydro::io
     const char *ax = "xyz";
     if (!profiles_started)
       {
-        out << "time_s," << ax[pd] << "_m,n_1/m3";
+        // the VTU fields' names (units: doc/user-guide.md, "Profiles and cross-sections")
+        out << "time," << ax[pd] << ",number_density";
         for (unsigned int d = 0; d < dim; ++d)
-          out << ",n*u_" << ax[d] << "_1/(m2 s)";
-        out << ",total_energy_density_J/m3,packing_fraction,temperature_J,kinetic_energy_density_J/m3,"
-               "thermal_energy_density_J/m3,contact_energy_density_J/m3\n";
+          out << ",number_flux_" << ax[d];
+        out << ",total_energy_density,packing_fraction,temperature,granular_temperature,"
+               "kinetic_energy_density,thermal_energy_density,contact_energy_density\n";
         profiles_started = true;
       }
     const double nu = units.number_density();
@@ -390,7 +389,8 @@ namespace granhydro::io
           out << ',' << a[1 + d] / k * nu * units.velocity + a[0] / k * nu * frame_velocity(time_si)[d];
         const double lab = lab_frame_energy<dim>(a[0], &a[1], v);
         energy((a[NC - 1] + lab) / k);
-        out << ',' << a[NC] / k << ',' << a[NC + 1] / k * units.energy();
+        out << ',' << a[NC] / k << ',' << a[NC + 1] / k * units.energy() << ','
+            << granular_temperature(units, a[NC + 1] / k);
         energy((a[NC + 2] + lab) / k);
         energy(a[NC + 3] / k);
         energy(a[NC + 4] / k);
@@ -446,9 +446,10 @@ namespace granhydro::io
         const char *ax = "xyz";
         if (!section_started)
           {
-            out << "time_s," << ax[ia] << "_m," << ax[ib] << "_m,n_1/m3,u_x_m/s,u_y_m/s,u_z_m/s,"
-                << "packing_fraction,temperature_J,total_energy_density_J/m3,kinetic_energy_density_J/m3,"
-                << "thermal_energy_density_J/m3,contact_energy_density_J/m3\n";
+            // the VTU fields' names (units: doc/user-guide.md, "Profiles and cross-sections")
+            out << "time," << ax[ia] << ',' << ax[ib] << ",number_density,velocity_x,velocity_y,velocity_z,"
+                << "packing_fraction,temperature,granular_temperature,total_energy_density,"
+                << "kinetic_energy_density,thermal_energy_density,contact_energy_density\n";
             section_started = true;
           }
         std::array<double, 3> vs = fv; // scaled units
@@ -470,7 +471,8 @@ namespace granhydro::io
                   << patch.lower(ib) + (j + 0.5) * patch.cell_size(ib) / (1u << ml) << ',' << n * units.number_density();
               for (unsigned int d = 0; d < 3; ++d)
                 out << ',' << v[1 + d] / k / n * units.velocity + fv[d];
-              out << ',' << v[4] / k << ',' << v[5] / k * units.energy();
+              out << ',' << v[4] / k << ',' << v[5] / k * units.energy() << ','
+                  << granular_temperature(units, v[5] / k);
               const double lab = lab_frame_energy<3>(v[0], &v[1], vs);
               energy((v[7] + lab) / k);
               energy((v[8] + lab) / k);

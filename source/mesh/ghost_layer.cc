@@ -94,6 +94,95 @@ namespace granhydro
     return face_keys;
   }
 
+  namespace
+  {
+    /// one level of the reconstruction boxes of stencil_closure: the dense grid (lo, bn,
+    /// positions with a virtual cell dilated by r) or the face cells' keys, sorted, and
+    /// whether each one's box is full
+    template <int dim>
+    struct BoxLevel
+    {
+      using Position = typename Lattice<dim>::Position;
+      Position          lo{{0, 0, 0}}, bn{{1, 1, 1}};
+      std::vector<char> bad, full;
+      bool              dense = false;
+      std::size_t       idx(const Position &q) const
+      {
+        return std::size_t((q[0] - lo[0]) + bn[0] * ((q[1] - lo[1]) + bn[1] * (q[2] - lo[2])));
+      }
+    };
+
+    /// the boxes of the face cells P of level k on the dense grid of L: each position of
+    /// their union looked at once (a leaf or wall ghost is needed, else a virtual cell is
+    /// made); L.bad: the positions with a virtual cell, dilated by r
+    template <int dim, class Need>
+    void mark_dense_level(BoxLevel<dim> &L, const std::vector<typename Lattice<dim>::Position> &P,
+                          const unsigned int k, const int r, Lattice<dim> &lattice,
+                          VirtualCells<dim> &virtuals, Need &need)
+    {
+      using Position       = typename Lattice<dim>::Position;
+      const long long vol = L.bn[0] * L.bn[1] * L.bn[2];
+      std::vector<char> in(vol, 0);
+      for (const auto &p : P)
+        in[L.idx(p)] = 1;
+      dilate_box(in, L.bn, dim, r);
+      L.bad.assign(vol, 0);
+      std::size_t i = 0;
+      for (long long z = 0; z < L.bn[2]; ++z)
+        for (long long y = 0; y < L.bn[1]; ++y)
+          for (long long x = 0; x < L.bn[0]; ++x, ++i)
+            if (in[i])
+              {
+                const Position  q{{L.lo[0] + x, L.lo[1] + y, L.lo[2] + z}};
+                const long long t = lattice.same_level(k, q);
+                if (t == no_slot_key)
+                  {
+                    virtuals.add(k, q);
+                    L.bad[i] = 1;
+                  }
+                else
+                  need(t); // periodic images repeat
+              }
+      dilate_box(L.bad, L.bn, dim, r);
+    }
+
+    /// the boxes of the face cells (keys, positions P) of level k one by one, in key
+    /// order (the order of the virtual cells made); keys sorted on return, L.full per key
+    template <int dim, class Need>
+    void mark_boxes_in_key_order(BoxLevel<dim> &L, std::vector<long long> &keys,
+                                 const std::vector<typename Lattice<dim>::Position> &P, const unsigned int k,
+                                 const int r, Lattice<dim> &lattice, VirtualCells<dim> &virtuals, Need &need)
+    {
+      using Position = typename Lattice<dim>::Position;
+      std::vector<std::size_t> order(keys.size());
+      for (std::size_t c = 0; c < order.size(); ++c)
+        order[c] = c;
+      std::sort(order.begin(), order.end(), [&](const std::size_t a, const std::size_t b) { return keys[a] < keys[b]; });
+      std::vector<long long> sorted_keys(keys.size());
+      L.full.assign(keys.size(), 1);
+      for (std::size_t c = 0; c < order.size(); ++c)
+        {
+          sorted_keys[c]     = keys[order[c]];
+          const Position &p0 = P[order[c]];
+          for (int z = (dim > 2 ? -r : 0); z <= (dim > 2 ? r : 0); ++z)
+            for (int y = (dim > 1 ? -r : 0); y <= (dim > 1 ? r : 0); ++y)
+              for (int x = -r; x <= r; ++x)
+                {
+                  const Position  q{{p0[0] + x, p0[1] + y, p0[2] + z}};
+                  const long long t = lattice.same_level(k, q);
+                  if (t == no_slot_key)
+                    {
+                      virtuals.add(k, q);
+                      L.full[c] = 0;
+                    }
+                  else
+                    need(t);
+                }
+        }
+      keys.swap(sorted_keys);
+    }
+  } // namespace
+
   template <int dim>
   std::vector<long long> stencil_closure(const std::vector<OwnedCell>              &owned,
                                          const FaceKeys                            &face_keys,
@@ -152,26 +241,14 @@ namespace granhydro
     long long box_volume = 1; // (2 r + 1)^dim
     for (unsigned int d = 0; d < dim; ++d)
       box_volume *= 2 * r + 1;
-    // per level: the dense grid (lo, bn, positions with a virtual cell dilated by r) or
-    // the face cells' keys, sorted, and whether each one's box is full
-    struct Level
-    {
-      Position           lo{{0, 0, 0}}, bn{{1, 1, 1}};
-      std::vector<char>  bad, full;
-      bool               dense = false;
-      std::size_t        idx(const Position &q) const
-      {
-        return std::size_t((q[0] - lo[0]) + bn[0] * ((q[1] - lo[1]) + bn[1] * (q[2] - lo[2])));
-      }
-    };
-    std::vector<Level> levels(m + 1);
+    std::vector<BoxLevel<dim>> levels(m + 1);
     std::vector<Position> P;
     for (unsigned int k = 0; k <= m; ++k)
       {
         auto &keys = keys_at[k];
         if (keys.empty())
           continue;
-        Level &L = levels[k];
+        BoxLevel<dim> &L = levels[k];
         P.resize(keys.size());
         for (std::size_t c = 0; c < keys.size(); ++c)
           {
@@ -193,62 +270,15 @@ namespace granhydro
         if (vol <= 4 * box_volume * (long long)P.size() + 4096)
           {
             L.dense = true;
-            std::vector<char> in(vol, 0);
-            for (const auto &p : P)
-              in[L.idx(p)] = 1;
-            dilate_box(in, L.bn, dim, r);
-            L.bad.assign(vol, 0);
-            std::size_t i = 0;
-            for (long long z = 0; z < L.bn[2]; ++z)
-              for (long long y = 0; y < L.bn[1]; ++y)
-                for (long long x = 0; x < L.bn[0]; ++x, ++i)
-                  if (in[i])
-                    {
-                      const Position  q{{L.lo[0] + x, L.lo[1] + y, L.lo[2] + z}};
-                      const long long t = lattice.same_level(k, q);
-                      if (t == no_slot_key)
-                        {
-                          virtuals.add(k, q);
-                          L.bad[i] = 1;
-                        }
-                      else
-                        need(t); // periodic images repeat
-                    }
-            dilate_box(L.bad, L.bn, dim, r);
+            mark_dense_level(L, P, k, r, lattice, virtuals, need);
             continue;
           }
-        // box by box, in key order (the order of the virtual cells made)
-        std::vector<std::size_t> order(keys.size());
-        for (std::size_t c = 0; c < order.size(); ++c)
-          order[c] = c;
-        std::sort(order.begin(), order.end(), [&](const std::size_t a, const std::size_t b) { return keys[a] < keys[b]; });
-        std::vector<long long> sorted_keys(keys.size());
-        L.full.assign(keys.size(), 1);
-        for (std::size_t c = 0; c < order.size(); ++c)
-          {
-            sorted_keys[c]     = keys[order[c]];
-            const Position &p0 = P[order[c]];
-            for (int z = (dim > 2 ? -r : 0); z <= (dim > 2 ? r : 0); ++z)
-              for (int y = (dim > 1 ? -r : 0); y <= (dim > 1 ? r : 0); ++y)
-                for (int x = -r; x <= r; ++x)
-                  {
-                    const Position  q{{p0[0] + x, p0[1] + y, p0[2] + z}};
-                    const long long t = lattice.same_level(k, q);
-                    if (t == no_slot_key)
-                      {
-                        virtuals.add(k, q);
-                        L.full[c] = 0;
-                      }
-                    else
-                      need(t);
-                  }
-          }
-        keys.swap(sorted_keys);
+        mark_boxes_in_key_order(L, keys, P, k, r, lattice, virtuals, need);
       }
     // the owned cells' flags
     for (std::size_t i = 0; i < owned.size(); ++i)
       {
-        const Level   &L = levels[owned[i].level];
+        const BoxLevel<dim> &L = levels[owned[i].level];
         const Position p{{owned[i].ijk[0], owned[i].ijk[1], owned[i].ijk[2]}};
         if (L.dense)
           uniform[i] = !L.bad[L.idx(p)];

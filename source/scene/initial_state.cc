@@ -50,7 +50,9 @@ namespace granhydro
                         "it and the run continues to 'Time/End time' (any number of MPI "
                         "ranks). The expressions above are then ignored. Empty: start from "
                         "the expressions at t = 0. A path relative to the working directory; "
-                        "--check matches its mesh (cells, corners) against the scene's.");
+                        "--check matches its mesh (cells, corners) against the scene's. "
+                        "'granhydro --resume' sets it to the scene's own "
+                        "<Directory>/<Base name>.checkpoint when that exists.");
     }
     prm.leave_subsection();
   }

@@ -7,8 +7,10 @@
 
 #include <cctype>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <sstream>
 #include <string>
 
 namespace granhydro
@@ -37,7 +39,23 @@ namespace granhydro
                         "(written collectively with MPI-IO). A whole number 0..1000000.");
       prm.declare_entry("Write checkpoint", "true", Patterns::Bool(),
                         "Write <Directory>/<Base name>.checkpoint at every output time and at "
-                        "the end (replaced atomically), for 'Initial state/Checkpoint'.");
+                        "the end (replaced atomically), for 'granhydro --resume' and 'Initial "
+                        "state/Checkpoint'.");
+      prm.declare_entry("Keep checkpoints", "1", Patterns::Anything(),
+                        "How many checkpoints to keep, a whole number 1..1000. 1: only the latest, "
+                        "<Base name>.checkpoint (and the one before it as <Base name>.checkpoint.bak). "
+                        "N > 1: also the N most recent as <Base name>_checkpoint_<step>.checkpoint "
+                        "(<step>: the step, 8 or more digits; hard links to the same file where "
+                        "the file system allows, so the latest takes no extra space); older "
+                        "ones are deleted once a new checkpoint is written and verified.");
+      prm.declare_entry("History interval", "10 steps", Patterns::Anything(),
+                        "How often a row of <Base name>_history.csv is written (time, step, mass, "
+                        "momentum, energies, centre of mass, extremes and the run's counts; "
+                        "doc/user-guide.md, 'Output'): 'N steps' = after every step whose "
+                        "number is a multiple of N (N >= 1); 'T s' = after the first step at or "
+                        "past each multiple of T seconds of simulated time (T > 0; the steps are "
+                        "not shortened to land on it); 'off' or 0 = no history file. There is "
+                        "always a row of the initial state and one of the final state.");
       prm.declare_entry("Write summary", "true", Patterns::Bool(),
                         "Write <Base name>_summary.csv at the end of the run: one 'key,value' "
                         "line per figure of the run summary (cells, steps, wall times, smallest "
@@ -62,6 +80,55 @@ namespace granhydro
                         "Print the run log (with 'Write summary' also into <Base name>.log).");
     }
     prm.leave_subsection();
+  }
+
+  void OutputParameters::parse_history_interval(const std::string &text, unsigned int &steps, double &seconds)
+  {
+    const auto fail_with = [&](const std::string &why) {
+      throw SceneError("parameter 'Output/History interval' = '" + text + "': " + why +
+                       "; allowed: 'N steps' (a whole number N >= 1: a row after every N-th step), "
+                       "'T s' (a number T > 0: a row after the first step past each multiple of T "
+                       "seconds of simulated time), 'off' or 0 (no history file)");
+    };
+    std::istringstream in(text);
+    std::string        number, unit, rest;
+    in >> number >> unit >> rest;
+    steps   = 0;
+    seconds = 0;
+    if (number == "off" && unit.empty())
+      return;
+    if (number.empty() || !rest.empty())
+      fail_with("expected a number and a unit");
+    std::size_t end = 0;
+    double      x   = 0;
+    try
+      {
+        x = std::stod(number, &end);
+      }
+    catch (const std::exception &)
+      {
+        end = 0;
+      }
+    if (end != number.size() || !std::isfinite(x) || x < 0)
+      fail_with("'" + number + "' is not a number >= 0");
+    if (x == 0 && unit.empty())
+      return;
+    if (unit.empty())
+      fail_with("a number needs its unit, 'steps' or 's'");
+    if (unit == "steps" || unit == "step")
+      {
+        if (x < 1 || x > 4e9 || x != std::floor(x))
+          fail_with("a step count must be a whole number 1..4000000000");
+        steps = static_cast<unsigned int>(x);
+      }
+    else if (unit == "s")
+      {
+        if (!(x > 0))
+          fail_with("a time interval must be positive");
+        seconds = x;
+      }
+    else
+      fail_with("unknown unit '" + unit + "'");
   }
 
   void OutputParameters::parse_parameters(ParameterHandler &prm)
@@ -96,6 +163,27 @@ namespace granhydro
                          "at most K files per output time)");
       vtu_files_per_output = static_cast<unsigned int>(k);
     }
+    {
+      const std::string v = prm.get("Keep checkpoints");
+      std::size_t       end = 0;
+      long long         k   = -1;
+      try
+        {
+          k = std::stoll(v, &end);
+        }
+      catch (const std::exception &)
+        {
+          end = 0;
+        }
+      while (end < v.size() && std::isspace(static_cast<unsigned char>(v[end])))
+        ++end;
+      if (v.empty() || end != v.size() || k < 1 || k > 1000)
+        throw SceneError("parameter 'Output/Keep checkpoints' = '" + v +
+                         "': expected a whole number 1..1000 (1 = only the latest checkpoint, N = "
+                         "the N most recent)");
+      keep_checkpoints = static_cast<unsigned int>(k);
+    }
+    parse_history_interval(prm.get("History interval"), history_steps, history_seconds);
     {
       const std::string p = prm.get("Profile direction");
       profile_direction = p == "auto" ? -1 : (p == "x" ? 0 : (p == "y" ? 1 : 2));

@@ -116,7 +116,7 @@ rows = [l.strip().split(",") for l in open(os.path.join(work, "compare", "compar
 cols, rows = rows[0], [dict(zip(rows[0], map(float, r))) for r in rows[1:]]
 check("compared at the 7 output times 0, 0.01, ..., 0.06 s", len(rows) == 7, "(%d)" % len(rows))
 for r in rows:
-    t = r["time_s"]
+    t = r["time"]
     check("t = %.2f s: D_phi <= 0.15" % t, r["D_phi"] <= 0.15, "(%.3f)" % r["D_phi"])
     if t > 0:
         check("t = %.2f s: D_flux <= 0.40" % t, r["D_flux"] <= 0.40, "(%.3f)" % r["D_flux"])

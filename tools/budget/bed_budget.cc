@@ -65,17 +65,19 @@ int main(int argc, char **argv)
     while (std::getline(ss, c, ','))
       head.push_back(c);
   }
-  auto col = [&](const std::string &name) {
+  // a column by its name, or by the name older runs gave it (the unit in the name)
+  auto col = [&](const std::string &name, const std::string &old_name) {
     for (std::size_t i = 0; i < head.size(); ++i)
-      if (head[i] == name)
+      if (head[i] == name || head[i] == old_name)
         return int(i);
     return -1;
   };
-  const int ct = col("time_s"), cy = col("y_m"), cn = col("n_1/m3"), cv = col("n*u_y_1/(m2 s)"),
-            cT = col("temperature_J");
+  const int ct = col("time", "time_s"), cy = col("y", "y_m"), cn = col("number_density", "n_1/m3"),
+            cv = col("number_flux_y", "n*u_y_1/(m2 s)"), cT = col("temperature", "temperature_J");
   if (ct < 0 || cy < 0 || cn < 0 || cv < 0 || cT < 0)
     {
-      std::cerr << "granhydro_bed_budget: " << argv[1] << " lacks time_s, y_m, n_1/m3, n*u_y_1/(m2 s) or temperature_J\n";
+      std::cerr << "granhydro_bed_budget: " << argv[1]
+                << " lacks time, y, number_density, number_flux_y or temperature\n";
       return 2;
     }
   const double sigma = o["diameter"], m = o["density"] * M_PI * sigma * sigma * sigma / 6;

@@ -32,6 +32,13 @@ t f mod 1 in [(j - 1/2)/K, (j + 1/2)/K), after --skip-time), then per seed the
 profiles are formed, and the ensemble mean and standard error (std/sqrt(N), ddof 1)
 are taken over the seeds (a bin without grains in a seed has no T there; its T
 statistics use the seeds that have one).
+
+Columns (SI units, named like granhydro's profiles; doc/user-guide.md): time (or phase),
+the coordinate (x, y or z), seeds, snapshots, grains_in_bin, packing_fraction,
+number_density, number_flux_x/_y/_z, temperature [J], temperature_x/_y/_z [J], each
+quantity followed by its standard error <name>_se. read_csv also reads the files of
+older versions (units in the names: time_s, y_m, n_1/m3, n*u_x_1/(m2 s), temperature_J)
+under these names.
 """
 
 import argparse
@@ -44,8 +51,10 @@ import warnings
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "granhydro_py"))  # tools/granhydro_py: import granhydro
 from scene import AXES  # noqa: E402
 import packing  # noqa: E402
+from granhydro.readers import column_name  # noqa: E402
 
 
 def slab_volumes(c, R, edges, period=None):
@@ -224,6 +233,18 @@ def key_value(meta, key, phase_bins):
     return key / phase_bins if phase_bins else key * meta["dump_interval_s"]
 
 
+def csv_columns(ax, phase_bins=0):
+    """the header of the profiles CSV along axis AX ('x', 'y' or 'z'): see the docstring"""
+    cols = ["phase" if phase_bins else "time", ax, "seeds", "snapshots", "grains_in_bin",
+            "packing_fraction", "packing_fraction_se", "number_density", "number_density_se"]
+    for a in AXES:
+        cols += ["number_flux_%s" % a, "number_flux_%s_se" % a]
+    cols += ["temperature", "temperature_se"]
+    for a in AXES:
+        cols += ["temperature_%s" % a, "temperature_%s_se" % a]
+    return cols
+
+
 def write_csv(path, meta, metas, res, diags, phase_bins=0, skip_time=0.0, extra_comments=()):
     pd = meta["profile_direction"]
     edges = np.array(meta["bin_edges_m"])
@@ -247,14 +268,7 @@ def write_csv(path, meta, metas, res, diags, phase_bins=0, skip_time=0.0, extra_
             f.write("# heights in the container frame, velocities in the lab frame\n")
         for c in extra_comments:
             f.write("# %s\n" % c)
-        cols = ["phase" if phase_bins else "time_s", ax + "_m", "seeds", "snapshots", "grains_in_bin",
-                "packing_fraction", "packing_fraction_se", "n_1/m3", "n_1/m3_se"]
-        for a in AXES:
-            cols += ["n*u_%s_1/(m2 s)" % a, "n*u_%s_1/(m2 s)_se" % a]
-        cols += ["temperature_J", "temperature_J_se"]
-        for a in AXES:
-            cols += ["temperature_%s_J" % a, "temperature_%s_J_se" % a]
-        f.write(",".join(cols) + "\n")
+        f.write(",".join(csv_columns(ax, phase_bins)) + "\n")
         for key in sorted(res):
             r = res[key]
             for i in range(len(centres)):
@@ -269,10 +283,12 @@ def write_csv(path, meta, metas, res, diags, phase_bins=0, skip_time=0.0, extra_
 
 
 def read_csv(path):
-    """DEM profiles CSV -> (key column name, {key: {column: array}})."""
+    """DEM profiles CSV -> (key column name, {key: {column: array}}); the columns of an
+    older file under the names of now (granhydro.readers.column_name: time_s -> time,
+    temperature_J_se -> temperature_se, ...)."""
     with open(path) as f:
         lines = [l for l in f if not l.startswith("#")]
-    cols = lines[0].strip().split(",")
+    cols = [column_name(c) for c in lines[0].strip().split(",")]
     a = np.array([[float(x) for x in l.split(",")] for l in lines[1:] if l.strip()])
     blocks = {}
     for k in np.unique(a[:, 0]):

@@ -99,7 +99,7 @@ def t_mask(d, a):
     """Bins where the DEM temperature is used: defined, phi >= --t-min-phi and at least
     --t-min-grains grains per snapshot (a bin holding k grains underestimates T by
     about (k - 1)/k: the fluctuation is taken about the bin's own mean velocity)."""
-    return np.isfinite(d["temperature_J"]) & (d["packing_fraction"] >= a.t_min_phi) & (d["grains_in_bin"] >= a.t_min_grains)
+    return np.isfinite(d["temperature"]) & (d["packing_fraction"] >= a.t_min_phi) & (d["grains_in_bin"] >= a.t_min_grains)
 
 
 def rel_l1(model, dem, absval=False):
@@ -139,7 +139,7 @@ def compare(a):
     keycol, dem = coarse_grain.read_csv(os.path.join(a.dem, "dem_profiles.csv"))
     if (keycol == "phase") != bool(a.phase_bins):
         raise SystemExit("compare: the DEM profiles are by %s; use %s--phase-bins" % (keycol, "" if keycol == "phase" else "no "))
-    hcol, fcol = ax + "_m", "n*u_%s_1/(m2 s)" % ax
+    hcol, fcol = ax, "number_flux_%s" % ax  # names of now also for older files (read_profiles, read_csv)
     # model blocks per key
     mk = {}
     if a.phase_bins:
@@ -169,10 +169,10 @@ def compare(a):
         r = {keycol: k,
              "D_phi": rel_l1(m["packing_fraction"], d["packing_fraction"]),
              "D_flux": rel_l1(m[fcol], d[fcol], absval=True),
-             "D_T": rel_l1(m["temperature_J"][tm], d["temperature_J"][tm]),
+             "D_T": rel_l1(m["temperature"][tm], d["temperature"][tm]),
              "noise_phi": float(np.nansum(d["packing_fraction_se"]) / np.sum(d["packing_fraction"])),
              "noise_flux": float(np.nansum(d[fcol + "_se"]) / np.sum(np.abs(d[fcol]))) if np.sum(np.abs(d[fcol])) > 0 else np.nan,
-             "noise_T": float(np.nansum(d["temperature_J_se"][tm]) / np.sum(d["temperature_J"][tm])) if tm.any() else np.nan,
+             "noise_T": float(np.nansum(d["temperature_se"][tm]) / np.sum(d["temperature"][tm])) if tm.any() else np.nan,
              "T_bins": int(tm.sum())}
         for who, prof in (("model", m), ("dem", d)):
             for fk, fv in features(prof[hcol], prof["packing_fraction"], floor, dh, a.front_threshold,
@@ -235,23 +235,24 @@ def plot(path, pairs, keycol, hcol, fcol, a_opts, sc):
     idx = np.unique(np.linspace(0, len(pairs) - 1, min(maxk, len(pairs))).round().astype(int))
     fig, axs = plt.subplots(1, 3, figsize=(14, 5), sharey=True)
     cmap = plt.get_cmap("viridis")
-    qs = [("packing_fraction", "packing fraction"), (fcol, "number flux " + fcol), ("temperature_J", "temperature [J]")]
+    qs = [("packing_fraction", "packing fraction"), (fcol, "number flux n u_%s [1/(m^2 s)]" % fcol[-1]),
+          ("temperature", "temperature [J]")]
     for n, i in enumerate(idx):
         k, m, d = pairs[i]
         c = cmap(n / max(1, len(idx) - 1))
-        lab = ("t = %.4g s" % k) if keycol == "time_s" else ("phase %.3g" % k)
+        lab = ("t = %.4g s" % k) if keycol == "time" else ("phase %.3g" % k)
         for a, (q, name) in zip(axs, qs):
             h = m[hcol] * 1e3
             a.plot(m[q], h, "-", color=c, label=lab + " granhydro")
             se = np.nan_to_num(d[q + "_se"])
             y = d[q].copy()
-            if q == "temperature_J":
+            if q == "temperature":
                 y[~t_mask(d, a_opts)] = np.nan
             a.plot(y, h, "--", color=c, label=lab + " DEM")
             a.fill_betweenx(h, y - 2 * se, y + 2 * se, color=c, alpha=0.25, lw=0)
             a.set_xlabel(name)
     axs[2].set_xscale("log")
-    axs[0].set_ylabel(hcol.replace("_m", "") + " [mm]")
+    axs[0].set_ylabel(hcol + " [mm]")
     axs[0].legend(fontsize=6)
     fig.suptitle("%s: granhydro (solid) vs DEM ensemble (dashed, band +-2 SE)" % os.path.basename(sc.path))
     fig.tight_layout()

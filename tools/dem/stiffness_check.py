@@ -37,11 +37,11 @@ from scene import AXES  # noqa: E402
 def compare_ensembles(base_csv, stiff_csv, ax):
     kc, b = coarse_grain.read_csv(base_csv)
     _, s = coarse_grain.read_csv(stiff_csv)
-    fcol = "n*u_%s_1/(m2 s)" % ax
+    fcol = "number_flux_%s" % ax  # read_csv: the names of now, also for older files
     rows = []
     for k in sorted(set(b) & set(s)):
         r = {kc: k}
-        for q, name in (("packing_fraction", "phi"), (fcol, "flux"), ("temperature_J", "T")):
+        for q, name in (("packing_fraction", "phi"), (fcol, "flux"), ("temperature", "T")):
             x, y = b[k][q], s[k][q]
             ex, ey = b[k][q + "_se"], s[k][q + "_se"]
             m = np.isfinite(x) & np.isfinite(y) & np.isfinite(ex) & np.isfinite(ey)

@@ -84,6 +84,11 @@ namespace granhydro::convection
     /// the waits for other ranks' halo values: the measured cost that 'Adaptivity/Load
     /// balance = measured cost' weighs this rank's cells with
     double busy_seconds() const { return busy_seconds_; }
+    /// seconds this rank waited for other ranks' halo stage values in apply() (the slot
+    /// exchange's finish; 0 on one rank), and in the all-reduce of each stage's
+    /// admissibility (the vote that decides the first-order fallback)
+    double halo_wait_seconds() const { return halo_wait_seconds_; }
+    double vote_seconds() const { return vote_seconds_; }
 
     /// where the last rejected SSP-RK3 step failed (this rank; empty if elsewhere)
     const std::string &failure() const { return last_failure; }
@@ -165,7 +170,7 @@ namespace granhydro::convection
     mutable Vector              flags;
     mutable std::vector<double> W, rhs0, U0;
     mutable ConvectionStatistics stats;
-    mutable double               busy_seconds_ = 0;
+    mutable double               busy_seconds_ = 0, halo_wait_seconds_ = 0, vote_seconds_ = 0;
     mutable std::string          last_failure;
   };
 } // namespace granhydro::convection

@@ -6,14 +6,25 @@
  */
 #include <granhydro/convection/convection_operator.h>
 #include <granhydro/diffusion/implicit_integrator.h>
+#include <granhydro/driver/phase_times.h>
+
+#include <vector>
+
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace granhydro
 {
   struct RunSummary
   {
     unsigned int steps = 0, rejected_steps = 0;
+    /// wall_seconds: rank 0's; convection, adaptation (indicator, p4est, transfer, tables)
+    /// and diffusion_seconds: the largest rank's (also in phases)
     double       time_si = 0, wall_seconds = 0, convection_seconds = 0;
-    double       adaptation_seconds = 0; ///< indicator, p4est, transfer, tables (max over ranks)
+    double       adaptation_seconds = 0;
+    /// where the wall time went: min, avg, max over the ranks per phase (phase_times.h)
+    std::vector<PhaseTime> phases;
     convection::ConvectionStatistics convection;
     diffusion::IntegratorStatistics  diffusion;
     double                           diffusion_seconds = 0;
@@ -41,11 +52,47 @@ namespace granhydro
     /// cell updates that ended beyond phi_c - delta (linear continuations of chi and w)
     unsigned long long continuation_cells = 0;
     double             max_temperature_repair = 0;
-    /// SSP-RK3 steps of the convective part (with the diffusion step: 2 per step with
-    /// symmetric Strang splitting, about 1 with merged; retried steps included)
+    /// SSP-RK3 steps taken by the convective part since the start of this run: 1 per step
+    /// without the diffusion step, with it 2 per step with symmetric Strang splitting,
+    /// about 1 with merged; retried steps included, and the owed half-step a stop between
+    /// output times convects for its final output
     unsigned long long convective_steps = 0;
     /// peak resident memory of the process [bytes]: the largest over the ranks, and the
     /// sum over the ranks (at the end of the run; getrusage's ru_maxrss)
     double peak_memory_max = 0, peak_memory_total = 0;
+    /// the run's segments: 1 + the restarts from a checkpoint that carried the record of
+    /// the earlier ones (a checkpoint of format v5 carries none: the counts then start at
+    /// counted_from_step, the step of that checkpoint)
+    unsigned int       segments          = 1;
+    unsigned long long counted_from_step = 0;
+    /// the total number of grains at the start of the counted run (scaled; the mass drift
+    /// is taken against it)
+    double initial_grains = 0;
+    /// the total mass [kg] and energy [J] of the final state (per m^(3 - dim) of the
+    /// unresolved extent; the last row of <base>_history.csv has the same)
+    double final_mass_si = 0, final_energy_si = 0;
   };
+
+  /// the unit factors of a run record: a run restarted with other units (another
+  /// material) converts the scaled values it carries
+  struct RecordUnits
+  {
+    double time = 1;           ///< [s] per scaled time
+    double energy = 1;         ///< [J] per scaled energy (a grain's)
+    double extent = 1;         ///< length^(dim - 3) [m^(dim - 3)]: grains or energy per m^(3 - dim)
+  };
+
+  /// the whole run so far: the record of the earlier segments combined with this
+  /// segment's figures (counts and wall times added, the extremes combined, steps and
+  /// the end-of-run figures - cells, time, mass drift, memory of this process - from now)
+  RunSummary combine_segments(const RunSummary &earlier, const RunSummary &now);
+
+  /// what a checkpoint carries of the run (io::CheckpointHeader::run_record): every
+  /// figure combine_segments() adds or combines, scaled values with the units to convert
+  std::vector<std::pair<std::string, double>> to_run_record(const RunSummary &sum, const RecordUnits &units);
+  /// the figures of a run record read back in the units `units` (keys it does not know
+  /// are ignored, a missing one keeps its default); false if the record is empty (a
+  /// checkpoint of format v5)
+  bool from_run_record(const std::vector<std::pair<std::string, double>> &record, const RecordUnits &units,
+                       RunSummary &sum);
 } // namespace granhydro

@@ -11,6 +11,8 @@
 #include <granhydro/diffusion/implicit_integrator.h>
 #include <granhydro/driver/run_summary.h>
 #include <granhydro/driver/time_loop.h>
+#include <granhydro/io/diagnostics.h>
+#include <granhydro/io/history.h>
 #include <granhydro/io/output.h>
 #include <granhydro/io/summary_csv.h>
 #include <granhydro/mesh/cartesian_patch.h>
@@ -20,6 +22,7 @@
 
 #include <cmath>
 #include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
 #include <deal.II/lac/la_parallel_vector.h>
 
 #include <functional>
@@ -157,8 +160,22 @@ namespace granhydro
     /// the progress line, at most every Output/Progress interval
     void progress_line(TimeLoopState &L, const double dt);
     /// a checkpoint (a restart starts here: the integrator forgets its history too,
-    /// unless the run was interrupted)
-    void checkpoint_now(const TimeLoopState &L);
+    /// unless the run was interrupted), carrying the record of the whole run so far
+    /// (`whole`, or computed now); with Output/Keep checkpoints > 1 also its numbered copy
+    void checkpoint_now(const TimeLoopState &L, const RunSummary *whole = nullptr);
+    /// this segment's figures so far (collective): what finish() reports, before it is
+    /// combined with the earlier segments' record (combine_segments())
+    RunSummary segment_summary(const TimeLoopState &L) const;
+    /// the unit factors of the run record
+    RecordUnits record_units() const;
+    // the history (run_history.cc)
+    /// <base>_history.csv with Output/History interval: started with the row of the
+    /// initial state (totals s0) by a fresh run, continued by a restarted one
+    void start_history(TimeLoopState &L, const bool fresh, const io::StateTotals<dim> &s0);
+    /// a row of <base>_history.csv is due after the step that ended at L.t, begun at t_before
+    bool history_due(const TimeLoopState &L, const double t_before) const;
+    /// a row of <base>_history.csv from the totals s of the state (collective through s)
+    void write_history_row(TimeLoopState &L, const io::StateTotals<dim> &s);
     /// final output and checkpoint, the run summary lines and summary.csv: at the end
     /// time, at a steady state, or (status failed/overpacking) with the last admissible
     /// state
@@ -169,6 +186,15 @@ namespace granhydro
     void print_run_summary(const RunSummary &sum) const;
     /// <base>_summary.csv in the output directory (rank 0; written to .tmp, then renamed)
     void write_summary(const RunSummary &sum, const std::string &status) const;
+    /// output->write(V, time_si, step), timed as the section "output"
+    void write_output(const Vector &V, const double time_si, const unsigned int step)
+    {
+      const dealii::TimerOutput::Scope scope(timers_, "output");
+      output->write(V, time_si, step);
+    }
+    /// the phases' wall times over the ranks into sum.phases and the *_seconds rows
+    /// (phase_times.cc; collective, after sum.wall_seconds is set)
+    void measure_phases(RunSummary &sum) const;
     /// the rows of the summary that say which run it was (also in the running summary):
     /// version, git_revision, scene, overrides, ranks, start_time
     std::vector<io::SummaryEntry> record_entries() const;
@@ -193,11 +219,13 @@ namespace granhydro
     std::unique_ptr<io::Output<dim, Description>> output;
     std::unique_ptr<diffusion::DiffusionOperator<dim>>  diff;
     std::unique_ptr<diffusion::ImplicitIntegrator<dim>> integrator;
-    double conv_seconds = 0, diff_seconds = 0, adapt_seconds = 0;
+    /// this rank's wall time in the sections convection, diffusion, adaptation and output
+    /// (no barriers: TimerOutput without a communicator); measure_phases() reduces them
+    dealii::TimerOutput timers_{pcout, dealii::TimerOutput::never, dealii::TimerOutput::wall_times};
     unsigned long long temperature_repairs = 0;
     /// cell updates that ended beyond phi_c - delta (the continuations of chi and w)
     unsigned long long continuation_cells = 0;
-    unsigned long long convective_pieces   = 0; ///< SSP-RK3 steps of the split runs
+    unsigned long long convective_pieces   = 0; ///< SSP-RK3 steps taken (convect())
     double             max_repair          = 0;
     double       owed_       = 0; ///< scaled convective time owed (merged Strang splitting)
     double       start_time_ = 0; ///< scaled
@@ -208,6 +236,16 @@ namespace granhydro
     double                    busy_at_adapt_ = 0; ///< conv->busy_seconds() at the last adaptation
     double                    fixed_cost_    = 0; ///< set_cost_per_cell()
     unsigned long long        max_cells = 0, refined_cells = 0, coarsened_cells = 0;
+    /// the record of the run's earlier segments, read from the checkpoint it restarted
+    /// from (none: no segments, counted from step 0)
+    RunSummary earlier_ = [] {
+      RunSummary none;
+      none.segments = 0;
+      return none;
+    }();
+    /// what the next checkpoint carries of the run (io::CheckpointHeader::run_record)
+    std::vector<std::pair<std::string, double>> record_;
+    std::unique_ptr<io::HistoryFile>            history_; ///< <base>_history.csv, when written
   };
 
   class RunRecords;

@@ -42,6 +42,10 @@ namespace granhydro
     /// smallest and largest step, smallest step cut short to land on an output or end time
     double min_dt = std::numeric_limits<double>::infinity(), max_dt = 0,
            min_cut_dt = std::numeric_limits<double>::infinity();
+    /// the last step taken (scaled; 0 before the first) and the step of the last row of
+    /// <base>_history.csv (-1: none yet)
+    double    last_dt      = 0;
+    long long history_step = -1;
     /// smallest convective CFL step and the time it occurred (scaled)
     double min_cfl = std::numeric_limits<double>::infinity(), min_cfl_t = 0;
   };

@@ -5,9 +5,9 @@
  * Mesh- and scene-free: the driver fills a header and each rank's rows of (lattice key,
  * values) and checks the meaning of what it reads (mesh, material, time) itself.
  *
- * Layout (format v5, little-endian, this machine's doubles): one file, one part per
+ * Layout (format v6, little-endian, this machine's doubles): one file, one part per
  * writing rank:
- *   magic "granhydro checkpoint v5\n" | CheckpointHeader | uint64 n_parts |
+ *   magic "granhydro checkpoint v6\n" | CheckpointHeader | uint64 n_parts |
  *   n_parts CheckpointPart (offset, rows, first and last key, FNV-1a checksum of the
  *   part's bytes) | uint64 FNV-1a checksum of every byte before it |
  *   part 0 | part 1 | ... (contiguous; the file ends with the last part)
@@ -17,6 +17,10 @@
  * interrupted between output times continues exactly as the uninterrupted run. Keys are
  * unique over the file; parts may interleave in key order (a rank's cells are not a
  * key range), a reader merges them.
+ * Format v6 is v5 with the run record appended to the header (CheckpointHeader::
+ * run_record: the counts of the run up to the checkpoint, summed over its segments, so
+ * that the summary of a restarted run covers the whole run). A v5 file (the header
+ * without the run record, 240 bytes) is still read, with an empty run record.
  *
  * Writing (collective): rank 0 creates <file>.tmp and writes the header and the table
  * (O(ranks) bytes, gathered from each rank's offset, row count and checksum); every rank
@@ -33,6 +37,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace granhydro::io
@@ -69,7 +74,20 @@ namespace granhydro::io
     /// scaled convective time the state still owes: with merged Strang half-steps a run
     /// interrupted between output times stops after V, before the second C(dt/2)
     double convection_owed = 0;
+    /// v6: the run record, "key value" lines of text (NUL-padded; empty in a v5 file):
+    /// what the run counted up to this checkpoint (driver/run_summary.h). Keys the reader
+    /// does not know are ignored, missing ones read as absent, so the record can grow
+    char run_record[4096] = {};
   };
+
+  /// bytes of the header of format `version` (5 or 6) in the file
+  std::size_t header_bytes(const int version);
+
+  /// the run record of the header as (key, value) pairs, in the order written
+  std::vector<std::pair<std::string, double>> run_record(const CheckpointHeader &h);
+  /// sets the header's run record (values with 17 significant digits, exact); throws
+  /// CheckpointError if it does not fit
+  void set_run_record(CheckpointHeader &h, const std::vector<std::pair<std::string, double>> &record);
 
   /// one entry of the part table
   struct CheckpointPart
@@ -104,6 +122,8 @@ namespace granhydro::io
     explicit CheckpointReader(const std::string &file);
 
     const CheckpointHeader            &header() const { return h_; }
+    /// the file's format version (5 or 6)
+    int                                version() const { return version_; }
     const std::vector<CheckpointPart> &parts() const { return parts_; }
 
     /// streams part p's rows in key order and verifies the part
@@ -115,6 +135,7 @@ namespace granhydro::io
 
   private:
     std::string                 file_;
+    int                         version_ = 6;
     CheckpointHeader            h_;
     std::vector<CheckpointPart> parts_;
   };
@@ -123,6 +144,16 @@ namespace granhydro::io
   /// not the history, not the parts): two checkpoints with the same digest hold the same
   /// state bit for bit, whatever number of ranks wrote them. Verifies every part.
   std::uint64_t state_digest(const CheckpointReader &r);
+
+  /// Output/Keep checkpoints = keep > 1, on one process after the checkpoint `file`
+  /// (<stem>.checkpoint) of step `step` is written and verified: keeps it also as
+  /// <stem>_checkpoint_<step>.checkpoint (step with at least 8 digits; a hard link, a
+  /// copy where the file system has none) and deletes the oldest of those numbered files
+  /// of steps up to `step` beyond the `keep` most recent (numbered files of later steps,
+  /// left by a run that went further before this one restarted from an earlier
+  /// checkpoint, are neither counted nor deleted). Empty, or why the copy failed (a
+  /// file that cannot be deleted is left and not reported)
+  std::string keep_recent_checkpoints(const std::string &file, const std::uint64_t step, const unsigned int keep);
 
   /// the first non-empty error of the ranks of comm (the lowest rank's), or empty: a
   /// failure on one rank stops every rank with the same message

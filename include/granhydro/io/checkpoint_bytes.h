@@ -31,10 +31,11 @@ namespace granhydro::io::checkpoint_bytes
   /// bytes of a row: the key and n_values doubles
   inline std::uint64_t row_bytes(const std::uint64_t n_values) { return 8 + 8 * n_values; }
 
-  /// bytes before the first part: magic, header, part count, table, checksum
-  inline std::uint64_t head_bytes(const std::uint64_t n_parts)
+  /// bytes before the first part: magic, header (of format version), part count, table,
+  /// checksum
+  inline std::uint64_t head_bytes(const std::uint64_t n_parts, const int version = 6)
   {
-    return checkpoint_magic().size() + sizeof(CheckpointHeader) + 8 + n_parts * sizeof(CheckpointPart) + 8;
+    return checkpoint_magic().size() + header_bytes(version) + 8 + n_parts * sizeof(CheckpointPart) + 8;
   }
 
   /// reads exactly n bytes at offset off; false on an error or a short file

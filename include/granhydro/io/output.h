@@ -2,9 +2,11 @@
 /**
  * @file output.h
  * Output for people: VTU/PVTU per output time plus a PVD series for ParaView
- * (SI fields with units in their names; at most 'Output/VTU files per output' .vtu
- * files per output time however many ranks), and profiles.csv with averages over
- * the directions other than the profile direction. Velocities are written in
+ * (SI fields under plain names, their units as VTK metadata; at most 'Output/VTU files
+ * per output' .vtu files per output time however many ranks), <base>_profiles.csv with
+ * averages over the directions other than the profile direction and (3D)
+ * <base>_cross_section.csv, whose columns have the VTU fields' names (the units:
+ * doc/user-guide.md, "Profiles and cross-sections"). Velocities are written in
  * the lab frame: for a vibrated container the frame velocity ds/dt is added.
  */
 #include <granhydro/mesh/cartesian_patch.h>

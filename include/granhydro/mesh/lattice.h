@@ -163,6 +163,26 @@ namespace granhydro
     /// the level-0 block of fine key fk
     long long block_of(const long long fk) const;
 
+    // the steps of distribute() (lattice_distribute.cc)
+    /// the rank that holds level-0 block b in the directory (blocks dealt in order)
+    int directory_rank(const long long b, const int P) const;
+    /// this rank's part of the directory: the records (block, key, first DoF, faces) of
+    /// the leaves of its blocks, sorted by (block, key), checked to tile the lattice
+    std::vector<long long> directory(const std::vector<OwnedCell> &owned, const unsigned long long n_global,
+                                     const MPI_Comm comm) const;
+    /// the blocks within reach of the owned leaves (into `blocks`), as requests to
+    /// their directory ranks
+    std::vector<std::vector<long long>> blocks_within_reach(const std::vector<OwnedCell> &owned,
+                                                            const MPI_Comm                comm);
+    /// the directory's answers to the requests: (key, first DoF, faces) of every leaf of
+    /// the requested blocks (dir and requests are released)
+    std::vector<long long> fetch_records(std::vector<long long> &dir, std::vector<std::vector<long long>> &requests,
+                                         const MPI_Comm comm) const;
+    /// the fetched leaves and the refined positions above them (first DoF -1)
+    void insert_leaves(const std::vector<long long> &got);
+    /// the dense window of levels over the fetched blocks, when it is small
+    void fill_window(const std::vector<long long> &got);
+
     std::array<unsigned int, 3> N;
     std::array<bool, 3>         periodic;
     unsigned int                m, G;

@@ -14,11 +14,11 @@ The command-line tools are the scripts in tools/ and tools/dem/ (doc/developer.m
 """
 from .output import (DEFAULT_BASE, KINDS, OutputFileError, SeveralRunsError, add_base_option,
                      base_names, base_of, find_output_file)
-from .readers import (ParameterFileError, blocks, flatten_parameters, read_checkpoint,
+from .readers import (ParameterFileError, blocks, column_name, flatten_parameters, read_checkpoint,
                       read_columns, read_cross_section, read_history, read_parameters, read_profiles,
                       read_rows, read_summary, select_time)
 
 __all__ = ["DEFAULT_BASE", "KINDS", "OutputFileError", "SeveralRunsError", "add_base_option", "base_names",
-           "base_of", "find_output_file", "ParameterFileError", "blocks", "flatten_parameters",
+           "base_of", "find_output_file", "ParameterFileError", "blocks", "column_name", "flatten_parameters",
            "read_checkpoint", "read_columns", "read_cross_section", "read_history", "read_parameters",
            "read_profiles", "read_rows", "read_summary", "select_time"]

@@ -5,7 +5,7 @@ A run writes into its Output/Directory D, under its Output/Base name B (default
 'solution'), so that several runs can share one directory:
 
     D/B.pvd, D/B_NNNN.pvtu, D/B_NNNN.*.vtu, D/B.checkpoint,
-    D/B_profiles.csv, D/B_cross_section.csv, D/B_summary.csv
+    D/B_profiles.csv, D/B_cross_section.csv, D/B_summary.csv, D/B_history.csv
 
 Older runs wrote D/profiles.csv, D/cross_section.csv and D/summary.csv (without the
 base name) and began profiles/cross-section CSVs with a '#' comment line; newer ones
@@ -21,7 +21,7 @@ The readers of the files' contents are in granhydro.readers.
 import glob
 import os
 
-KINDS = ("profiles", "cross_section", "summary")
+KINDS = ("profiles", "cross_section", "summary", "history")
 DEFAULT_BASE = "solution"
 
 
@@ -48,7 +48,8 @@ def base_names(directory, kind):
 
 
 def find_output_file(path, kind, base=None, required=True):
-    """The <kind>.csv file of a run; kind is 'profiles', 'cross_section' or 'summary'.
+    """The <kind>.csv file of a run; kind is 'profiles', 'cross_section', 'summary' or
+    'history'.
 
     PATH is the CSV file itself (returned as it is) or an output directory. In a
     directory: BASE given -> PATH/BASE_<kind>.csv; otherwise the one PATH/*_<kind>.csv

@@ -55,7 +55,7 @@ def test_missing_directory_and_bad_kind(tmp_path):
         find_output_file(str(tmp_path / "nothing"), "summary")
     assert find_output_file(str(tmp_path / "nothing"), "summary", required=False) is None
     with pytest.raises(ValueError, match="kind must be one of"):
-        find_output_file(str(tmp_path), "history")
+        find_output_file(str(tmp_path), "nonsense")
 
 
 def test_base_option():

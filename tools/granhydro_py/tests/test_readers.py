@@ -65,9 +65,9 @@ def column_field(t, x):
     return phi, (0.0, -0.1 * t), 1e-8 * (1 + x / 0.01)
 
 
-def write_column(path, comment=False):
+def write_column(path, comment=False, old=False):
     ys = [(l + 0.5) * 1e-3 for l in range(10)]
-    return sf.write_profiles(path, 2, 1, [0.0, 0.05, 0.1], ys, 1e-3, column_field, comment=comment)
+    return sf.write_profiles(path, 2, 1, [0.0, 0.05, 0.1], ys, 1e-3, column_field, comment=comment, old=old)
 
 
 def test_read_profiles(tmp_path):
@@ -77,44 +77,87 @@ def test_read_profiles(tmp_path):
     assert list(times) == [0.0, 0.05, 0.1]
     assert all(len(c) == 30 for c in columns.values())
     last = readers.select_time(columns, times[-1])
-    assert len(last["y_m"]) == 10
-    assert last["y_m"][0] == 0.0005 and last["y_m"][-1] == 0.0095
+    assert len(last["y"]) == 10
+    assert last["y"][0] == 0.0005 and last["y"][-1] == 0.0095
     phi, _, T = column_field(0.1, 0.0005)
     assert last["packing_fraction"][0] == pytest.approx(phi, rel=1e-9)
-    assert last["temperature_J"][0] == pytest.approx(T, rel=1e-9)
-    n = last["n_1/m3"]
-    assert np.allclose(last["n*u_y_1/(m2 s)"] / n, -0.01, rtol=1e-9)
-    assert np.all(last["n*u_x_1/(m2 s)"] == 0)
-    parts = sum(last[c] for c in ("kinetic_energy_density_J/m3", "thermal_energy_density_J/m3",
-                                  "contact_energy_density_J/m3"))
-    assert np.allclose(parts, last["total_energy_density_J/m3"], rtol=1e-15)
+    assert last["temperature"][0] == pytest.approx(T, rel=1e-9)
+    # T/m: both columns to 10 digits, so 1e-9 relative
+    assert np.allclose(last["granular_temperature"], last["temperature"] / sf.GRAIN_MASS, rtol=1e-9)
+    n = last["number_density"]
+    assert np.allclose(last["number_flux_y"] / n, -0.01, rtol=1e-9)
+    assert np.all(last["number_flux_x"] == 0)
+    parts = sum(last[c] for c in ("kinetic_energy_density", "thermal_energy_density", "contact_energy_density"))
+    assert np.allclose(parts, last["total_energy_density"], rtol=1e-15)
     by_time = readers.blocks(columns, times)
     assert list(by_time) == [0.0, 0.05, 0.1]
     assert np.array_equal(by_time[0.1]["packing_fraction"], last["packing_fraction"])
 
 
 def test_read_profiles_of_an_older_run(tmp_path):
-    """profiles.csv without the base name, beginning with a '#' line"""
-    write_column(str(tmp_path / "profiles.csv"), comment=True)
+    """profiles.csv without the base name, beginning with a '#' line, old column names"""
+    write_column(str(tmp_path / "profiles.csv"), comment=True, old=True)
     columns, times = readers.read_profiles(str(tmp_path), base="solution")
-    assert len(times) == 3 and len(columns["time_s"]) == 30
+    assert len(times) == 3 and len(columns["time"]) == 30
+
+
+def test_old_and_new_column_names_read_alike(tmp_path):
+    """the same profiles and cross section written with the names of older runs (units in
+    the names) and of now: read_profiles and read_cross_section give the same columns
+    with the same values; the old files lack only granular_temperature"""
+    old, new = write_column(str(tmp_path / "old_profiles.csv"), old=True), write_column(str(tmp_path / "new_profiles.csv"))
+    assert open(old).readline().startswith("time_s,y_m,n_1/m3,n*u_x_1/(m2 s),")
+    (co, to), (cn, tn) = readers.read_profiles(old), readers.read_profiles(new)
+    assert list(to) == list(tn)
+    assert list(co) == [c for c in cn if c != "granular_temperature"]
+    assert list(co) == ["time", "y", "number_density", "number_flux_x", "number_flux_y", "total_energy_density",
+                        "packing_fraction", "temperature", "kinetic_energy_density", "thermal_energy_density",
+                        "contact_energy_density"]
+    for name in co:
+        assert np.array_equal(co[name], cn[name]), name  # the same digits in both files
+    ys, zs = [0.5e-3, 1.5e-3], [1e-3, 3e-3, 5e-3]
+
+    def field(t, y, z):
+        return 0.3, t * z, 1e-9
+
+    xo = sf.write_cross_section(str(tmp_path / "old_cross_section.csv"), [0.0, 0.5], ys, zs, field, old=True)
+    xn = sf.write_cross_section(str(tmp_path / "new_cross_section.csv"), [0.0, 0.5], ys, zs, field)
+    (co, _), (cn, _) = readers.read_cross_section(xo), readers.read_cross_section(xn)
+    assert list(co) == [c for c in cn if c != "granular_temperature"]
+    assert list(co)[:7] == ["time", "y", "z", "number_density", "velocity_x", "velocity_y", "velocity_z"]
+    for name in co:
+        assert np.array_equal(co[name], cn[name]), name
+
+
+def test_column_names_of_older_runs():
+    old = ["time_s", "z_m", "n_1/m3", "n*u_z_1/(m2 s)", "u_y_m/s", "temperature_J", "n*E_J/m3",
+           "contact_energy_density_J/m3", "packing_fraction", "n_1/m3_se", "temperature_x_J_se", "phase"]
+    assert [readers.column_name(c) for c in old] == [
+        "time", "z", "number_density", "number_flux_z", "velocity_y", "temperature", "total_energy_density",
+        "contact_energy_density", "packing_fraction", "number_density_se", "temperature_x_se", "phase"]
+    # the names of now are kept, and every one is a Python identifier (numpy's and pandas'
+    # attribute access, ParaView's Calculator)
+    new = sf.profiles_header(3, 2).split(",") + sf.cross_section_header().split(",")
+    assert all(readers.column_name(c) == c and c.isidentifier() for c in new)
 
 
 def test_read_profiles_of_the_committed_run():
+    """doc/validation keeps profiles.csv of an older run (names with units): read with the
+    names of now"""
     columns, times = readers.read_profiles(os.path.join(VALIDATION, "sedimentation_column", "granhydro"))
     assert len(times) == 21 and times[0] == 0 and times[-1] == pytest.approx(0.2)
     first, last = readers.select_time(columns, times[0]), readers.select_time(columns, times[-1])
-    assert len(first["x_m"]) == len(last["x_m"]) == 100
+    assert len(first["x"]) == len(last["x"]) == 100
     assert first["packing_fraction"][0] == 0.1
     assert 0.62 < last["packing_fraction"][0] < 0.63  # the pile at the floor
     # a closed column: the mean number density (the grains) is kept to the 10 digits
-    assert last["n_1/m3"].mean() == pytest.approx(first["n_1/m3"].mean(), rel=1e-9)
+    assert last["number_density"].mean() == pytest.approx(first["number_density"].mean(), rel=1e-9)
 
 
 def test_read_columns_refuses_what_is_not_a_table(tmp_path):
     p = tmp_path / "x_summary.csv"
     p.write_text("key,value\nstatus,completed\n")
-    with pytest.raises(ValueError, match="not time_s"):
+    with pytest.raises(ValueError, match="not time or time_s"):
         readers.read_columns(str(p))
     q = tmp_path / "cut_profiles.csv"
     q.write_text("time_s,x_m,n_1/m3\n0,0.5,1\n0,1.5\n")  # a run killed while writing
@@ -138,23 +181,42 @@ def test_read_cross_section(tmp_path):
     columns, times = readers.read_cross_section(str(tmp_path), base="chute")
     assert list(times) == [0.0, 0.5]
     d = readers.select_time(columns, 0.5)
-    assert len(d["y_m"]) == 12
-    ux = d["u_x_m/s"].reshape(len(zs), len(ys))  # y fastest
+    assert len(d["y"]) == 12
+    ux = d["velocity_x"].reshape(len(zs), len(ys))  # y fastest
     assert ux[2, 3] == pytest.approx(field(0.5, ys[3], zs[2])[1], rel=1e-9)
     assert d["packing_fraction"].reshape(3, 4)[:, 0] == pytest.approx([0.49, 0.47, 0.45], rel=1e-9)
 
 
 def test_read_history(tmp_path):
-    p = tmp_path / "solution_history.csv"
-    p.write_text("time_s,mass_kg,kinetic_energy_J\n0,1.5e-3,0\n0.01,1.5e-3,2.5e-6\n0.02,1.5e-3,1e-5\n")
-    h = readers.read_history(str(p))
-    assert list(h) == ["time_s", "mass_kg", "kinetic_energy_J"]
-    assert list(h["time_s"]) == [0, 0.01, 0.02]
-    assert h["kinetic_energy_J"][2] == 1e-5
+    """a history as the solver writes it (source/driver/time_loop.cc: 17 digits, the
+    integrator as a word, nan for the ideal gas's packing fraction), found in its folder"""
+    header = sf.history_columns(2)
+    rows = [[0.0, 0.0, 0, 1.5e-3, 0.0, -2.5e-7, 0.0, 1e-9, 0.0, 1e-9, 0.05, 0.01, float("nan"), 1e-9, 0.0,
+             0, "none", 0, 0, 0, 0, 0, 0, 0],
+            [0.01, 1e-3, 10, 1.5e-3, 0.0, -2.5e-6, 2.5e-6, 1e-9, 0.0, 2.5e-6 + 1e-9, 0.05, 0.0099999999999999985,
+             float("nan"), 1e-9, 0.25, 2, "none", 10, 0, 0, 0, 0, 0, 0]]
+    p = sf.write_history(str(tmp_path / "solution_history.csv"), header, rows)
+    h = readers.read_history(str(tmp_path))
+    assert list(h) == header
+    assert list(h["time"]) == [0, 0.01]
+    assert list(h["step"]) == [0, 10]
+    assert h["centre_of_mass_y"][1] == 0.0099999999999999985  # 17 digits read back exactly
+    assert list(h["integrator"]) == ["none", "none"]
+    assert all(h["max_packing_fraction"] != h["max_packing_fraction"])  # nan
+    assert h["total_energy"][1] == 2.5e-6 + 1e-9
+    assert readers.read_history(p)["rejected_steps"][1] == 2
     q = tmp_path / "bad_history.csv"
-    q.write_text("step,mass_kg\n0,1\n")
-    with pytest.raises(ValueError, match="not time_s"):
+    q.write_text("step,mass\n0,1\n")
+    with pytest.raises(ValueError, match="not time or time"):
         readers.read_history(str(q))
+    r = tmp_path / "short_history.csv"
+    r.write_text("time,mass\n0\n")
+    with pytest.raises(ValueError, match="has 1 values"):
+        readers.read_history(str(r))
+    w = tmp_path / "word_history.csv"
+    w.write_text("time,mass\n0,heavy\n")
+    with pytest.raises(ValueError, match="column mass"):
+        readers.read_history(str(w))
 
 
 # ---------------------------------------------------------------- parameter files
@@ -255,6 +317,7 @@ def test_read_checkpoint(tmp_path):
                             [rank0, rank1], nc, history=True)
     c = readers.read_checkpoint(p)
     assert readers.CHECKPOINT_HEADER.size == 240  # include/granhydro/io/checkpoint.h
+    assert c["version"] == 6 and c["run_record"] == {} and c["step"] == 17
     assert c["dim"] == 2 and tuple(c["cells"]) == (5, 1, 1)
     assert (c["length"], c["mass"], c["velocity"], c["time_scaled"]) == (1e-3, 2e-6, 0.1, 12.5)
     assert list(c["key"]) == [8, 16, 24, 32, 40]
@@ -263,8 +326,53 @@ def test_read_checkpoint(tmp_path):
     assert list(c["U"][:, 2]) == [16.0, 32.0, 48.0, 64.0, 80.0]
 
 
+def test_read_checkpoint_run_record_and_v5(tmp_path):
+    """format v6 carries the run record; format v5 (no record) is still read"""
+    rows = [(k, [1.0 + k, 0.5, 2.0]) for k in (8, 16)]
+    record = {"segments": 2.0, "rejected_steps": 3.0, "wall_seconds": 0.125}
+    p = sf.write_checkpoint(str(tmp_path / "a.checkpoint"), 1, (2, 1, 1), (1e-3, 2e-6, 0.1), 1.5,
+                            [rows], 3, record=record)
+    c = readers.read_checkpoint(p)
+    assert c["version"] == 6 and c["run_record"] == record
+    q = sf.write_checkpoint(str(tmp_path / "b.checkpoint"), 1, (2, 1, 1), (1e-3, 2e-6, 0.1), 1.5,
+                            [rows], 3, version=5)
+    d = readers.read_checkpoint(q)
+    assert d["version"] == 5 and d["run_record"] == {}
+    assert list(d["U"][:, 0]) == list(c["U"][:, 0]) == [9.0, 17.0]
+
+
 def test_read_checkpoint_refuses_another_format(tmp_path):
     p = tmp_path / "old.checkpoint"
     p.write_bytes(b"granhydro checkpoint v4\n" + bytes(300))
     with pytest.raises(ValueError, match="not a granhydro checkpoint"):
         readers.read_checkpoint(str(p))
+
+
+# ---------------------------------------------------------------- DEM profiles (tools/dem)
+def test_dem_profiles_of_an_older_version_and_of_now(tmp_path):
+    """tools/dem/coarse_grain.py: the committed DEM profiles (doc/validation, names with
+    units) read under the names coarse_grain.write_csv writes now, and a file with those
+    names reads back the same"""
+    import sys
+    from conftest import TOOLS
+    sys.path.insert(0, os.path.join(TOOLS, "dem"))
+    import coarse_grain
+    old = os.path.join(VALIDATION, "sedimentation_column", "dem", "dem_profiles.csv")
+    keycol, dem = coarse_grain.read_csv(old)
+    assert keycol == "time"
+    header = [l for l in open(old) if not l.startswith("#")][0].strip().split(",")
+    assert header[:3] == ["time_s", "x_m", "seeds"] and "n*u_x_1/(m2 s)_se" in header
+    first = dem[min(dem)]
+    assert list(first) == coarse_grain.csv_columns("x")
+    # the same numbers under the names of now
+    new = tmp_path / "dem_profiles.csv"
+    with open(old) as f, open(new, "w") as g:
+        lines = [l for l in f if not l.startswith("#")]
+        g.write(",".join(coarse_grain.csv_columns("x")) + "\n" + "".join(lines[1:]))
+    keycol_new, dem_new = coarse_grain.read_csv(str(new))
+    assert keycol_new == "time" and list(dem_new) == list(dem)
+    for k in dem:
+        for c in first:
+            assert np.array_equal(dem[k][c], dem_new[k][c], equal_nan=True), (k, c)
+    _, phased = coarse_grain.read_csv(os.path.join(VALIDATION, "bouncing_bed", "dem", "dem_profiles.csv"))
+    assert list(phased[min(phased)]) == coarse_grain.csv_columns("y", phase_bins=8)
