@@ -18,7 +18,9 @@ OLD=$(cd "$1" && pwd); ROUNDS=${2:-3}
 REPO=$(cd "$(dirname "$0")/.." && pwd); NEW=$REPO/build/granhydro
 OUT=$PWD/bench-diffusion; mkdir -p $OUT; cd $OUT
 mk() { # scene-file tag diffusion-step-lines
-  cat "$1" > $2.prm
+  # the scene included, the changes after it (a scene file sets each parameter once; it may
+  # override what it includes)
+  printf "include %s\n" "$1" > $2.prm
   printf "subsection Output\n  set Directory = $OUT/out-$2\n  set Write VTU = false\nend\nsubsection Diffusion step\n$3\nend\n" >> $2.prm
 }
 summary_csv() { # the summary of the run in directory $1: <Base name>_summary.csv, or summary.csv (older builds)

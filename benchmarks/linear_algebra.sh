@@ -20,7 +20,9 @@ ROUNDS=${1:-3}; MSTEPS=${2:-2}
 REPO=$(cd "$(dirname "$0")/.." && pwd); BIN=$REPO/build/granhydro
 OUT=$PWD/bench-linear-algebra; mkdir -p $OUT; cd $OUT
 mk() { # scene-file tag integrator preconditioner [extra lines]
-  cat "$1" > $2.prm
+  # the scene included, the changes after it (a scene file sets each parameter once; it may
+  # override what it includes)
+  printf "include %s\n" "$1" > $2.prm
   printf "subsection Output\n  set Directory = $OUT/out-$2\n  set Write VTU = false\nend\n" >> $2.prm
   printf "subsection Diffusion step\n  set Integrator = $3\n  set Preconditioner = $4\nend\n$5" >> $2.prm
 }

@@ -17,7 +17,9 @@ OLD=$(cd "$1" && pwd); ROUNDS=${2:-3}
 REPO=$(cd "$(dirname "$0")/.." && pwd); NEW=$REPO/build/granhydro
 OUT=$PWD/bench-splitting; mkdir -p $OUT; cd $OUT
 mk() { # scene-file tag extra-lines
-  cat "$1" > $2.prm
+  # the scene included, the changes after it (a scene file sets each parameter once; it may
+  # override what it includes)
+  printf "include %s\n" "$1" > $2.prm
   printf "subsection Output\n  set Directory = $OUT/out-$2\n  set Write VTU = false\nend\n$3\n" >> $2.prm
 }
 SCENES="bb:$REPO/parameters/bouncing_bed-ci.prm:1e-4 bed1d:$REPO/parameters/vibrated_bed_1d.prm:4e-5 hv:$REPO/parameters/hard/harsh_vibration-ci.prm:4e-5 sed:$REPO/parameters/sedimentation.prm:0"

@@ -30,6 +30,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -37,13 +38,32 @@
 
 namespace
 {
+  /// bytes this node can give the run: MemAvailable of /proc/meminfo (what the kernel can
+  /// hand out without swapping), else the physical memory
+  double available_memory()
+  {
+    std::ifstream in("/proc/meminfo");
+    for (std::string key; in >> key;)
+      {
+        double kib = 0;
+        if (key == "MemAvailable:" && in >> kib && kib > 0)
+          return kib * 1024.;
+        in.ignore(1 << 10, '\n');
+      }
+    return double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+  }
+
   /// Refuses, before any allocation, a scene whose state and operators cannot fit in the
-  /// memory of the ranks it runs on (each rank assumed to have this machine's memory).
-  /// Per cell, measured on this code (peak resident set over cells, large meshes):
+  /// memory of the ranks it runs on. Per cell, measured on this code (peak resident set
+  /// over cells, large meshes; the implicit step's block matrix and its ILU included):
   /// convection alone ~2.3 KiB, with the diffusion step ~6.3 KiB (block ILU, one stage),
-  /// ~13 KiB with Gauss-Legendre's two coupled stages. (No rank holds a map of the whole
-  /// fine lattice: each knows the leaves near its own, see mesh/lattice.h.)
-  void check_memory(const granhydro::Scene &s, const unsigned int ranks)
+  /// ~13 KiB with Gauss-Legendre's two coupled stages. Counted: the most cells the run can
+  /// have (an adaptive mesh refined everywhere to 'Adaptivity/Maximum level', a mesh file
+  /// after its refinements), each rank's share plus its halo (the ghost layers around a
+  /// compact part of that share), and every rank on this node (MPI_COMM_TYPE_SHARED)
+  /// against this node's available memory. (No rank holds a map of the whole fine lattice:
+  /// each knows the leaves near its own, see mesh/lattice.h.)
+  void check_memory(const granhydro::Scene &s, const MPI_Comm comm)
   {
     double cells = 1;
     if (!s.mesh_file.empty())
@@ -57,25 +77,77 @@ namespace
         {
           cells *= s.cells[d];
         }
+    const double coarse = cells;
+    cells *= std::ldexp(1., int(s.dimension * s.max_level));
+    const double ranks    = dealii::Utilities::MPI::n_mpi_processes(comm);
+    const double share    = std::ceil(cells / ranks);
+    // the halo: ghost width (WENO5 3, MUSCL/WENO3 2, first order 1) plus the gradient's layer
+    const double layers   = s.reconstruction == granhydro::ReconstructionType::weno5       ? 4 :
+                            s.reconstruction == granhydro::ReconstructionType::first_order ? 2 :
+                                                                                              3;
+    const double halo     = ranks > 1 ? std::min(cells - share, 2. * s.dimension * layers *
+                                                                 std::pow(share, (s.dimension - 1.) / s.dimension)) :
+                                        0.;
     const double per_cell = !s.diffusion_active()                ? 2.3 * 1024 :
                             s.integrator == "gauss-legendre" ? 13.1 * 1024 :
                                                                   6.3 * 1024;
-    const double need     = cells * per_cell;
-    const double have     = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE)) * ranks;
-    if (need > have)
+    const double per_rank = 64. * 1048576.; // the process itself (MPI, deal.II, p4est)
+    MPI_Comm node;
+    MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
+    const double on_node = dealii::Utilities::MPI::n_mpi_processes(node);
+    MPI_Comm_free(&node);
+    const double need = on_node * ((share + halo) * per_cell + per_rank);
+    const double have = available_memory();
+    // one answer on every rank (the nodes' available memory differs)
+    if (dealii::Utilities::MPI::max(need > have ? 1 : 0, comm) == 0)
+      return;
+    // the numbers of the node that lacks the most (rank 0's if all do)
+    std::ostringstream os;
+    os.precision(3);
+    os << "in " << s.source << ": parameter '"
+       << (!s.mesh_file.empty() ? "Domain/Mesh refinements" :
+           s.max_level > 0      ? "Adaptivity/Maximum level" :
+                                  "Domain/Cells")
+       << "': the run would need about " << need / 1073741824. << " GiB on this node, more than "
+       << "its " << have / 1073741824. << " GiB of available memory: up to " << cells << " cells";
+    if (s.max_level > 0)
+      os << " (" << coarse << " cells of 'Domain/Cells' refined " << s.max_level
+         << " levels everywhere, which 'Adaptivity/Maximum level' allows)";
+    os << " at ~" << per_cell / 1024 << " KiB each"
+       << (s.diffusion_active() ? " (with the implicit step's matrix)" : "") << ", "
+       << share << " per rank";
+    if (halo > 0)
+      os << " plus about " << std::round(halo) << " halo cells";
+    os << ", " << on_node << " rank(s) on this node; use fewer cells"
+       << (s.max_level > 0 ? " or a lower 'Adaptivity/Maximum level'" : "")
+       << ", or more nodes";
+    throw granhydro::SceneError(os.str());
+  }
+
+  /// a summary that still says "status,running" after the run stopped with exit 3 (a write
+  /// failed before the final summary) gets `status`; rewritten in place: it only shrinks,
+  /// so a full disk does not stop it
+  void settle_running_summary(const std::string &file, const std::string &status)
+  {
+    std::FILE *f = std::fopen(file.c_str(), "r+");
+    if (!f)
+      return;
+    std::string text;
+    char        buf[4096];
+    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, f)) > 0;)
+      text.append(buf, n);
+    // the line "status,running" (after the header line "key,value")
+    const std::string running = "\nstatus,running\n";
+    const auto        at      = text.find(running);
+    if (at != std::string::npos && status.size() + 9 <= running.size())
       {
-        std::ostringstream os;
-        os.precision(3);
-        os << "in " << s.source << ": parameter '"
-           << (!s.mesh_file.empty() ? "Domain/Mesh refinements" :
-               s.max_level > 0      ? "Adaptivity/Maximum level" :
-                                      "Domain/Cells")
-           << "': the run would need about " << need / 1073741824. << " GiB (" << cells
-           << " cells at ~" << per_cell / 1024 << " KiB each), more than the "
-           << have / 1073741824. << " GiB of " << ranks
-           << " rank(s) with this machine's memory; use fewer cells or more ranks";
-        throw granhydro::SceneError(os.str());
+        text = text.substr(0, at) + "\nstatus," + status + "\n" + text.substr(at + running.size());
+        std::rewind(f);
+        if (std::fwrite(text.data(), 1, text.size(), f) == text.size() && std::fflush(f) == 0)
+          if (::ftruncate(fileno(f), off_t(text.size())) != 0)
+            std::rewind(f); // the old tail stays after the new text: still one status line
       }
+    std::fclose(f);
   }
 
   void print_usage()
@@ -241,11 +313,14 @@ int main(int argc, char **argv)
   // the run's records (<base>_parameters.prm, <base>.log), once the scene is read: the
   // messages of a run that stops go into its log too
   std::unique_ptr<granhydro::RunRecords> records;
-  const auto stopped = [&](const std::string &what) {
+  std::string                            summary_file; // once the run has started one
+  const auto stopped = [&](const std::string &what, const std::string &status) {
     if (root)
       std::cerr << "granhydro: run stopped: " << what << std::endl;
     if (records)
       records->note("granhydro: run stopped: " + what);
+    if (root && !summary_file.empty())
+      settle_running_summary(summary_file, status);
     return 3;
   };
   try
@@ -260,7 +335,7 @@ int main(int argc, char **argv)
         }
       const std::string resume_note = resume ? resume_from_own_checkpoint(file, overrides, comm) : "";
       const granhydro::Scene scene = granhydro::read_scene(file, overrides);
-      check_memory(scene, dealii::Utilities::MPI::n_mpi_processes(comm));
+      check_memory(scene, comm);
       if (check_only)
         {
           if (root)
@@ -272,6 +347,8 @@ int main(int argc, char **argv)
       std::signal(SIGXFSZ, SIG_IGN);
       granhydro::install_stop_signal_handlers();
       records = std::make_unique<granhydro::RunRecords>(scene, comm, std::cout);
+      if (scene.write_summary)
+        summary_file = scene.output_file("_summary.csv");
       if (!resume_note.empty() && root)
         records->log() << resume_note << "\n";
       return granhydro::run_scene(scene, comm, *records);
@@ -286,11 +363,11 @@ int main(int argc, char **argv)
     }
   catch (const granhydro::io::OutputError &e)
     {
-      return stopped(e.what());
+      return stopped(e.what(), "failed");
     }
   catch (const granhydro::RunError &e)
     {
-      return stopped(e.what());
+      return stopped(e.what(), "failed");
     }
   catch (const std::exception &e)
     {

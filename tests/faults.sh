@@ -76,8 +76,17 @@ disk_full)
   crashed inj.log && { cat inj.log; fail "crash text"; }
   "$exe" --checkpoint-info inj/solution.checkpoint > info.txt || { cat info.txt; fail "the checkpoint left in place does not verify"; }
   ls inj/*.tmp > /dev/null 2>&1 && fail "a .tmp file was left behind"
-  [ "$(status inj/solution_summary.csv)" != "completed" ] || fail "summary says completed"
+  # a run stopped with exit 3 before its final summary says so (it stayed "running")
+  [ "$(status inj/solution_summary.csv)" = "failed" ] || fail "summary status '$(status inj/solution_summary.csv)', expected failed"
+  grep -q "the previous checkpoint 'inj/solution.checkpoint' is kept" inj.log || { cat inj.log; fail "the message does not say the previous checkpoint is kept"; }
   echo "injected failure: exit 3, checkpoint kept: $(grep ' step ' info.txt)"
+  # the first checkpoint write fails: there is no previous checkpoint to keep, and the
+  # message must not claim one (it said "the previous checkpoint is kept")
+  GRANHYDRO_FAIL_CHECKPOINT_WRITE=1 run -p "Output/Directory=inj1" "$scene" > inj1.log 2>&1
+  rc=$?
+  [ $rc -eq 3 ] || { cat inj1.log; fail "injected ENOSPC at the first checkpoint: exit $rc, expected 3"; }
+  grep -q "there is no previous checkpoint" inj1.log || { cat inj1.log; fail "the first failed checkpoint write claims a previous one"; }
+  [ "$(status inj1/solution_summary.csv)" = "failed" ] || fail "summary status '$(status inj1/solution_summary.csv)', expected failed"
   # a real write limit from the OS (FAULTS_NO_ULIMIT=1 skips it: with several ranks on one
   # node, Open MPI's shared-memory segments themselves exceed the limit in MPI_Init)
   if [ -z "${FAULTS_NO_ULIMIT:-}" ]; then
@@ -86,8 +95,9 @@ disk_full)
     [ $rc -eq 3 ] || { cat lim.log; fail "file size limit: exit $rc, expected 3"; }
     crashed lim.log && { cat lim.log; fail "crash text"; }
     if [ -f lim/solution_summary.csv ]; then
-      [ "$(status lim/solution_summary.csv)" != "completed" ] || fail "summary says completed"
+      [ "$(status lim/solution_summary.csv)" = "failed" ] || fail "summary status '$(status lim/solution_summary.csv)', expected failed"
     fi
+    grep -q "An input/output error has occurred" lim.log && { cat lim.log; fail "deal.II's generic ExcIO text instead of the OS reason"; }
     if [ -f lim/solution.checkpoint ]; then
       "$exe" --checkpoint-info lim/solution.checkpoint > /dev/null || fail "file size limit left an invalid checkpoint"
     fi
@@ -148,6 +158,8 @@ b = bytearray(src); struct.pack_into('<d', b, first_value, -1.0); sign(b, 'negat
 b = bytearray(src); struct.pack_into('<d', b, off_time, -1e300); sign(b, 'time_negative.ck')
 b = bytearray(src); struct.pack_into('<d', b, off_time, 1e300); sign(b, 'time_future.ck')
 b = bytearray(src); struct.pack_into('<Q', b, off_ncells, 1 << 40); sign(b, 'cells_huge.ck')
+# an unknown material model behind valid checksums (--checkpoint-info reported it valid)
+b = bytearray(src); b[magic + 136:magic + 152] = b'foo'.ljust(16, b'\0'); sign(b, 'model_unknown.ck')
 # the run record (format v6) without its terminating NUL
 b = bytearray(src); b[magic + 240:magic + hdr] = b'x' * (hdr - 240); sign(b, 'run_record.ck')
 # a cell in two parts (with two or more parts): one part's last key replaced by another
@@ -167,7 +179,7 @@ sign(src, 'resigned.ck')
 EOF2
   cmp -s resigned.ck $g || fail "re-signing the unmodified checkpoint changed it (test offsets wrong)"
   kinds="truncated flip_header flip_table flip_value appended empty text old_format old_format_v4 nan_value
-         negative_density time_negative time_future cells_huge run_record"
+         negative_density time_negative time_future cells_huge model_unknown run_record"
   [ -f duplicate_key.ck ] && kinds="$kinds duplicate_key"
   kinds=${FAULTS_KINDS:-$kinds} # a subset (the multi-rank ctest)
   for f in $kinds; do
@@ -189,6 +201,22 @@ EOF2
     done
     echo "$f: refused: $(grep -o "Checkpoint.*" $f.log | head -1 | cut -c1-150)"
   done
+  "$exe" --checkpoint-info model_unknown.ck > info_model.txt 2>&1 && { cat info_model.txt; fail "--checkpoint-info accepts an unknown model"; }
+  grep -q "unknown material model 'foo'" info_model.txt || { cat info_model.txt; fail "--checkpoint-info does not name the unknown model"; }
+  # a valid checkpoint of another mesh: --check refuses it as the run does (it passed --check)
+  run -p "Output/Directory=other" -p "Time/End time=0.05" -p "Domain/Cells=30" "$scene" > other.log 2>&1 || { cat other.log; fail "run with 30 cells"; }
+  for how in --check run; do
+    rm -rf out_other; mkdir out_other
+    if [ $how = --check ]; then
+      run --check -p "Output/Directory=out_other" -p "Initial state/Checkpoint=other/solution.checkpoint" "$scene" > foreign.log 2>&1
+    else
+      run -p "Output/Directory=out_other" -p "Initial state/Checkpoint=other/solution.checkpoint" "$scene" > foreign.log 2>&1
+    fi
+    rc=$?
+    [ $rc -eq 2 ] || { cat foreign.log; fail "checkpoint of another mesh ($how): exit $rc, expected 2"; }
+    grep -q "Initial state/Checkpoint.*another mesh" foreign.log || { cat foreign.log; fail "checkpoint of another mesh ($how): message"; }
+  done
+  echo "checkpoint of another mesh: refused by --check and the run: $(grep -o "another mesh.*" foreign.log | head -1)"
   ;;
 *) fail "unknown mode '$mode' (sigterm, disk_full, corrupt)";;
 esac

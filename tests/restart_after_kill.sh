@@ -17,17 +17,16 @@ exe=$1; scene=$2; work=$3; shift 3
 launcher=("$@")
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
 
-cat "$scene" > full.prm
-printf 'subsection Output\n  set Directory = full\n  set Write VTU = false\nend\n' >> full.prm
-"${launcher[@]}" "$exe" full.prm > full.log 2>&1 || { echo "uninterrupted run failed"; cat full.log; exit 1; }
+# the scene's output folder and VTU switch overridden with -p (a scene sets each
+# parameter once: an appended second 'subsection Output' with another value is refused)
+cp "$scene" scene.prm
+"${launcher[@]}" "$exe" -p "Output/Directory=full" -p "Output/Write VTU=false" scene.prm > full.log 2>&1 || { echo "uninterrupted run failed"; cat full.log; exit 1; }
 
-cat "$scene" > killed.prm
-printf 'subsection Output\n  set Directory = killed\n  set Write VTU = false\nend\n' >> killed.prm
 # own session/process group, so SIGKILL reaches mpirun and every rank. The test hook
 # GRANHYDRO_HOLD_AFTER_CHECKPOINT=2 makes the run wait after its second checkpoint (the
 # first is the initial state) until it is killed: the kill lands mid-run at a known
 # checkpoint however fast or loaded the machine is.
-GRANHYDRO_HOLD_AFTER_CHECKPOINT=2 setsid "${launcher[@]}" "$exe" killed.prm > killed.log 2>&1 &
+GRANHYDRO_HOLD_AFTER_CHECKPOINT=2 setsid "${launcher[@]}" "$exe" -p "Output/Directory=killed" -p "Output/Write VTU=false" scene.prm > killed.log 2>&1 &
 pid=$!
 ck=killed/solution.checkpoint
 for i in $(seq 1 3000); do
@@ -43,10 +42,8 @@ wait $pid 2>/dev/null
 echo "killed the run (SIGKILL) after its second checkpoint"
 cp "$ck" killed.checkpoint
 
-cat "$scene" > restart.prm
-printf 'subsection Output\n  set Directory = killed\n  set Write VTU = false\nend\n' >> restart.prm
-printf 'subsection Initial state\n  set Checkpoint = killed.checkpoint\nend\n' >> restart.prm
-"${launcher[@]}" "$exe" restart.prm > restart.log 2>&1 || { echo "restart failed"; cat restart.log; exit 1; }
+"${launcher[@]}" "$exe" -p "Output/Directory=killed" -p "Output/Write VTU=false" \
+  -p "Initial state/Checkpoint=$PWD/killed.checkpoint" scene.prm > restart.log 2>&1 || { echo "restart failed"; cat restart.log; exit 1; }
 grep "initial state: checkpoint" restart.log
 grep "run summary" full.log restart.log
 parts=$("$exe" --checkpoint-info full/solution.checkpoint | sed -n 's/^ *parts \([0-9]*\).*/\1/p')

@@ -71,6 +71,14 @@ add_test(NAME mpi.restart_after_kill_2ranks
           ${DEAL_II_MPIEXEC} -n 2)
 set_tests_properties(verify.restart_after_kill PROPERTIES LABELS verify TIMEOUT 300)
 set_tests_properties(mpi.restart_after_kill_2ranks PROPERTIES LABELS mpi TIMEOUT 300 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)
+# the run summary does not depend on the partition: a 2D granular gas with all effects on 1,
+# 2, 3 and 5 ranks (oversubscribed) gives byte-identical summaries apart from the named
+# machine and partition entries (times, memory, rank count; tests/summary_ranks.sh)
+add_test(NAME mpi.summary_ranks
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/summary_ranks.sh $<TARGET_FILE:granhydro>
+          ${CMAKE_CURRENT_SOURCE_DIR}/data/summary_granular_2d.prm ${CMAKE_CURRENT_BINARY_DIR}/summary_ranks
+          ${DEAL_II_MPIEXEC} 1 2 3 5)
+set_tests_properties(mpi.summary_ranks PROPERTIES LABELS mpi TIMEOUT 300 ENVIRONMENT "${MPIEXEC_ENV}" PROCESSORS 2)
 # meshes from files (tests/test_mesh_files.cc): a box read from gmsh/ucd files is bitwise the
 # generated box (1 and 2 ranks); the silo closed conserves mass; silo-ci discharges
 granhydro_test_executable(test_mesh_files test_mesh_files.cc)

@@ -209,7 +209,7 @@ MACHINE_MEM_BYTES = 20e9
 
 CLASSES = ['numeric', 'list', 'selection', 'valid-alt', 'unknown-param', 'unknown-subsection',
            'structure', 'truncate', 'garbage', 'long-line', 'include', 'expression', 'boundary',
-           'mesh', 'path']
+           'mesh', 'path', 'admission']
 # share of the per-scene budget of each class
 WEIGHTS = {'numeric': 14, 'list': 4, 'selection': 3, 'valid-alt': 4, 'unknown-param': 3,
            'unknown-subsection': 2, 'structure': 3, 'truncate': 2, 'garbage': 3, 'long-line': 2,
@@ -540,8 +540,8 @@ def validate(sc: Scene):
                 bad('Material/Grain diameter', f'grain mass {m:g} under/overflows')
     if rho is not None and rho <= 0:
         bad('Material/Material density', 'density must be positive')
-    elif rho is not None and (rho < 1e-100 or rho > 1e100):
-        dub('Material/Material density', 'absurd density')
+    elif rho is not None and not (1e-3 <= rho <= 1e6):
+        bad('Material/Material density', 'density outside 1e-3 .. 1e6 kg/m^3')
     # material (granular)
     phic = vals.get('Material/Close packing fraction')
     guard = vals.get('Material/Close packing guard')
@@ -745,8 +745,8 @@ def validate(sc: Scene):
             bad('Effects/Gravity', 'fewer entries than dimensions')
         if not gran and any(x != 0 for x in g):
             bad('Effects/Gravity', 'ideal gas has no body force')
-        if any(abs(x) > 1e100 for x in g):
-            dub('Effects/Gravity', 'absurd gravity')
+        if math.sqrt(sum(x * x for x in g if math.isfinite(x)) or 0) > 1e5:
+            bad('Effects/Gravity', '|g| above 1e5 m/s^2')
     amp, freq = vals.get('Effects/Vibration amplitude'), vals.get('Effects/Vibration frequency')
     vdir = vals.get('Effects/Vibration direction')
     if amp is not None and amp > 0:
@@ -1805,12 +1805,145 @@ def generate(seed=1, per_scene=40, classes=None, scenes=None, repo=REPO):
     classes = [c for c in CLASSES if classes is None or c in classes]
     scenes = scenes or scene_files(repo)
     out = []
+    spread = [c for c in classes if c != 'admission']
     for sidx, rel in enumerate(scenes):
         text = (repo / rel).read_text(encoding=ENC, errors=ERRS)
         g = Gen(rel, text, sidx, len(scenes), seed)
-        for cls, q in quotas(per_scene, classes).items():
+        for cls, q in (quotas(per_scene, spread).items() if spread else []):
             if q:
                 out += GENERATORS[cls](g, q)
+    if 'admission' in classes:
+        out += admission_cases(repo)
+    return out
+
+
+# =====================================================================================
+# Admission: what --check accepts, the run must run (a fixed list, class 'admission')
+# =====================================================================================
+def box_msh(nx, ny, lx, ly, scale=1.0):
+    """A gmsh 2.2 box of nx x ny quadrilaterals over [0, lx] x [0, ly] (coordinates times
+    scale), boundary ids by side as deal.II colorizes a box (0 x-, 1 x+, 2 y-, 3 y+)."""
+    def node(i, j):
+        return j * (nx + 1) + i + 1
+    nodes = [f'{node(i, j)} {"%.17g" % (i * lx / nx * scale)} {"%.17g" % (j * ly / ny * scale)} 0'
+             for j in range(ny + 1) for i in range(nx + 1)]
+    els = []
+    for j in range(ny):
+        els.append((1, 0, [node(0, j), node(0, j + 1)]))
+        els.append((1, 1, [node(nx, j), node(nx, j + 1)]))
+    for i in range(nx):
+        els.append((1, 2, [node(i, 0), node(i + 1, 0)]))
+        els.append((1, 3, [node(i, ny), node(i + 1, ny)]))
+    for j in range(ny):
+        for i in range(nx):
+            els.append((3, 100, [node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)]))
+    lines = ['$MeshFormat', '2.2 0 8', '$EndMeshFormat', '$Nodes', str(len(nodes))] + nodes + \
+            ['$EndNodes', '$Elements', str(len(els))]
+    lines += [f'{k + 1} {t} 2 {tag} {tag} ' + ' '.join(map(str, v)) for k, (t, tag, v) in enumerate(els)]
+    return '\n'.join(lines + ['$EndElements', ''])
+
+
+# a checkpoint made by running the binary on a scene (Runner.prepare): (scene, -p overrides)
+CHECKPOINT_CACHE = {}
+
+
+def admission_cases(repo=REPO):
+    """The families of the admission issue: mesh-file scale and stencil, device links, the
+    memory of refinement levels, checkpoints of another mesh, duplicated subsections, the
+    smaller acceptances, and extreme physics inside the documented limits (those may be
+    refused or run, but a run must not stop with exit 3).  Case.note 'portable' marks the
+    must-refuse cases whose answer does not depend on the machine (the ctest corpus)."""
+    out = []
+
+    def gen(rel):
+        return Gen(rel, (repo / rel).read_text(encoding=ENC, errors=ERRS), 0, 1, 0)
+
+    def add(rel, desc, text, invalid='', files=None, bad_line=None, portable=True, runnable=True, key=''):
+        stem = Path(rel).stem
+        out.append(Case(f'admission:{len(out) + 1:02d}:{stem}', rel, 'admission', desc, text, files=files or {},
+                        invalid=invalid, bad_line=bad_line, runnable=runnable, key=key,
+                        note='portable' if portable else ''))
+
+    def value(rel, kv, desc, invalid='', files=None, portable=True, base=None, runnable=True):
+        sc = base or gen(rel).base
+        text = sc.text
+        idx = None
+        for k, v in kv:
+            text, idx = Scene(text, rel).with_value(k, v)
+        add(rel, desc, text, invalid, files, (idx + 1) if (invalid and len(kv) == 1) else None, portable,
+            runnable=runnable, key=kv[-1][0])
+
+    blast = 'parameters/blast_2d.prm'
+    # mesh files: the box limits on coordinates and cell sizes, the stencil width
+    for scale, why in [(1e-300, 'cells of 2.5e-301 m, below 1e-3 grain diameters'),
+                       (1e300, 'coordinates beyond 1e6 m'), (1e7, 'coordinates beyond 1e6 m'),
+                       (1e-7, 'cells of 2.5e-8 m, below 1e-3 grain diameters')]:
+        value(blast, [('Domain/Mesh file', 'fuzz_mesh.msh')], f'a 4 x 3 gmsh box scaled by {scale:g}',
+              f'Domain/Mesh file: {why}', {'fuzz_mesh.msh': box_msh(4, 3, 1.0, 0.75, scale)})
+    value(blast, [('Domain/Mesh file', 'fuzz_mesh.msh')], 'a single-cell gmsh mesh with WENO5',
+          'Domain/Mesh file: 1 cell, WENO5 needs 3 between walls', {'fuzz_mesh.msh': box_msh(1, 1, 0.1, 0.1)})
+    value(blast, [('Numerics/Reconstruction', 'muscl'), ('Domain/Mesh file', 'fuzz_mesh.msh')],
+          'a single-cell gmsh mesh with MUSCL', 'Domain/Mesh file: 1 cell, MUSCL needs 2 between walls',
+          {'fuzz_mesh.msh': box_msh(1, 1, 0.1, 0.1)})
+    value(blast, [('Domain/Mesh file', 'fuzz_mesh.msh')], 'a 4 x 3 gmsh box with WENO5 (the box 4 x 3 runs)',
+          '', {'fuzz_mesh.msh': box_msh(4, 3, 0.1, 0.075)})
+    # files that are not what they claim: links to devices
+    for dev in ['/dev/zero', '/dev/urandom']:
+        value(blast, [('Domain/Mesh file', 'fuzz_mesh.msh')], f'the mesh file a link to {dev}',
+              f'Domain/Mesh file: not a regular file ({dev})', {'fuzz_mesh.msh': ('symlink', dev)})
+    g = gen('parameters/sod_1d.prm')
+    add(g.rel, 'an include that is a link to /dev/urandom',
+        g.base.insert_lines(g.base.first_content_line(), ['include fuzz_part.prm']),
+        'include: not a regular file', {'fuzz_part.prm': ('symlink', '/dev/urandom')})
+    # the memory of the refinement levels (the finest lattice within 2e8 points)
+    value(blast, [('Adaptivity/Maximum level', '7')], '100 x 100 cells refined up to 7 levels (1.6e8 cells)',
+          'Adaptivity/Maximum level: up to 1.6e8 cells, ~370 GB', portable=False)
+    value('parameters/hard/harsh_vibration-ci.prm',
+          [('Domain/Cells', '200, 800'), ('Diffusion step/Integrator', 'gauss-legendre'),
+           ('Adaptivity/Maximum level', '5')],
+          '200 x 800 cells, 5 levels, Gauss-Legendre (1.6e8 cells, ~2 TB)',
+          'Adaptivity/Maximum level: up to 1.6e8 cells at 13 KiB each, ~2 TB')
+    value('parameters/amr_blast_3d.prm', [('Adaptivity/Maximum level', '3')], '8^3 cells, 3 levels (fits)', '',
+          runnable=False)
+    # checkpoints written for another mesh
+    for rel, ck_over, why in [
+            ('parameters/sod_1d.prm', ('Domain/Cells=50',), 'Domain/Cells differ'),
+            ('parameters/sod_1d.prm', ('Domain/Upper corner=2',), 'the corners differ'),
+            (blast, ('Domain/Cells=20, 20',), 'Domain/Cells differ')]:
+        value(rel, [('Initial state/Checkpoint', 'fuzz.checkpoint')], f'a checkpoint of the scene with {ck_over[0]}',
+              f'Initial state/Checkpoint: {why}', {'fuzz.checkpoint': ('checkpoint', rel, ck_over)})
+    # a repeated subsection that contradicts the first, and one that repeats it
+    g = gen('parameters/sod_1d.prm')
+    add(g.rel, 'a second subsection Output with another Directory',
+        g.base.text + '\nsubsection Output\n  set Directory = elsewhere\nend\n',
+        'Output/Directory: set twice with different values')
+    add(g.rel, 'a second subsection Output repeating the Directory (allowed)',
+        g.base.text + f'\nsubsection Output\n  set Directory = {g.base.get("Output/Directory")}\nend\n', '')
+    # the smaller acceptances
+    value('parameters/sod_1d.prm', [('Time/Steady state tolerance', '0.01'), ('Output/Interval', '0')],
+          'Steady state tolerance with Output/Interval = 0', 'Time/Steady state tolerance: never tested')
+    value('parameters/sod_1d.prm', [('Initial state/Temperature', '1e-8 + 1e-310 * x')],
+          'a subnormal literal inside an expression', 'Initial state/Temperature: 1e-310 subnormal')
+    value('parameters/sod_1d.prm', [('Initial state/Constants', 'sin=1')], 'a constant named sin',
+          'Initial state/Constants: sin is a function')
+    # extreme physics inside the documented limits: refused by --check, or run (3 steps)
+    # without exit 3
+    phys = 'tests/data/restart_granular_2d.prm'
+    pb = Scene(Scene(gen(phys).base.with_value('Domain/Cells', '16, 16')[0], phys).with_value(
+        'Initial state/Velocity', '0; 0')[0], phys)
+    for kv, desc in [
+            ([('Initial state/Packing fraction', '1e-12')], 'packing fraction 1e-12 under gravity'),
+            ([('Initial state/Temperature', '1e-30')], 'T = 1e-30 J under gravity'),
+            ([('Initial state/Temperature', '1e-30'), ('Initial state/Velocity', '1e3; 0')],
+             'T = 1e-30 J at 1e3 m/s'),
+            ([('Material/Material density', '1e308')], 'material density 1e308'),
+            ([('Dense closure/Model', 'johnson-jackson'), ('Dense closure/Viscosity time', '1e308')],
+             'Dense closure/Viscosity time 1e308'),
+            ([('Effects/Gravity', '0, -1e6')], '|g| = 1e6 m/s^2'),
+            ([('Domain/Wall velocity y-', '300, 0')], 'a no-slip floor at 300 m/s'),
+            ([('Initial state/Packing fraction', 'if(x < 0.02, 1e-10, 0.6)')], 'a packing-fraction jump 1e-10 / 0.6'),
+    ]:
+        value(phys, kv, desc, '', base=pb)
     return out
 
 
@@ -1908,7 +2041,17 @@ def corpus_cases(size=CORPUS_SIZE):
             if i < len(v) and len(out) < size:
                 out.append(v[i])
         i += 1
-    return out + pinned_cases()
+    return out + pinned_cases() + [c for c in admission_cases() if c.must_refuse and c.note == 'portable']
+
+
+# extreme physics that --check accepts and the run still stops with exit 3 (open)
+ADMISSION_OPEN = {'a no-slip floor at 300 m/s'}
+
+
+def admission_run_cases():
+    """The admission cases that may be accepted: each must be refused by --check or run its
+    first steps (exit 0), never stop with exit 3 (ctest input.fuzz_corpus runs them)."""
+    return [c for c in admission_cases() if not c.must_refuse and c.runnable and c.desc not in ADMISSION_OPEN]
 
 
 # =====================================================================================
@@ -1947,6 +2090,12 @@ def materialise(case, root, repo=REPO, base_links=None):
         p.parent.mkdir(parents=True, exist_ok=True)
         if content is None:
             p.mkdir(exist_ok=True)
+        elif isinstance(content, tuple) and content[0] == 'symlink':
+            p.symlink_to(content[1])
+        elif isinstance(content, tuple) and content[0] == 'checkpoint':
+            made = CHECKPOINT_CACHE.get(content[1:])
+            if made:
+                shutil.copyfile(made, p)
         else:
             p.write_bytes(content.encode(ENC, ERRS))
     for top in (base_links if base_links is not None else []):
@@ -2056,17 +2205,15 @@ def classify_check(case, rc, err, timed_out, leftovers, nlines, scene_name):
     return 'refused', info
 
 
-# (two newlines: a last line ending in a continuation backslash must not swallow the override)
-RUN_OVERRIDE = '\n\nsubsection Time\n  set Maximum steps = {steps}\nend\nsubsection Output\n  set Directory = {outdir}\nend\n'
-
-
-def run_text(case, steps):
+def run_overrides(case, steps):
+    """The -p overrides of a real run: a few steps, output in the working directory (a
+    scene sets each parameter once, so they are not appended to the scene)."""
     outdir = 'fuzz-out'
     if case.key == 'Output/Directory':
         v = Scene(case.text).get('Output/Directory').strip()
-        if v and not v.startswith('/') and '..' not in v and len(v) < 4000:
+        if v and not v.startswith('/') and '..' not in v and len(v) < 4000 and '#' not in v:
             outdir = v
-    return case.text + RUN_OVERRIDE.format(steps=steps, outdir=outdir)
+    return ['-p', f'Time/Maximum steps={steps}', '-p', f'Output/Directory={outdir}']
 
 
 def classify_run(rc, err, timed_out):
@@ -2095,6 +2242,36 @@ class Runner:
             self._links[rel] = links_for(rel, (self.repo / rel).read_text(encoding=ENC, errors=ERRS), self.repo)
         return self._links[rel]
 
+    def prepare(self, cases):
+        """Make the checkpoints the cases name (('checkpoint', scene, overrides) files): one
+        step of the scene with the overrides, its final checkpoint kept in the work folder."""
+        for c in cases:
+            for content in c.files.values():
+                if not (isinstance(content, tuple) and content[0] == 'checkpoint') or content[1:] in CHECKPOINT_CACHE:
+                    continue
+                rel, over = content[1], content[2]
+                d = Path(tempfile.mkdtemp(prefix='ck_', dir=self.root))
+                cmd = [self.exe, '-p', 'Time/Maximum steps=1', '-p', f'Output/Directory={d / "out"}',
+                       '-p', 'Output/Write VTU=false', '-p', 'Output/Write checkpoint=true', '-p', 'Output/Base name=ck']
+                for o in over:
+                    cmd += ['-p', o]
+                rc, _, err, _, _ = run_cmd(cmd + [str(self.repo / rel)], d, 120, self.env, self.mem)
+                made = d / 'out' / 'ck.checkpoint'
+                if rc != 0 or not made.exists():
+                    raise RuntimeError(f'cannot make the checkpoint of {rel} with {over}: exit {rc}: {err[-400:]}')
+                CHECKPOINT_CACHE[content[1:]] = str(made)
+
+    @staticmethod
+    def place_checkpoints(case, wd):
+        """A checkpoint path is relative to the working directory (a mesh path to the scene):
+        the generated checkpoints also go there; returns their names (not leftovers)."""
+        given = set()
+        for name, content in case.files.items():
+            if isinstance(content, tuple) and content[0] == 'checkpoint' and content[1:] in CHECKPOINT_CACHE:
+                shutil.copyfile(CHECKPOINT_CACHE[content[1:]], wd / name)
+                given.add(name)
+        return given
+
     def check(self, case):
         d = Path(tempfile.mkdtemp(prefix='c_', dir=self.root))
         try:
@@ -2102,8 +2279,9 @@ class Runner:
             wd = d / 'wd'
             wd.mkdir()
             (d / 'mpi').mkdir()
+            given = self.place_checkpoints(case, wd)
             rc, out, err, to, dt = run_cmd([self.exe, '--check', str(scene)], wd, self.ct, self.env, self.mem, d / 'mpi')
-            left = sorted(os.listdir(wd))
+            left = sorted(set(os.listdir(wd)) - given)
             nlines = case.text.count('\n') + (0 if case.text.endswith('\n') else 1)
             outcome, info = classify_check(case, rc, err, to, left, nlines, scene.name)
             return dict(outcome=outcome, rc=rc, stderr=clip(err), stdout=clip(out, 1000), seconds=round(dt, 2),
@@ -2115,12 +2293,13 @@ class Runner:
     def run(self, case, timeout=None):
         d = Path(tempfile.mkdtemp(prefix='r_', dir=self.root))
         try:
-            c2 = Case(**{**case.__dict__, 'text': run_text(case, self.steps)})
-            scene = materialise(c2, d / 'src', self.repo, self.links(case.scene))
+            scene = materialise(case, d / 'src', self.repo, self.links(case.scene))
             wd = d / 'wd'
             wd.mkdir()
             (d / 'mpi').mkdir()
-            rc, out, err, to, dt = run_cmd([self.exe, str(scene)], wd, timeout or self.rt, self.env, self.mem, d / 'mpi')
+            self.place_checkpoints(case, wd)
+            rc, out, err, to, dt = run_cmd([self.exe] + run_overrides(case, self.steps) + [str(scene)], wd,
+                                           timeout or self.rt, self.env, self.mem, d / 'mpi')
             return dict(outcome=classify_run(rc, err, to), rc=rc, stderr=clip(err), stdout_tail=clip(out[-1500:], 1500),
                         seconds=round(dt, 2))
         finally:
@@ -2173,7 +2352,9 @@ def diff_text(base, text, limit=300):
 
 
 DEFECT_CHECK = {'crash', 'hang', 'refused-unclear', 'refused-misleading', 'refused-dirty', 'accepted-dirty'}
-DEFECT_RUN = {'run-crash', 'run-hang', 'run-refused'}
+# an exit 3 of a scene --check accepted is a defect: the scene could have been refused,
+# or the message must name the likely cause (the admission families hold reproducers)
+DEFECT_RUN = {'run-crash', 'run-hang', 'run-refused', 'run-fail'}
 
 
 def defect_kind(case, chk, run):
@@ -2233,6 +2414,9 @@ def main(argv=None):
         cases = [c for c in cases if any(k == c.cid or (k.endswith(':') and c.cid.startswith(k)) or
                                          (':' not in k and k in c.cid) for k in keys)]
     base_texts = {s: (REPO / s).read_text(encoding=ENC, errors=ERRS) for s in scenes}
+    for c in cases:  # the admission families also start from test scenes
+        if c.scene not in base_texts:
+            base_texts[c.scene] = (REPO / c.scene).read_text(encoding=ENC, errors=ERRS)
     if a.list:
         for c in cases:
             print(f'{c.cid:45s} {"REFUSE" if c.invalid else "any   "} {c.desc}')
@@ -2275,6 +2459,7 @@ def main(argv=None):
             print(f'warning: the validator thinks base scene {s} is invalid: {bad}', file=sys.stderr)
     print(f'{len(cases)} cases from {len(scenes)} scenes (seed {a.seed}, {a.per_scene} per scene), '
           f'{sum(c.must_refuse for c in cases)} must be refused; exe {R.exe}', file=sys.stderr)
+    R.prepare(cases)
     checks = R.map(R.check, cases, 'check')
     runs = [None] * len(cases)
     slow = {}

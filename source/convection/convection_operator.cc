@@ -171,9 +171,15 @@ namespace granhydro::convection
       constexpr unsigned int NC    = dim + 2;
       const auto            &faces = patch.faces(d);
       physics::State<dim>    UL[4], UR[4], Fq[4];
+      // the counts are of this rank's faces only (its low-side cell owned, or a boundary
+      // face of an owned cell): a face between two ranks is computed by both, and the run
+      // summary's flux_points and musta_stages must not depend on the partition
+      FluxStatistics     shared;
+      const unsigned int n_owned = patch.n_owned();
       for (std::size_t k = 0; k < faces.size(); ++k)
         {
           const unsigned int sl = faces[k].l, sr = faces[k].r;
+          FluxStatistics    &counted = sl < n_owned || (sr < n_owned && !patch.is_cell(sl)) ? stats : shared;
           const double      *vl = fin + (std::size_t(sl) * 2 + 1) * npts * NC;
           const double      *vr = fin + (std::size_t(sr) * 2 + 0) * npts * NC;
           // a hanging (fine sub-) face: the coarse side's Gauss point in this sub-face
@@ -189,7 +195,7 @@ namespace granhydro::convection
                   UR[q][c] = vr[qr * NC + c];
                 }
             }
-          numflux.template points<V>(UL, UR, npts, d, Fq, stats);
+          numflux.template points<V>(UL, UR, npts, d, Fq, counted);
           double *Fsum = F + k * NC;
           for (unsigned int c = 0; c < NC; ++c)
             Fsum[c] = 0.;

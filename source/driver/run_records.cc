@@ -8,6 +8,7 @@
 
 #include <deal.II/base/mpi.h>
 
+#include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -142,8 +143,8 @@ namespace granhydro
             << one_line(file) << "\n#\n"
             << scene.expanded_text;
         out.close();
-        if (!out)
-          error = "cannot write " + file + " (Output/Directory)";
+        if (!out) // with the OS's reason ("File too large", "No space left on device")
+          error = "cannot write " + file + " (Output/Directory): " + std::strerror(errno);
         else if (logging && !tee->open(scene.output_file(".log")))
           error = "cannot write " + scene.output_file(".log") + " (Output/Directory)";
       }

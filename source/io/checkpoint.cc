@@ -320,9 +320,13 @@ namespace granhydro::io
 
     const std::string tmp       = file + ".tmp";
     const bool        fail_half = inject_failure();
+    // what is left: the previous checkpoint, if there is one (the first write has none)
+    struct stat       previous{};
+    const std::string kept = ::stat(file.c_str(), &previous) == 0 ?
+                               "; the previous checkpoint '" + file + "' is kept" :
+                               "; there is no previous checkpoint '" + file + "'";
     const auto        cannot    = [&](const std::string &why) {
-      return "cannot write the checkpoint '" + tmp + "': " + why + "; the previous checkpoint '" + file +
-             "' is kept";
+      return "cannot write the checkpoint '" + tmp + "': " + why + kept;
     };
     const auto stop_if = [&](std::string error) {
       error = first_error(error, comm);
@@ -357,14 +361,14 @@ namespace granhydro::io
     std::uint64_t sum = 0;
     if (!part.empty() && (!read_back(tmp, mine.offset, part.size(), sum) || sum != mine.checksum))
       error = "the checkpoint '" + tmp + "' did not read back as written (part " + std::to_string(me) +
-              ", " + std::to_string(part.size()) + " bytes); the previous checkpoint '" + file + "' is kept";
+              ", " + std::to_string(part.size()) + " bytes)" + kept;
     struct stat st{};
     if (me == 0 && error.empty() &&
         (::stat(tmp.c_str(), &st) != 0 || std::uint64_t(st.st_size) != file_size ||
          !read_back(tmp, 0, head.size(), sum) || sum != fnv1a(head.data(), head.size())))
       error = "the checkpoint '" + tmp + "' did not read back as written (" +
               std::to_string(std::uint64_t(st.st_size)) + " of " + std::to_string(file_size) +
-              " bytes); the previous checkpoint '" + file + "' is kept";
+              " bytes)" + kept;
     stop_if(error);
     if (me == 0)
       error = rename_into_place(tmp, file);

@@ -168,6 +168,17 @@ namespace granhydro::io
         throw CheckpointError("holds an invalid step or output count");
       if (std::memchr(h.model, '\0', sizeof(h.model)) == nullptr)
         throw CheckpointError("has a corrupted header (material model name)");
+      // the models granhydro writes (Material/Model): a re-sealed header with another name
+      // was reported valid by --checkpoint-info
+      if (std::strcmp(h.model, "granular") != 0 && std::strcmp(h.model, "ideal gas") != 0)
+        {
+          std::string name(h.model);
+          for (char &ch : name)
+            if (ch < 32 || ch > 126)
+              ch = '?';
+          throw CheckpointError("has a corrupted header (unknown material model '" + name +
+                                "'; granhydro writes 'granular' or 'ideal gas')");
+        }
       const auto &hs = h.history;
       if (hs.rkl2_blocked < 0 || hs.rkl2_blocked > 1000 || hs.matrix_age < 0 ||
           (hs.matrix_valid != 0) != (h.n_values == 2 * h.n_components) ||

@@ -7,10 +7,13 @@
 
 #include <cmath>
 #include <type_traits>
+#include <vector>
 
 #include <deal.II/base/mpi.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <cstdlib>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -18,6 +21,60 @@
 namespace granhydro::io
 {
   using namespace dealii;
+
+  namespace
+  {
+    /// column sums of rows (n columns) over all ranks, independent of the partition (the
+    /// summary's mass_drift was not: the same state on 1 and N ranks gave different
+    /// roundings): every value as an integer multiple of 2^-k, k from the column's largest
+    /// value (95 bits of headroom below it, so 2^31 cells per rank cannot overflow), summed
+    /// exactly in 128-bit integers, across ranks in 32-bit limbs
+    void exact_sums(const std::vector<double> &rows, const unsigned int n, const MPI_Comm comm,
+                    double *sum)
+    {
+      __extension__ typedef __int128          i128; // GCC's 128-bit integers
+      __extension__ typedef unsigned __int128 u128;
+      const std::size_t   m = n ? rows.size() / n : 0;
+      std::vector<double> largest(n, 0.);
+      for (std::size_t r = 0; r < m; ++r)
+        for (unsigned int c = 0; c < n; ++c)
+          largest[c] = std::max(largest[c], std::abs(rows[r * n + c]));
+      MPI_Allreduce(MPI_IN_PLACE, largest.data(), int(n), MPI_DOUBLE, MPI_MAX, comm);
+      std::vector<int>           shift(n, 0);
+      std::vector<std::uint64_t> limbs(4 * n, 0);
+      std::vector<double>        plain(n, 0.);
+      for (unsigned int c = 0; c < n; ++c)
+        {
+          if (!(std::isfinite(largest[c]) && largest[c] > 0)) // nothing to sum, or not a number
+            {
+              for (std::size_t r = 0; r < m; ++r)
+                plain[c] += rows[r * n + c];
+              continue;
+            }
+          shift[c]   = 94 - std::ilogb(largest[c]);
+          i128 local = 0;
+          for (std::size_t r = 0; r < m; ++r)
+            local += static_cast<i128>(std::ldexp(rows[r * n + c], shift[c]));
+          const u128 u = static_cast<u128>(local);
+          for (unsigned int l = 0; l < 4; ++l)
+            limbs[4 * c + l] = std::uint64_t(u >> (32 * l)) & 0xffffffffu;
+        }
+      MPI_Allreduce(MPI_IN_PLACE, limbs.data(), int(4 * n), MPI_UINT64_T, MPI_SUM, comm);
+      MPI_Allreduce(MPI_IN_PLACE, plain.data(), int(n), MPI_DOUBLE, MPI_SUM, comm);
+      for (unsigned int c = 0; c < n; ++c)
+        {
+          if (!(std::isfinite(largest[c]) && largest[c] > 0))
+            {
+              sum[c] = plain[c];
+              continue;
+            }
+          u128 u = 0;
+          for (unsigned int l = 0; l < 4; ++l)
+            u += static_cast<u128>(limbs[4 * c + l]) << (32 * l);
+          sum[c] = std::ldexp(double(static_cast<i128>(u)), -shift[c]);
+        }
+    }
+  } // namespace
 
   template <int dim, class Description>
   StateTotals<dim> state_totals(const CartesianPatch<dim>                              &patch,
@@ -28,6 +85,7 @@ namespace granhydro::io
     // sums: n, n u (dim), nE, kinetic, thermal, contact, n x (dim)
     constexpr unsigned int NS = 2 * dim + 5;
     double                 sum[NS] = {};
+    std::vector<double>    rows(std::size_t(patch.n_owned()) * NS); // each cell's terms
     // maxima: phi, -T, |u|
     double             ext[3] = {-std::numeric_limits<double>::infinity(),
                                  -std::numeric_limits<double>::infinity(), 0.};
@@ -39,31 +97,32 @@ namespace granhydro::io
         const double  v = patch.cell_volume(s) / scale;
         for (unsigned int c = 0; c < NC; ++c)
           S[c] = u[c];
-        sum[0] += u[0] * v;
+        double *row = rows.data() + std::size_t(s) * NS;
+        row[0]      = u[0] * v;
         double m2 = 0;
         for (unsigned int d = 0; d < dim; ++d)
           {
-            sum[1 + d] += u[1 + d] * v;
+            row[1 + d] = u[1 + d] * v;
             m2 += u[1 + d] * u[1 + d];
           }
-        sum[dim + 1] += u[dim + 1] * v;
+        row[dim + 1] = u[dim + 1] * v;
         const double w = physics::contact_energy_density<dim>(desc, u[0]);
         double       T;
         if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
           T = desc.temperature(S, w); // what desc.temperature(S) gives, w evaluated once
         else
           T = desc.temperature(S);
-        sum[dim + 2] += desc.kinetic_energy(S) * v;
-        sum[dim + 3] += desc.heat_capacity() * u[0] * T * v;
-        sum[dim + 4] += w * v;
+        row[dim + 2] = desc.kinetic_energy(S) * v;
+        row[dim + 3] = desc.heat_capacity() * u[0] * T * v;
+        row[dim + 4] = w * v;
         const auto x = patch.center(s);
         for (unsigned int d = 0; d < dim; ++d)
-          sum[dim + 5 + d] += u[0] * x[d] * v;
+          row[dim + 5 + d] = u[0] * x[d] * v;
         ext[0] = std::max(ext[0], physics::packing_fraction(u[0]));
         ext[1] = std::max(ext[1], -T);
         ext[2] = std::max(ext[2], std::sqrt(m2) / u[0]);
       }
-    MPI_Allreduce(MPI_IN_PLACE, sum, NS, MPI_DOUBLE, MPI_SUM, comm);
+    exact_sums(rows, NS, comm, sum);
     MPI_Allreduce(MPI_IN_PLACE, ext, 3, MPI_DOUBLE, MPI_MAX, comm);
     StateTotals<dim> t;
     t.n = sum[0];
@@ -140,11 +199,27 @@ namespace granhydro::io
        << " retries with halved time step (last dt = " << dt_si << " s)";
     if (!why.empty())
       os << "; first bad " << why;
-    os << ". Lower 'Numerics/CFL number' or use a more diffusive reconstruction"
-       << (newton_failures ? ", or check the diffusion step (Newton failures: " +
-                               std::to_string(*newton_failures) + ")" :
-                             std::string())
-       << ".";
+    // the likely cause where the first bad cell tells it, with the parameter that helps
+    const auto   at  = why.find("packing fraction ");
+    const double phi = at == std::string::npos ? -1 : std::strtod(why.c_str() + at + 17, nullptr);
+    if (why.find("Newton") != std::string::npos && phi >= 0 && phi < 1e-3)
+      os << ". Likely cause: a nearly empty granular cell (packing fraction " << phi
+         << "), whose mean free path makes the transport coefficients so large that the "
+            "implicit step's Newton iteration cannot follow; cap them with 'Material/Maximum "
+            "mean free path' (e.g. the grain diameter), or raise the packing fraction there";
+    else if (why.find("convective") != std::string::npos && why.find("T = -") != std::string::npos)
+      os << ". Likely cause: the kinetic energy swamps the thermal energy in a convective "
+            "stage (a fast no-slip wall, 'Domain/Wall velocity', a strong 'Effects/Gravity' "
+            "or a cold gas, 'Initial state/Temperature'); lower 'Numerics/CFL number', use "
+            "'Numerics/Reconstruction = first order' or raise the temperature";
+    else
+      os << ". Lower 'Numerics/CFL number' or use a more diffusive reconstruction"
+         << (newton_failures ? ", or check the diffusion step (Newton failures: " +
+                                 std::to_string(*newton_failures) +
+                                 "; 'Material/Maximum mean free path' caps the transport of "
+                                 "dilute cells)" :
+                               std::string());
+    os << ".";
     return os.str();
   }
 

@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <sys/statvfs.h>
 #include <iostream>
 #include <filesystem>
 #include <fstream>
@@ -31,6 +32,21 @@ namespace granhydro::io
     double granular_temperature(const Units &units, const double T)
     {
       return T * units.energy() / units.mass;
+    }
+
+    /// deal.II's generic ExcIO paragraph ("An input/output error has occurred. There are a
+    /// number of reasons ...", from a failed VTU write) replaced by the OS reason: the
+    /// errno of the failed write, or a full file system under `directory`
+    std::string os_reason_of(const std::string &message, const int error, const std::string &directory)
+    {
+      if (message.find("An input/output error has occurred") == std::string::npos)
+        return message;
+      struct statvfs fs{};
+      if (::statvfs(directory.empty() ? "." : directory.c_str(), &fs) == 0 && fs.f_bavail == 0)
+        return std::strerror(ENOSPC);
+      if (error != 0)
+        return std::strerror(error);
+      return "an input/output error (deal.II's VTU writer gives no reason)";
     }
 
     /// a stream's data reached the file system (flushed); else the OS reason
@@ -192,7 +208,7 @@ namespace granhydro::io
       }
     catch (const std::exception &e)
       {
-        error = human_message(e.what());
+        error = os_reason_of(human_message(e.what()), errno, settings.directory);
       }
     for (const auto &e : Utilities::MPI::all_gather(patch.communicator(), error))
       if (!e.empty())

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -103,6 +104,21 @@ namespace granhydro
     if (!msh && !inp)
       throw std::runtime_error("'" + filename + "' has an unknown extension (expected .msh for "
                                "gmsh or .inp for ucd)");
+    // a mesh is a regular file of bounded size: a link to /dev/zero or /dev/urandom was
+    // read until the memory ran out (the prescan keeps every line)
+    std::error_code ec;
+    const auto      status = std::filesystem::status(filename, ec);
+    if (ec || !std::filesystem::exists(status))
+      throw std::runtime_error("cannot open '" + filename + "': no such file");
+    if (!std::filesystem::is_regular_file(status))
+      throw std::runtime_error("'" + filename + "' is not a regular file (a directory or a "
+                               "device); give a .msh or .inp file");
+    const std::uintmax_t bytes = std::filesystem::file_size(filename, ec);
+    if (ec || bytes > max_mesh_file_bytes)
+      throw std::runtime_error("'" + filename + "' is larger than " +
+                               std::to_string(max_mesh_file_bytes >> 20) +
+                               " MiB (or unreadable); give a coarser mesh and refine it with "
+                               "'Domain/Mesh refinements'");
     std::ifstream in(filename);
     if (!in)
       throw std::runtime_error("cannot open '" + filename + "'");

@@ -1,3 +1,4 @@
+#include <granhydro/base/units.h>
 #include <granhydro/io/state_checkpoint.h>
 #include <granhydro/scene/initial_state.h>
 #include <granhydro/scene/scene.h>
@@ -8,6 +9,8 @@
 #include <deal.II/base/utilities.h>
 
 #include <cctype>
+#include <cstdlib>
+#include <set>
 #include <cmath>
 #include <iostream>
 #include <map>
@@ -32,9 +35,12 @@ namespace granhydro
                         "Expressions for the velocity components [m/s], separated by ';' "
                         "(one per dimension or 3).");
       prm.declare_entry("Temperature", "1e-8", Patterns::Anything(),
-                        "Expression for the granular temperature T [J] (energy units, > 0).");
+                        "Expression for the granular temperature T [J] (energy units, > 0): at "
+                        "least 1e-12 m V0^2 (V0 the velocity unit), and it must survive the "
+                        "conversion to the conserved energy beside the kinetic energy.");
       prm.declare_entry("Constants", "", Patterns::Anything(),
-                        "Constants for the expressions, 'name=value, name=value'.");
+                        "Constants for the expressions, 'name=value, name=value' (names other "
+                        "than x, y, z, t, pi and the expressions' functions such as sin).");
       prm.declare_entry("Quadrature points", "3", Patterns::Integer(1, 8),
                         "Gauss points per direction used to average the initial state "
                         "over each cell (finite-volume cell averages).");
@@ -43,8 +49,10 @@ namespace granhydro
                         "(Output/Write checkpoint): the state, time and step are read from "
                         "it and the run continues to 'Time/End time' (any number of MPI "
                         "ranks). The expressions above are then ignored. Empty: start from "
-                        "the expressions at t = 0. 'granhydro --resume' sets it to the scene's "
-                        "own <Directory>/<Base name>.checkpoint when that exists.");
+                        "the expressions at t = 0. A path relative to the working directory; "
+                        "--check matches its mesh (cells, corners) against the scene's. "
+                        "'granhydro --resume' sets it to the scene's own "
+                        "<Directory>/<Base name>.checkpoint when that exists.");
     }
     prm.leave_subsection();
   }
@@ -81,6 +89,16 @@ namespace granhydro
         if (name == "x" || name == "y" || name == "z" || name == "t" || name == "pi")
           throw SceneError("in " + s.source + ": parameter 'Initial state/Constants': '" + name +
                            "' is reserved (the variables x, y, z, t and the constant pi)");
+        // the expressions' functions (muParser's and deal.II's): a constant 'sin' was
+        // accepted and then shadowed or was shadowed by the function
+        static const std::set<std::string> functions = {
+          "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "asinh", "acosh",
+          "atanh", "log2", "log10", "log", "ln", "exp", "sqrt", "sign", "rint", "abs", "min", "max",
+          "sum", "avg", "if", "int", "ceil", "floor", "cot", "csc", "sec", "pow", "erf", "erfc",
+          "rand", "rand_seed", "atan2", "fmod", "_pi", "_e"};
+        if (functions.count(name))
+          throw SceneError("in " + s.source + ": parameter 'Initial state/Constants': '" + name +
+                           "' is the name of a function of the expressions; choose another name");
         if (constants.count(name))
           throw SceneError("in " + s.source + ": parameter 'Initial state/Constants': '" + name +
                            "' is defined twice");
@@ -121,6 +139,12 @@ namespace granhydro
         total = mesh_centres.size();
       const bool   granular = s.model == "granular";
       const double phi_max  = s.phi_close_packing - s.guard_delta;
+      // transport without the Knudsen cap in a nearly empty granular cell: the mean free
+      // path (and the diffusivities) diverge as phi -> 0 and the implicit step's Newton
+      // iteration stalls (a box at phi = 1e-12 under gravity stopped at step 0; it runs with
+      // the cap)
+      const bool uncapped = granular && s.diffusion_active() && (s.viscosity || s.heat_conduction) &&
+                            !(s.max_free_path > 0);
       for (std::size_t k = 0; k < total; ++k)
         {
           dealii::Point<dim> x;
@@ -140,6 +164,11 @@ namespace granhydro
           if (!(p >= 1e-12))
             return "Initial state/Packing fraction|must be at least 1e-12 (the scaled density "
                    "would underflow): " + fmt(p) + where.str();
+          if (uncapped && p < 1e-6)
+            return "Material/Maximum mean free path|is 0 (off), but the packing fraction is " + fmt(p) +
+                   where.str() + ": below 1e-6 the uncapped transport coefficients diverge with the "
+                   "mean free path and the implicit step cannot follow; set a Knudsen cap (e.g. the "
+                   "grain diameter or a few cell sizes) or raise 'Initial state/Packing fraction'";
           if (granular && !(p < phi_max))
             return "Initial state/Packing fraction|must stay below phi_c - guard = " +
                    fmt(phi_max) + " (Material/Close packing fraction, Close packing "
@@ -154,6 +183,37 @@ namespace granhydro
           for (unsigned int d = 0; d < dim; ++d)
             if (!std::isfinite(u.value(x, d)) || !(std::abs(u.value(x, d)) <= 1e4))
               return "Initial state/Velocity|must be finite and within 1e4 m/s everywhere" + where.str();
+          // the state as the run stores it (Simulation::set_initial_state: scaled number
+          // density, number momentum and total energy) and T back from it: T = 1e-30 J at
+          // 1e3 m/s was lost against the kinetic energy and the run stopped at step 0
+          const Units  un = s.units();
+          const double c  = granular ? 1.5 : 1. / (s.adiabatic_index - 1.);
+          const double n  = 6. * p / (M_PI * std::pow(s.grain_diameter, 3)); // [1/m^3]
+          const double ns = n / un.number_density();
+          double       ke_si = 0, ke_s = 0;
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              const double v = u.value(x, d), mom = n * v / (un.number_density() * un.velocity);
+              ke_si += 0.5 * s.grain_mass() * n * v * v;
+              ke_s += 0.5 * mom * mom / ns;
+            }
+          const double Es = (ke_si + c * n * t) / un.pressure();
+          const double Ts = (Es - ke_s) / (c * ns), back = Ts * un.energy();
+          if (!(std::abs(back - t) <= 1e-6 * t) || !(std::abs(Ts) >= 1e-300))
+            return "Initial state/Temperature|" + fmt(t) + " J" + where.str() +
+                   " does not survive the conversion to the conserved variables (read back: " +
+                   fmt(back) + " J): the thermal energy n T is lost against the kinetic energy n m "
+                   "|u|^2 / 2 = " + fmt(ke_si / n) + " J per grain (or the scaled value underflows); "
+                   "raise the temperature or lower 'Initial state/Velocity' (T / (m |u|^2) must "
+                   "stay above about 1e-9)";
+          // the temperature in the internal units (grain mass times V0^2): T = 1e-30 J
+          // under gravity went negative in the first implicit step
+          if (!(t / un.energy() >= 1e-12))
+            return "Initial state/Temperature|" + fmt(t) + " J" + where.str() +
+                   " is below 1e-12 of the internal energy unit m V0^2 = " + fmt(un.energy()) +
+                   " J (a thermal speed below 1e-6 V0, V0 = " + fmt(un.velocity) +
+                   " m/s: sqrt(9.81 m/s^2 sigma) or 'Numerics/Reference velocity'): it is lost to "
+                   "round-off in the first steps; allowed down to " + fmt(1e-12 * un.energy()) + " J";
         }
       return {};
     }
@@ -174,6 +234,22 @@ namespace granhydro
                              "(commas only inside function calls such as if(x < 0.1, a, b))");
           }
       }
+      // every number written in the expression usable, as a plain value must be (a
+      // subnormal such as 1e-310 inside an expression was accepted)
+      for (std::size_t i = 0; i < expr.size(); ++i)
+        {
+          const unsigned char ch = expr[i], before = i > 0 ? expr[i - 1] : ' ';
+          if (!(std::isdigit(ch) || (ch == '.' && i + 1 < expr.size() &&
+                                     std::isdigit(static_cast<unsigned char>(expr[i + 1])))) ||
+              std::isalnum(before) || before == '_' || before == '.')
+            continue;
+          char        *end = nullptr;
+          const double v   = std::strtod(expr.c_str() + i, &end);
+          if (!usable_decimal(v))
+            fail(s, param, "the number '" + std::string(expr.c_str() + i, static_cast<const char *>(end)) + "' in '" + expr +
+                             "' is not usable (" + usable_decimal_rule + ")");
+          i = std::size_t(end - expr.c_str()) - 1;
+        }
       // muParser prints its own diagnostics to std::cerr; keep them out of the message
       std::ostringstream quiet;
       auto *old_buf = std::cerr.rdbuf(quiet.rdbuf());
@@ -228,7 +304,7 @@ namespace granhydro
 
     /// a checkpoint to start from: the whole file verified (size, checksum, values), then
     /// what it means for this scene
-    void check_checkpoint(const Scene &s)
+    void check_checkpoint(const Scene &s, const unsigned long long mesh_cells)
     {
       const std::string cp = "'" + s.initial_checkpoint + "' ";
       // every rank verifies its share of the parts (every part is verified once)
@@ -249,6 +325,44 @@ namespace granhydro
       if (std::string(h.model) != s.model)
         fail(s, "Initial state/Checkpoint",
                 cp + "was written with 'Material/Model = " + std::string(h.model) + "'");
+      // the mesh, as the run matches it (Simulation::read_checkpoint): a checkpoint of another
+      // mesh passed --check and was refused by the run
+      {
+        bool        same = h.n_components == int(s.dimension) + 2;
+        std::string what;
+        for (unsigned int d = 0; d < s.dimension; ++d)
+          {
+            const double tol = 1e-12 * std::abs(s.upper[d] - s.lower[d]);
+            if (!what.empty())
+              break;
+            if (h.cells[d] != s.cells[d])
+              what = "'Domain/Cells' differ (the checkpoint's mesh has " +
+                     std::to_string(h.cells[d]) + " along " + std::string(1, "xyz"[d]) + ")";
+            else if (!(std::abs(h.lower[d] - s.lower[d]) <= tol && std::abs(h.upper[d] - s.upper[d]) <= tol))
+              what = "the corners differ (the checkpoint's box spans " + fmt(h.lower[d]) + " .. " +
+                     fmt(h.upper[d]) + " m along " + std::string(1, "xyz"[d]) + ")";
+          }
+        double coarse = 1; // the cells of the scene's mesh before adaptive refinement
+        if (mesh_cells > 0)
+          {
+            coarse = double(mesh_cells);
+            for (unsigned int r = 0; r < s.mesh_refinements; ++r)
+              coarse *= 1u << s.dimension;
+          }
+        else
+          for (unsigned int d = 0; d < s.dimension; ++d)
+            coarse *= s.cells[d];
+        const double finest = coarse * std::ldexp(1., int(s.dimension * s.max_level));
+        if (what.empty() && s.max_level == 0 && double(h.n_cells) != coarse)
+          what = "it holds " + std::to_string(h.n_cells) + " cells, the scene's mesh " + fmt(coarse) +
+                 (mesh_cells > 0 ? " ('Domain/Mesh file', 'Domain/Mesh refinements')" : "");
+        if (what.empty() && s.max_level > 0 && !(double(h.n_cells) >= coarse && double(h.n_cells) <= finest))
+          what = "it holds " + std::to_string(h.n_cells) + " cells, the scene's adaptive mesh " +
+                 fmt(coarse) + " .. " + fmt(finest) + " ('Adaptivity/Maximum level')";
+        if (!same || !what.empty())
+          fail(s, "Initial state/Checkpoint", cp + "was written for another mesh: " +
+                                                (what.empty() ? "another number of components" : what));
+      }
       const double t_si = h.time * h.length / h.velocity;
       if (!(t_si < s.end_time * (1 - 1e-12)))
         fail(s, "Initial state/Checkpoint", cp + "is at t = " + fmt(t_si) +
@@ -258,7 +372,8 @@ namespace granhydro
   } // namespace
 
   void InitialStateParameters::check(const Scene &s,
-                                     const std::vector<std::array<double, 3>> &mesh_centres)
+                                     const std::vector<std::array<double, 3>> &mesh_centres,
+                                     const unsigned long long mesh_cells)
   {
     const unsigned int dim = s.dimension;
     const auto vel = dealii::Utilities::split_string_list(s.initial_velocity, ';');
@@ -269,7 +384,7 @@ namespace granhydro
     check_expression(s, "Initial state/Packing fraction", s.initial_packing_fraction);
     check_expression(s, "Initial state/Temperature", s.initial_temperature);
     if (!s.initial_checkpoint.empty())
-      check_checkpoint(s);
+      check_checkpoint(s, mesh_cells);
     for (const auto &v : vel)
       check_expression(s, "Initial state/Velocity", v);
     // the whole initial state, sampled at the cell centres (of the box, or of the mesh

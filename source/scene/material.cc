@@ -46,7 +46,8 @@ namespace granhydro
                         "transport coefficients eta, gamma, kappa, mu are scaled by L/l, so the "
                         "diffusivities stay below ~L sqrt(T/m) instead of diverging as n -> 0 "
                         "(doc/physics.md P14). Hydrodynamics has no meaning there anyway; use a few "
-                        "cell sizes for scenes with near-vacuum.");
+                        "cell sizes for scenes with near-vacuum. Required (> 0) where the initial "
+                        "packing fraction falls below 1e-6 and viscosity or heat conduction is on.");
       prm.declare_entry("Cohesionless", "true", Patterns::Bool(),
                         "Granular model: grains cannot pull. At every face of the diffusion "
                         "step the tensile viscous normal stress (kinetic and frictional) is "
@@ -59,7 +60,7 @@ namespace granhydro
       prm.declare_entry("Grain diameter", "1e-3", Patterns::Double(0, Patterns::Double::max_double_value),
                         "Grain diameter sigma [m].");
       prm.declare_entry("Material density", "2600", Patterns::Double(0, Patterns::Double::max_double_value),
-                        "Material density rho_s [kg/m^3]; grain mass m = rho_s pi sigma^3 / 6.");
+                        "Material density rho_s [kg/m^3], 1e-3 .. 1e6; grain mass m = rho_s pi sigma^3 / 6.");
       prm.declare_entry("Adiabatic index", "1.6666666666666667", Patterns::Double(1, 3),
                         "Adiabatic index gamma_a of the ideal-gas model (5/3 = dilute "
                         "elastic grains, internal energy 3T/2 per grain).");
@@ -90,8 +91,11 @@ namespace granhydro
     if (!(s.grain_diameter >= 1e-9 && s.grain_diameter <= 10))
       fail(s, "Material/Grain diameter", fmt(s.grain_diameter) + " m; allowed 1e-9 .. 10 m (the "
                                          "internal units are built on it)");
-    if (s.material_density <= 0)
-      fail(s, "Material/Material density", "must be positive");
+    // the grain mass is the internal mass unit: 1e308 kg/m^3 made the scaled temperature
+    // nan in the first step (the densest solids are near 2.3e4 kg/m^3)
+    if (!(s.material_density >= 1e-3 && s.material_density <= 1e6))
+      fail(s, "Material/Material density", fmt(s.material_density) + " kg/m^3; allowed 1e-3 .. 1e6 "
+                                           "kg/m^3 (the grain mass is the internal mass unit)");
     if (s.adiabatic_index <= 1)
       fail(s, "Material/Adiabatic index", "must exceed 1");
     if (s.model == "granular")

@@ -119,6 +119,11 @@ namespace granhydro
       if (s.output_interval > 0 && s.end_time / s.output_interval > 1e5)
         fail(s, "Output/Interval", "would write more than 1e5 outputs before 'Time/End time' (" +
                                      fmt(s.end_time) + " s)");
+      // the steady state is tested at output times: without them the tolerance did nothing
+      if (s.steady_tolerance > 0 && !(s.output_interval > 0))
+        fail(s, "Time/Steady state tolerance", "needs 'Output/Interval' > 0 (the steady state is "
+                                               "tested once per output interval); set an interval "
+                                               "or the tolerance to 0");
       if (s.fixed_time_step > 0 && s.end_time / s.fixed_time_step > 1e9)
         fail(s, "Numerics/Fixed time step", "would need more than 1e9 steps to 'Time/End time' (" +
                                               fmt(s.end_time) + " s)");
@@ -159,6 +164,6 @@ namespace granhydro
     EffectsParameters::check_vibration(s);
     check_effect_combinations(s);
     OutputParameters::check(s);
-    InitialStateParameters::check(s, mesh_info.centres);
+    InitialStateParameters::check(s, mesh_info.centres, mesh_info.n_cells);
   }
 } // namespace granhydro

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -54,18 +55,24 @@ end
   namespace
   {
     /// one command-line override "Section/Sub/Name=value" into prm
-    void apply_override(ParameterHandler &prm, const std::string &o)
+    void apply_override(ParameterHandler &prm, const std::string &given)
     {
-      const std::string where = "command line: -p '" + o + "': ";
+      // echoed at most 200 characters long (a 100 000-character -p was echoed whole)
+      const std::string where =
+        "command line: -p '" +
+        (given.size() <= 200 ? given :
+                               given.substr(0, 160) + "...' (" + std::to_string(given.size()) +
+                                 " characters)") +
+        (given.size() <= 200 ? "': " : ": ");
+      // what a scene file cannot hold either: the printed scene (<base>_parameters.prm)
+      // would read a different value
+      if (given.find_first_of("\r\n") != std::string::npos)
+        throw SceneError(where + "a value is one line (no line breaks)");
+      // '#' starts a comment, as in a scene file: "Time/End time=0.1 # c" sets 0.1
+      const std::string o = given.substr(0, given.find('#'));
       const auto        eq    = o.find('=');
       if (eq == std::string::npos || eq == 0)
         throw SceneError(where + "expected \"Section/Name=value\" (e.g. -p \"Time/End time=0.1\")");
-      // what a scene file cannot hold either: the printed scene (<base>_parameters.prm)
-      // would read a different value
-      if (o.find_first_of("\r\n") != std::string::npos)
-        throw SceneError(where + "a value is one line (no line breaks)");
-      if (o.find('#') != std::string::npos)
-        throw SceneError(where + "'#' is not allowed (it starts a comment in a scene file)");
       const auto trim = [](std::string x) {
         const auto b = x.find_first_not_of(" \t"), e = x.find_last_not_of(" \t");
         return b == std::string::npos ? std::string() : x.substr(b, e - b + 1);
@@ -85,10 +92,12 @@ end
         {
           for (std::size_t i = 0; i < path.size(); ++i)
             prm.leave_subsection();
-          const std::string m = human_message(e.what());
+          std::string m = human_message(e.what());
           if (m.find("not yet declared") != std::string::npos)
-            throw SceneError(where + "there is no parameter '" + trim(o.substr(0, eq)) +
+            throw SceneError(where + "there is no parameter '" + trim(o.substr(0, eq)).substr(0, 200) +
                              "' (granhydro --print-parameters lists them)");
+          if (m.size() > 600) // deal.II's message quotes the value
+            m = m.substr(0, 600) + " ...";
           throw SceneError(where + m);
         }
       for (std::size_t i = 0; i < path.size(); ++i)
@@ -125,13 +134,26 @@ end
       return out;
     }
 
+    /// a name or value as deal.II compares it: trimmed, inner runs of blanks as one space
+    std::string collapse_blanks(const std::string &x)
+    {
+      std::istringstream is(x);
+      std::string        out;
+      for (std::string w; is >> w;)
+        out += (out.empty() ? "" : " ") + w;
+      return out;
+    }
+
     /// every 'subsection' closed by an 'end', every 'end' closing one: named by line (deal.II
-    /// only says that the counts differ)
+    /// only says that the counts differ); and in a scene file (origin given) no parameter set
+    /// twice with different values within one file (a repeated 'subsection Output' with
+    /// another 'Directory' silently won); a value from an included file may be overridden
     void check_sections(const std::string &text, const std::string &source,
                         const std::vector<std::string> *origin)
     {
       std::istringstream                                  in(text);
       std::vector<std::pair<unsigned long, std::string>> open;
+      std::map<std::string, std::pair<std::string, unsigned long>> values;
       unsigned long                                       number = 0;
       for (std::string line; std::getline(in, line);)
         {
@@ -145,7 +167,40 @@ end
             continue;
           for (char &ch : word)
             ch = std::tolower(static_cast<unsigned char>(ch));
-          if (word == "subsection")
+          // (scene files only: parse_scene() of a text, the API the tests use, lets a later
+          // subsection override an earlier one)
+          if (origin && word == "set" && line.find('=') != std::string::npos &&
+              line.find_last_not_of(" \t\r") != line.rfind('\\')) // not a continued line
+            {
+              std::string rest;
+              std::getline(is, rest);
+              const auto  eq   = rest.find('=');
+              std::string path;
+              for (const auto &o : open)
+                path += collapse_blanks(o.second) + "/";
+              path += collapse_blanks(rest.substr(0, eq));
+              const std::string value = collapse_blanks(rest.substr(eq + 1));
+              const auto [it, fresh]  = values.emplace(path, std::make_pair(value, number));
+              // the file of a line ("FILE, line N"): a file may override what it includes
+              const auto file_of = [&](const unsigned long n) {
+                const std::string w = place(source, origin, n);
+                return w.substr(0, w.rfind(", line "));
+              };
+              if (!fresh && it->second.first != value && file_of(number) == file_of(it->second.second))
+                {
+                  const auto clip = [](const std::string &v) {
+                    return v.size() <= 80 ? v : v.substr(0, 80) + "...";
+                  };
+                  throw SceneError("in " + place(source, origin, number) + ": parameter '" + path +
+                                   "' is set again with another value ('" + clip(value) +
+                                   "'; it was '" + clip(it->second.first) + "' in " +
+                                   place(source, origin, it->second.second) +
+                                   "): set each parameter once (a repeated subsection must not "
+                                   "contradict the first; -p overrides a value)");
+                }
+              it->second = {value, number};
+            }
+          else if (word == "subsection")
             {
               std::string name;
               std::getline(is >> std::ws, name);
@@ -252,6 +307,9 @@ end
 
   namespace
   {
+    /// the largest scene file, also with its includes expanded
+    constexpr std::uintmax_t max_scene_bytes = 16u << 20;
+
     /// the scene text with its 'include FILE' lines replaced by the files' texts (a path
     /// relative to the including file, as for mesh files); refuses an include cycle (a scene
     /// that included itself recursed until the stack overflowed) and nesting beyond 16;
@@ -287,6 +345,13 @@ end
                 throw SceneError("scene file '" + file + "': 'include " + target +
                                  "' does not name a readable file (paths are relative to the "
                                  "including file)");
+              // an included file is a scene file: bounded like the scene itself, and so is
+              // the whole expanded text
+              const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+              if (ec || bytes > max_scene_bytes || out.size() + bytes > max_scene_bytes)
+                throw SceneError("scene file '" + file + "': 'include " + target +
+                                 "' makes the scene larger than 16 MiB (or is unreadable); a "
+                                 "scene is a short parameter file");
               out += expand_includes(path.string(), chain, origin);
               out += '\n';
               origin.push_back(file + ", line " + std::to_string(number));
@@ -317,8 +382,7 @@ end
       if (!std::filesystem::is_regular_file(status))
         throw SceneError("scene file '" + filename +
                          "' is not a regular file (a directory or a device); give a .prm file");
-      constexpr std::uintmax_t max_bytes = 16u << 20;
-      if (std::filesystem::file_size(filename, ec) > max_bytes || ec)
+      if (std::filesystem::file_size(filename, ec) > max_scene_bytes || ec)
         throw SceneError("scene file '" + filename + "' is larger than 16 MiB (or unreadable); a "
                          "scene is a short parameter file");
       const std::string text = expand_includes(filename, {}, origin);

@@ -46,13 +46,19 @@ def main():
     a = ap.parse_args()
 
     cases = fz.corpus_cases()
+    # admission: scenes inside the documented limits that --check may accept, but then the
+    # run must take its first steps (no exit 3)
+    run_cases = fz.admission_run_cases()
     if a.only:
         keys = a.only.split(',')
         cases = [c for c in cases if any(k in c.cid for k in keys)]
+        run_cases = [c for c in run_cases if any(k in c.cid for k in keys)]
     if a.list:
         for c in cases:
             print(f'{c.cid:45s} {c.desc}')
-        print(f'{len(cases)} cases', file=sys.stderr)
+        for c in run_cases:
+            print(f'{c.cid:45s} (check, then run) {c.desc}')
+        print(f'{len(cases)} cases to refuse, {len(run_cases)} to refuse or run', file=sys.stderr)
         return 0
     if not a.exe or not Path(a.exe).exists():
         ap.error(f'--exe: executable {a.exe!r} does not exist')
@@ -64,8 +70,9 @@ def main():
     # 2 GiB of address space: plenty for --check, and a scene that makes granhydro allocate
     # without bound fails fast (std::bad_alloc) instead of exhausting the machine
     runner = fz.Runner(a.exe, scratch, jobs=a.jobs, check_timeout=a.timeout, mem_gib=2)
-    print(f'fuzz corpus: {len(cases)} scenes that must be refused, {a.jobs} in parallel, exe {runner.exe}',
-          flush=True)
+    print(f'fuzz corpus: {len(cases)} scenes that must be refused, {len(run_cases)} that must be refused '
+          f'or run, {a.jobs} in parallel, exe {runner.exe}', flush=True)
+    runner.prepare(cases + run_cases)  # the checkpoints of another mesh
     results = runner.map(runner.check, cases, 'corpus')
     failing = []
     for c, r in zip(cases, results):
@@ -89,6 +96,28 @@ def main():
             problems.append(f"took {r['seconds']} s")
         if problems:
             failing.append((c, r, problems))
+    # the run phase: refused cleanly by --check, or accepted and then 3 steps with exit 0
+    run_checks = runner.map(runner.check, run_cases, 'admission check')
+    accepted = [c for c, r in zip(run_cases, run_checks) if r['outcome'] == 'accepted']
+    run_results = dict(zip([c.cid for c in accepted], runner.map(runner.run, accepted, 'admission run')))
+    n_ran = 0
+    for c, r in zip(run_cases, run_checks):
+        problems = []
+        o = r['outcome']
+        if o == 'accepted':
+            n_ran += 1
+            rr = run_results[c.cid]
+            if rr['outcome'] != 'run-ok':
+                problems.append(f"--check accepted it, the run ended {rr['outcome']} (exit {rr['rc']}): "
+                                + rr['stderr'].strip()[-500:])
+        elif o != 'refused':
+            problems.append(f"--check: {o} (exit {r['rc']})")
+        if problems:
+            failing.append((c, r, problems))
+    print(f'admission: {len(run_cases)} extreme scenes inside the documented limits, '
+          f'{len(run_cases) - n_ran} refused by --check, {n_ran} run')
+    cases = cases + run_cases
+    results = results + run_checks
     base = {}
     for c, r, problems in failing:
         if c.scene not in base:
@@ -108,7 +137,7 @@ def main():
         print(f'\nscene trees written to {a.write}')
     shutil.rmtree(scratch, ignore_errors=True)
     dt = time.time() - t0
-    print(f'\nfuzz corpus: {len(cases) - len(failing)} of {len(cases)} refused properly, '
+    print(f'\nfuzz corpus: {len(cases) - len(failing)} of {len(cases)} passed (refused properly, or run), '
           f'{len(failing)} failing, {dt:.0f} s')
     slow = sorted(zip(results, cases), key=lambda rc: -rc[0].get('seconds', 0))[:3]
     print('slowest: ' + ', '.join(f"{c.cid} {r.get('seconds', 0):.1f} s" for r, c in slow))

@@ -16,6 +16,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <set>
 #include <vector>
 #include <string>
@@ -36,6 +37,10 @@ namespace granhydro
     /// checks the initial state
     std::vector<std::array<double, 3>> centres;
   };
+
+  /// the largest mesh file read (every rank reads the whole file into memory, its lines
+  /// and a serial triangulation of its cells): about 3 million coarse hexahedra in gmsh 2.2
+  constexpr std::uintmax_t max_mesh_file_bytes = std::uintmax_t(256) << 20;
 
   /// read a gmsh (.msh) or ucd (.inp) file into an empty serial triangulation;
   /// throws std::runtime_error with a message for a person

@@ -28,6 +28,8 @@ namespace granhydro
     /// the expressions (syntax, one value each, finite) or the checkpoint (valid, of this
     /// scene, before its end time); without a checkpoint the whole initial state sampled at
     /// the cell centres of the box, or at `mesh_centres` (a mesh file's coarse cells)
-    static void check(const Scene &s, const std::vector<std::array<double, 3>> &mesh_centres);
+    /// mesh_cells: the coarse cells of a mesh file (0 for a box), to match a checkpoint
+    static void check(const Scene &s, const std::vector<std::array<double, 3>> &mesh_centres,
+                      unsigned long long mesh_cells = 0);
   };
 } // namespace granhydro
