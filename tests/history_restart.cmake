@@ -138,8 +138,9 @@ elseif(MODE STREQUAL "restart")
   # K: about a third of the steps, a multiple of the history interval (the interrupted
   # segment's last row is then one the uninterrupted run writes too)
   math(EXPR k "${full_steps} / 9 * 3")
-  # the scene as a file of its own, so that --resume needs no -p
-  file(READ "${SCENE}" scene_text)
+  # the scene as a file of its own, so that --resume needs no -p (it includes the base
+  # scene and overrides what it sets: a value set twice in one file is refused)
+  set(scene_text "include ${SCENE}")
   file(WRITE "${WORKDIR}/int.prm" "${scene_text}\nsubsection Time\n  set End time = 0.05\nend\n"
              "subsection Output\n  set Directory = int\n  set History interval = 3 steps\nend\n")
   set(run_env GRANHYDRO_SIGTERM_AT_STEP=${k})
