@@ -40,8 +40,8 @@ def fail(msg):
 
 
 def run(name, extra, directory='out', files=bound):
-    with open(scene) as f:
-        text = f.read()
+    # the scene included and overridden (a value set twice in one file is refused)
+    text = 'include %s\n' % os.path.abspath(scene)
     with open(name + '.prm', 'w') as f:
         f.write(text + extra +
                 'subsection Output\n  set Directory = %s\n'
