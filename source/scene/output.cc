@@ -19,6 +19,32 @@ namespace granhydro
   namespace Patterns = dealii::Patterns;
   using namespace scene_detail;
 
+  namespace
+  {
+    /// a whole number lo..hi; anything else is refused naming the parameter (not deal.II's
+    /// pattern text)
+    long long whole_number(const std::string &v, const std::string &name, const long long lo,
+                           const long long hi, const std::string &meaning)
+    {
+      std::size_t end = 0;
+      long long   k   = -1;
+      try
+        {
+          k = std::stoll(v, &end);
+        }
+      catch (const std::exception &)
+        {
+          end = 0;
+        }
+      while (end < v.size() && std::isspace(static_cast<unsigned char>(v[end])))
+        ++end;
+      if (v.empty() || end != v.size() || k < lo || k > hi)
+        throw SceneError("parameter '" + name + "' = '" + v + "': expected a whole number " +
+                         std::to_string(lo) + ".." + std::to_string(hi) + " (" + meaning + ")");
+      return k;
+    }
+  } // namespace
+
   void OutputParameters::declare_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Output");
@@ -141,48 +167,12 @@ namespace granhydro
     write_profiles   = prm.get_bool("Write profiles");
     write_checkpoint = prm.get_bool("Write checkpoint");
     write_summary    = prm.get_bool("Write summary");
-    {
-      // a whole number; anything else is refused naming the parameter (not deal.II's
-      // pattern text)
-      const std::string v = prm.get("VTU files per output");
-      std::size_t       end = 0;
-      long long         k   = -1;
-      try
-        {
-          k = std::stoll(v, &end);
-        }
-      catch (const std::exception &)
-        {
-          end = 0;
-        }
-      while (end < v.size() && std::isspace(static_cast<unsigned char>(v[end])))
-        ++end;
-      if (v.empty() || end != v.size() || k < 0 || k > 1000000)
-        throw SceneError("parameter 'Output/VTU files per output' = '" + v +
-                         "': expected a whole number 0..1000000 (0 = one file per MPI rank, K = "
-                         "at most K files per output time)");
-      vtu_files_per_output = static_cast<unsigned int>(k);
-    }
-    {
-      const std::string v = prm.get("Keep checkpoints");
-      std::size_t       end = 0;
-      long long         k   = -1;
-      try
-        {
-          k = std::stoll(v, &end);
-        }
-      catch (const std::exception &)
-        {
-          end = 0;
-        }
-      while (end < v.size() && std::isspace(static_cast<unsigned char>(v[end])))
-        ++end;
-      if (v.empty() || end != v.size() || k < 1 || k > 1000)
-        throw SceneError("parameter 'Output/Keep checkpoints' = '" + v +
-                         "': expected a whole number 1..1000 (1 = only the latest checkpoint, N = "
-                         "the N most recent)");
-      keep_checkpoints = static_cast<unsigned int>(k);
-    }
+    vtu_files_per_output = static_cast<unsigned int>(
+      whole_number(prm.get("VTU files per output"), "Output/VTU files per output", 0, 1000000,
+                   "0 = one file per MPI rank, K = at most K files per output time"));
+    keep_checkpoints = static_cast<unsigned int>(
+      whole_number(prm.get("Keep checkpoints"), "Output/Keep checkpoints", 1, 1000,
+                   "1 = only the latest checkpoint, N = the N most recent"));
     parse_history_interval(prm.get("History interval"), history_steps, history_seconds);
     {
       const std::string p = prm.get("Profile direction");
