@@ -33,6 +33,9 @@ namespace granhydro
   {
     using clock = TimeLoopState::clock;
 
+    /// halvings allowed to the first step of a run (see take_step)
+    constexpr unsigned int first_step_retries = 30;
+
     double seconds_since(const clock::time_point t)
     {
       return std::chrono::duration<double>(clock::now() - t).count();
@@ -254,10 +257,19 @@ namespace granhydro
         if (why.empty() && integrator)
           why = integrator->failure();
         ++L.sum.rejected_steps;
-        if (++tries > scene.max_step_retries)
+        // the first step's CFL limit comes from the initial state alone, which can be far
+        // out of proportion with the implicit step's stiffness: a no-slip wall at 1e4 m/s
+        // against a gas at rest with T = 1e-8 J (CFL step 2.5e-3 s) heats it so fast
+        // that Newton needs 2^-20 of that step. Once the gas has heated, its sound speed
+        // brings the CFL step into proportion (3 halvings at the second step). So the
+        // first step may halve down to 2^-30 ~ 1e-9 of its CFL step; every later step
+        // keeps 'Maximum step retries'
+        const unsigned int max_retries =
+          L.step == 0 ? std::max(scene.max_step_retries, first_step_retries) : scene.max_step_retries;
+        if (++tries > max_retries)
           {
             const std::string details = io::inadmissible_step_message(
-              L.step, L.t * t0, scene.max_step_retries, dt * t0, why,
+              L.step, L.t * t0, max_retries, dt * t0, why,
               integrator ? std::optional<unsigned long long>(integrator->statistics().newton_failures) :
                            std::nullopt);
             // the run ends cleanly: the last admissible state (no mass lost) is written

@@ -69,7 +69,9 @@ namespace granhydro
                         "every output time: half the convective work, second order as well.");
       prm.declare_entry("Maximum step retries", "6", Patterns::Integer(0, 30),
                         "A step whose result is inadmissible (n <= 0 or T <= 0) is retried "
-                        "with half the time step at most this many times, then the run stops.");
+                        "with half the time step at most this many times, then the run stops. "
+                        "The first step of a run, sized only by the initial state's CFL "
+                        "limit, may halve up to 30 times.");
     }
     prm.leave_subsection();
   }

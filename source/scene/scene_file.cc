@@ -54,6 +54,11 @@ end
 
   namespace
   {
+    /// the longest line of a scene (and -p value): deal.II formats a refused value's
+    /// message in time quadratic in its length (a value padded with 1 MB of spaces took
+    /// 36 s to refuse); 64 KiB is 800 lines of 80 characters
+    constexpr std::size_t max_line_chars = 1u << 16;
+
     /// one command-line override "Section/Sub/Name=value" into prm
     void apply_override(ParameterHandler &prm, const std::string &given)
     {
@@ -68,6 +73,9 @@ end
       // would read a different value
       if (given.find_first_of("\r\n") != std::string::npos)
         throw SceneError(where + "a value is one line (no line breaks)");
+      if (given.size() > max_line_chars)
+        throw SceneError(where + "longer than " + std::to_string(max_line_chars) +
+                         " characters, the longest line a scene may hold");
       // '#' starts a comment, as in a scene file: "Time/End time=0.1 # c" sets 0.1
       const std::string o = given.substr(0, given.find('#'));
       const auto        eq    = o.find('=');
@@ -158,6 +166,11 @@ end
       for (std::string line; std::getline(in, line);)
         {
           ++number;
+          if (line.size() > max_line_chars)
+            throw SceneError("in " + place(source, origin, number) + ": the line is " +
+                             std::to_string(line.size()) + " characters long; a scene line holds at most " +
+                             std::to_string(max_line_chars) +
+                             " (split a long expression over lines ending in a backslash)");
           const auto hash = line.find('#');
           if (hash != std::string::npos)
             line.erase(hash);
