@@ -26,8 +26,8 @@
 
 #include <unistd.h>
 
-#include <csignal>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -79,20 +79,21 @@ namespace
         }
     const double coarse = cells;
     cells *= std::ldexp(1., int(s.dimension * s.max_level));
-    const double ranks    = dealii::Utilities::MPI::n_mpi_processes(comm);
-    const double share    = std::ceil(cells / ranks);
+    const double ranks = dealii::Utilities::MPI::n_mpi_processes(comm);
+    const double share = std::ceil(cells / ranks);
     // the halo: ghost width (WENO5 3, MUSCL/WENO3 2, first order 1) plus the gradient's layer
     const double layers   = s.reconstruction == granhydro::ReconstructionType::weno5       ? 4 :
                             s.reconstruction == granhydro::ReconstructionType::first_order ? 2 :
-                                                                                              3;
-    const double halo     = ranks > 1 ? std::min(cells - share, 2. * s.dimension * layers *
-                                                                 std::pow(share, (s.dimension - 1.) / s.dimension)) :
-                                        0.;
-    const double per_cell = !s.diffusion_active()                ? 2.3 * 1024 :
+                                                                                             3;
+    const double halo     = ranks > 1 ?
+                              std::min(cells - share, 2. * s.dimension * layers *
+                                                        std::pow(share, (s.dimension - 1.) / s.dimension)) :
+                              0.;
+    const double per_cell = !s.diffusion_active()            ? 2.3 * 1024 :
                             s.integrator == "gauss-legendre" ? 13.1 * 1024 :
-                                                                  6.3 * 1024;
+                                                               6.3 * 1024;
     const double per_rank = 64. * 1048576.; // the process itself (MPI, deal.II, p4est)
-    MPI_Comm node;
+    MPI_Comm     node;
     MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
     const double on_node = dealii::Utilities::MPI::n_mpi_processes(node);
     MPI_Comm_free(&node);
@@ -114,13 +115,11 @@ namespace
       os << " (" << coarse << " cells of 'Domain/Cells' refined " << s.max_level
          << " levels everywhere, which 'Adaptivity/Maximum level' allows)";
     os << " at ~" << per_cell / 1024 << " KiB each"
-       << (s.diffusion_active() ? " (with the implicit step's matrix)" : "") << ", "
-       << share << " per rank";
+       << (s.diffusion_active() ? " (with the implicit step's matrix)" : "") << ", " << share << " per rank";
     if (halo > 0)
       os << " plus about " << std::round(halo) << " halo cells";
     os << ", " << on_node << " rank(s) on this node; use fewer cells"
-       << (s.max_level > 0 ? " or a lower 'Adaptivity/Maximum level'" : "")
-       << ", or more nodes";
+       << (s.max_level > 0 ? " or a lower 'Adaptivity/Maximum level'" : "") << ", or more nodes";
     throw granhydro::SceneError(os.str());
   }
 
@@ -180,7 +179,7 @@ namespace
     const granhydro::Scene first = granhydro::read_scene(file, overrides);
     const std::string      cp    = first.output_file(".checkpoint");
     std::error_code        ec;
-    const bool             root  = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+    const bool             root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
     if (dealii::Utilities::MPI::broadcast(comm, root && std::filesystem::is_regular_file(cp, ec), 0))
       {
         overrides.push_back("Initial state/Checkpoint=" + cp);
@@ -202,15 +201,16 @@ namespace
         const std::uint64_t digest = granhydro::io::state_digest(d);
         if (root)
           {
-            std::printf("checkpoint %s: valid (format v%d, every checksum verified)\n", cp.c_str(), d.version());
-            std::printf("  dimension %d, model %s, %llu cells, step %llu, outputs %llu\n", h.dim,
-                        h.model, (unsigned long long)h.n_cells, (unsigned long long)h.step,
+            std::printf("checkpoint %s: valid (format v%d, every checksum verified)\n", cp.c_str(),
+                        d.version());
+            std::printf("  dimension %d, model %s, %llu cells, step %llu, outputs %llu\n", h.dim, h.model,
+                        (unsigned long long)h.n_cells, (unsigned long long)h.step,
                         (unsigned long long)h.outputs);
             std::printf("  time %.17g s\n", h.time * h.length / h.velocity);
             std::printf("  implicit-step history: %s\n",
                         h.history.matrix_valid ? "kept Newton matrix (interrupted run)" : "none");
             std::printf("  parts %zu (one per writing rank)\n", d.parts().size());
-            const auto record = granhydro::io::run_record(h);
+            const auto record   = granhydro::io::run_record(h);
             double     segments = 0;
             for (const auto &[key, value] : record)
               if (key == "segments")
@@ -235,11 +235,11 @@ namespace
 int main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  const MPI_Comm comm  = MPI_COMM_WORLD;
-  const bool     root  = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
-  std::string    file;
-  bool           check_only = false, print_only = false, resume = false;
-  std::vector<std::string> overrides;
+  const MPI_Comm                           comm = MPI_COMM_WORLD;
+  const bool                               root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+  std::string                              file;
+  bool                                     check_only = false, print_only = false, resume = false;
+  std::vector<std::string>                 overrides;
   for (int i = 1; i < argc; ++i)
     {
       const std::string a = argv[i];
@@ -304,8 +304,8 @@ int main(int argc, char **argv)
       if (!file.empty())
         {
           if (root)
-            std::cerr << "granhydro: error: more than one scene file given ('" << file << "', '"
-                      << a << "')\n";
+            std::cerr << "granhydro: error: more than one scene file given ('" << file << "', '" << a
+                      << "')\n";
           return 2;
         }
       file = a;
@@ -314,7 +314,7 @@ int main(int argc, char **argv)
   // messages of a run that stops go into its log too
   std::unique_ptr<granhydro::RunRecords> records;
   std::string                            summary_file; // once the run has started one
-  const auto stopped = [&](const std::string &what, const std::string &status) {
+  const auto                             stopped = [&](const std::string &what, const std::string &status) {
     if (root)
       std::cerr << "granhydro: run stopped: " << what << std::endl;
     if (records)
@@ -333,8 +333,8 @@ int main(int argc, char **argv)
             std::cout << text;
           return 0;
         }
-      const std::string resume_note = resume ? resume_from_own_checkpoint(file, overrides, comm) : "";
-      const granhydro::Scene scene = granhydro::read_scene(file, overrides);
+      const std::string      resume_note = resume ? resume_from_own_checkpoint(file, overrides, comm) : "";
+      const granhydro::Scene scene       = granhydro::read_scene(file, overrides);
       check_memory(scene, comm);
       if (check_only)
         {
@@ -346,7 +346,8 @@ int main(int argc, char **argv)
       // (exit 3), not a SIGXFSZ that kills the process
       std::signal(SIGXFSZ, SIG_IGN);
       granhydro::install_stop_signal_handlers();
-      records = std::make_unique<granhydro::RunRecords>(scene, comm, std::cout);
+      const granhydro::RunSettings run = granhydro::run_settings(scene, scene.dimension);
+      records = std::make_unique<granhydro::RunRecords>(run.files, run.report, comm, std::cout);
       if (scene.write_summary)
         summary_file = scene.output_file("_summary.csv");
       if (!resume_note.empty() && root)

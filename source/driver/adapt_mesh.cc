@@ -19,10 +19,10 @@ namespace granhydro
   template <int dim, class Description>
   bool Simulation<dim, Description>::adapt_mesh(const bool initial)
   {
-    constexpr unsigned int NC = dim + 2;
-    const CartesianPatch<dim> &P = *patch_;
-    const unsigned int n_owned = P.n_owned();
-    std::vector<double> W;
+    constexpr unsigned int     NC      = dim + 2;
+    const CartesianPatch<dim> &P       = *patch_;
+    const unsigned int         n_owned = P.n_owned();
+    std::vector<double>        W;
     P.gather(U, W);
     // indicator: largest normalised jump of n and p across the cell's faces
     std::vector<double> n(P.n_slots()), p(P.n_slots());
@@ -47,15 +47,16 @@ namespace granhydro
       // the neighbours' values at the distance h_s (linear along the line of centres)
       const double h = P.cell_size(s, d), dm = -P.gradient_offset(s, d, 0), dq = P.gradient_offset(s, d, 1);
       const double sm = (a[s] - a[m]) * h / dm, sq = (a[q] - a[s]) * h / dq;
-      const double den = std::abs(sq) + std::abs(sm) + 0.05 * (std::abs(a[q]) + 2 * std::abs(a[s]) + std::abs(a[m]));
+      const double den =
+        std::abs(sq) + std::abs(sm) + 0.05 * (std::abs(a[q]) + 2 * std::abs(a[s]) + std::abs(a[m]));
       return den > 0 ? std::abs(sq - sm) / den : 0.;
     };
-    Vector mark(P.partitioner()); // component 0: 1 = refine
+    Vector              mark(P.partitioner()); // component 0: 1 = refine
     std::vector<double> eta(n_owned, 0.);
     for (unsigned int s = 0; s < n_owned; ++s)
       {
         for (unsigned int d = 0; d < dim; ++d)
-          if (scene.adapt_indicator == "second differences")
+          if (adaptation.second_differences)
             eta[s] = std::max({eta[s], loehner(n, s, d), loehner(p, s, d)});
           else
             {
@@ -63,13 +64,13 @@ namespace granhydro
               for (auto cf = b; cf != e; ++cf)
                 {
                   const unsigned int t = P.across(d, *cf);
-                  eta[s] = std::max({eta[s], jump(n[s], n[t]), jump(p[s], p[t])});
+                  eta[s]               = std::max({eta[s], jump(n[s], n[t]), jump(p[s], p[t])});
                 }
             }
-        mark.local_element(std::size_t(s) * NC) = eta[s] > scene.refine_threshold ? 1. : 0.;
+        mark.local_element(std::size_t(s) * NC) = eta[s] > adaptation.refine_threshold ? 1. : 0.;
       }
     // buffer: the refine mark spreads over face neighbours, one layer per pass
-    for (unsigned int pass = 0; pass < scene.adapt_buffer; ++pass)
+    for (unsigned int pass = 0; pass < adaptation.buffer; ++pass)
       {
         mark.update_ghost_values();
         std::vector<char> next(n_owned, 0);
@@ -91,7 +92,7 @@ namespace granhydro
     for (unsigned int s = 0; s < n_owned; ++s)
       if (mark.local_element(std::size_t(s) * NC) > 0)
         flags[s] = 1;
-      else if (!initial && eta[s] < scene.coarsen_threshold)
+      else if (!initial && eta[s] < adaptation.coarsen_threshold)
         flags[s] = -1;
     // new children: limited linear prolongation where all siblings stay admissible
     const auto admissible = [this](const double *u) {
@@ -107,7 +108,7 @@ namespace granhydro
     // rank has measured (the first steps), equal numbers of cells.
     int                leaf_weight = 0;
     const unsigned int n_ranks     = Utilities::MPI::n_mpi_processes(comm);
-    if (n_ranks > 1 && scene.balance_by_measured_cost(scene.diffusion_active()))
+    if (n_ranks > 1 && adaptation.balance_by_cost)
       {
         const double busy = conv ? conv->busy_seconds() - busy_at_adapt_ : 0.;
         const double cost = fixed_cost_ > 0 ? fixed_cost_ : (n_owned > 0 && busy > 0 ? busy / n_owned : 0.);

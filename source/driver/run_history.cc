@@ -18,12 +18,12 @@ namespace granhydro
   void Simulation<dim, Description>::start_history(TimeLoopState &L, const bool fresh,
                                                    const io::StateTotals<dim> &s0)
   {
-    if (scene.history_steps == 0 && scene.history_seconds == 0)
+    if (files.history_steps == 0 && files.history_seconds == 0)
       return;
-    const char              *ax = "xyz";
+    const char              *ax      = "xyz";
     std::vector<std::string> columns = {"time", "dt", "step", "mass"};
     for (unsigned int d = 0; d < dim; ++d)
-      columns.push_back(std::string("momentum_") + ax[d] );
+      columns.push_back(std::string("momentum_") + ax[d]);
     for (const char *part : {"kinetic", "thermal", "contact", "total"})
       columns.push_back(std::string(part) + "_energy");
     for (unsigned int d = 0; d < dim; ++d)
@@ -32,8 +32,7 @@ namespace granhydro
                           "integrator", "convective_steps", "diffusion_steps", "rkl2_steps", "rkl2_stages",
                           "implicit_steps", "newton_iterations", "gmres_iterations"})
       columns.emplace_back(c);
-    history_ = std::make_unique<io::HistoryFile>(scene.output_directory, scene.output_file("_history.csv"),
-                                                 columns, comm);
+    history_ = std::make_unique<io::HistoryFile>(files.directory, files.file("_history.csv"), columns, comm);
     if (fresh)
       {
         history_->start();
@@ -53,11 +52,11 @@ namespace granhydro
   {
     if (!history_)
       return false;
-    if (scene.history_steps > 0)
-      return L.step % scene.history_steps == 0;
+    if (files.history_steps > 0)
+      return L.step % files.history_steps == 0;
     // after the first step at or past each multiple of the interval: a rule of the step's
     // own times, so that a restarted run writes the rows the uninterrupted one wrote
-    const double h     = scene.history_seconds / L.t0;
+    const double h     = files.history_seconds / L.t0;
     const auto   index = [h](const double t) { return std::floor(t / h * (1 + 1e-12)); };
     return index(L.t) > index(t_before);
   }
@@ -68,8 +67,8 @@ namespace granhydro
     L.history_step = L.step;
     using N        = unsigned long long;
     // extensive values per m^(3 - dim) of the unresolved extent
-    const double extent = std::pow(units_.length, dim - 3.);
-    const double energy = units_.energy() * extent;
+    const double                  extent = std::pow(units_.length, dim - 3.);
+    const double                  energy = units_.energy() * extent;
     std::vector<io::HistoryValue> row = {L.t * L.t0, L.last_dt * L.t0, N(L.step), s.n * units_.mass * extent};
     for (unsigned int d = 0; d < dim; ++d)
       row.emplace_back(s.nu[d] * units_.mass * units_.velocity * extent);
@@ -84,11 +83,11 @@ namespace granhydro
     row.emplace_back(s.max_speed * units_.velocity);
     // the counts of the whole run so far: the earlier segments' and this one's (the
     // integrator's counts are the same on every rank: no reduction)
-    const auto &e = earlier_.diffusion;
+    const auto                           &e = earlier_.diffusion;
     const diffusion::IntegratorStatistics none;
-    const auto &d = integrator ? integrator->statistics() : none;
+    const auto                           &d = integrator ? integrator->statistics() : none;
     row.emplace_back(N(earlier_.rejected_steps + L.sum.rejected_steps));
-    row.emplace_back(integrator ? scene.integrator : std::string("none"));
+    row.emplace_back(integrator ? report.integrator : std::string("none"));
     row.emplace_back(N(earlier_.convective_steps + convective_pieces));
     row.emplace_back(N(e.steps + d.steps));
     row.emplace_back(N(e.rkl2_steps + d.rkl2_steps));

@@ -87,11 +87,12 @@ namespace granhydro
     std::ofstream   file;
   };
 
-  RunRecords::RunRecords(const Scene &scene, const MPI_Comm comm, std::ostream &terminal)
-    : scene(scene)
+  RunRecords::RunRecords(const RunFiles &files, const RunReportSettings &report, const MPI_Comm comm,
+                         std::ostream &terminal)
+    : files(files)
+    , report(report)
     , comm(comm)
-    , logging(dealii::Utilities::MPI::this_mpi_process(comm) == 0 && scene.write_summary &&
-              scene.verbose)
+    , logging(dealii::Utilities::MPI::this_mpi_process(comm) == 0 && files.summary && report.verbose)
     , log_(&terminal)
   {
     if (logging)
@@ -123,30 +124,30 @@ namespace granhydro
   void RunRecords::start()
   {
     std::string error;
-    if (dealii::Utilities::MPI::this_mpi_process(comm) == 0 && scene.write_summary)
+    if (dealii::Utilities::MPI::this_mpi_process(comm) == 0 && files.summary)
       {
         std::error_code ec;
-        std::filesystem::create_directories(scene.output_directory, ec);
-        const std::string file = scene.output_file("_parameters.prm");
+        std::filesystem::create_directories(files.directory, ec);
+        const std::string file = files.file("_parameters.prm");
         std::ofstream     out(file);
-        out << "# granhydro " << version() << " (git " << git_revision()
-            << "): the scene " << one_line(scene.source) << " as it ran";
-        if (!scene.overrides.empty())
+        out << "# granhydro " << version() << " (git " << git_revision() << "): the scene "
+            << one_line(report.source) << " as it ran";
+        if (!report.overrides.empty())
           {
             out << ", with";
-            for (const auto &o : scene.overrides)
+            for (const auto &o : report.overrides)
               out << " -p \"" << one_line(o) << '"';
           }
         out << ".\n# Every parameter, the includes and -p overrides applied. To run it again (from the same\n"
                "# working directory: Output/Directory and Initial state/Checkpoint are relative to it):\n"
                "#   granhydro "
             << one_line(file) << "\n#\n"
-            << scene.expanded_text;
+            << report.expanded_text;
         out.close();
         if (!out) // with the OS's reason ("File too large", "No space left on device")
           error = "cannot write " + file + " (Output/Directory): " + std::strerror(errno);
-        else if (logging && !tee->open(scene.output_file(".log")))
-          error = "cannot write " + scene.output_file(".log") + " (Output/Directory)";
+        else if (logging && !tee->open(files.file(".log")))
+          error = "cannot write " + files.file(".log") + " (Output/Directory)";
       }
     // every rank stops if rank 0 could not write them (the others would wait for it)
     if (dealii::Utilities::MPI::max(error.empty() ? 0u : 1u, comm) != 0)

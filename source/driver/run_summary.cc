@@ -37,18 +37,18 @@ namespace granhydro
 
     struct Field
     {
-      const char                                *key;
-      Rule                                       rule;
-      Unit                                       unit;
-      std::function<double(const RunSummary &)>  get;
-      std::function<void(RunSummary &, double)>  set;
+      const char                               *key;
+      Rule                                      rule;
+      Unit                                      unit;
+      std::function<double(const RunSummary &)> get;
+      std::function<void(RunSummary &, double)> set;
     };
 
-#define GRANHYDRO_FIELD(key, member, rule, unit)                                                 \
-  Field                                                                                         \
-  {                                                                                             \
-    key, Rule::rule, Unit::unit, [](const RunSummary &s) { return double(s.member); },          \
-      [](RunSummary &s, const double v) { s.member = static_cast<decltype(s.member)>(v); }      \
+#define GRANHYDRO_FIELD(key, member, rule, unit)                                           \
+  Field                                                                                    \
+  {                                                                                        \
+    key, Rule::rule, Unit::unit, [](const RunSummary &s) { return double(s.member); },     \
+      [](RunSummary &s, const double v) { s.member = static_cast<decltype(s.member)>(v); } \
   }
 
     /// every figure a checkpoint carries of the run; the keys are the run record's
@@ -72,8 +72,7 @@ namespace granhydro
         GRANHYDRO_FIELD("max_cells", max_cells, max, none),
         GRANHYDRO_FIELD("peak_memory_max", peak_memory_max, max, none),
         GRANHYDRO_FIELD("peak_memory_total", peak_memory_total, max, none),
-        GRANHYDRO_FIELD("min_dt", min_dt_si, min, none),
-        GRANHYDRO_FIELD("max_dt", max_dt_si, max, none),
+        GRANHYDRO_FIELD("min_dt", min_dt_si, min, none), GRANHYDRO_FIELD("max_dt", max_dt_si, max, none),
         GRANHYDRO_FIELD("flux_points", convection.flux.points, sum, none),
         GRANHYDRO_FIELD("musta_stages", convection.flux.stages, sum, none),
         GRANHYDRO_FIELD("musta_fallbacks", convection.flux.fallbacks, sum, none),
@@ -130,7 +129,10 @@ namespace granhydro
                                            1.;
     }
 
-    bool present(const double v) { return std::isfinite(v) && v > 0; }
+    bool present(const double v)
+    {
+      return std::isfinite(v) && v > 0;
+    }
   } // namespace
 
   RunSummary combine_segments(const RunSummary &earlier, const RunSummary &now)
@@ -147,13 +149,15 @@ namespace granhydro
     // the smallest step (0: none) and the smallest limits with the time they occurred
     if (present(earlier.min_dt_si) && (!present(now.min_dt_si) || earlier.min_dt_si < now.min_dt_si))
       all.min_dt_si = earlier.min_dt_si;
-    if (present(earlier.min_cfl_dt_si) && (!present(now.min_cfl_dt_si) || earlier.min_cfl_dt_si <= now.min_cfl_dt_si))
+    if (present(earlier.min_cfl_dt_si) &&
+        (!present(now.min_cfl_dt_si) || earlier.min_cfl_dt_si <= now.min_cfl_dt_si))
       {
         all.min_cfl_dt_si      = earlier.min_cfl_dt_si;
         all.min_cfl_dt_time_si = earlier.min_cfl_dt_time_si;
       }
     const auto &ed = earlier.diffusion, &nd = now.diffusion;
-    if (present(ed.min_explicit_dt) && (!present(nd.min_explicit_dt) || ed.min_explicit_dt <= nd.min_explicit_dt))
+    if (present(ed.min_explicit_dt) &&
+        (!present(nd.min_explicit_dt) || ed.min_explicit_dt <= nd.min_explicit_dt))
       {
         all.diffusion.min_explicit_dt      = ed.min_explicit_dt;
         all.diffusion.min_explicit_dt_time = ed.min_explicit_dt_time;
@@ -189,26 +193,26 @@ namespace granhydro
     const double t0 = units_.time();
     const auto  &cs = sum.convection;
     const double nr = Utilities::MPI::n_mpi_processes(comm);
-    pcout << "run summary: " << sum.steps << " steps to t = " << sum.time_si << " s, "
-          << sum.rejected_steps << " rejected (retried with half dt)\n"
+    pcout << "run summary: " << sum.steps << " steps to t = " << sum.time_si << " s, " << sum.rejected_steps
+          << " rejected (retried with half dt)\n"
           << "  wall " << sum.wall_seconds << " s, convection " << sum.convection_seconds << " s, "
           << cs.cell_updates / std::max(sum.convection_seconds, 1e-30) / nr
           << " cell-updates/s per RK stage per core";
-    if (integrator && scene.convection)
+    if (integrator && loop.convection)
       pcout << ", " << sum.convective_steps << " SSP-RK3 steps ("
-            << (scene.merge_strang ? "merged" : "symmetric") << " Strang splitting)";
+            << (loop.merge_strang ? "merged" : "symmetric") << " Strang splitting)";
     pcout << "\n"
           << "  flux points " << cs.flux.points;
-    if (scene.flux == FluxType::musta)
+    if (report.musta)
       pcout << ", MUSTA stages/point " << double(cs.flux.stages) / std::max<double>(cs.flux.points, 1)
-            << ", MUSTA fallbacks to Rusanov " << cs.flux.fallbacks << ", early stops at an inadmissible stage state "
-            << cs.flux.early_stops;
+            << ", MUSTA fallbacks to Rusanov " << cs.flux.fallbacks
+            << ", early stops at an inadmissible stage state " << cs.flux.early_stops;
     if (cs.wall_tension_bounded)
       pcout << "\n  wall pressure: " << cs.wall_tension_bounded
             << " wall face fluxes pulled on a receding cell and were set to 0 (cohesionless grains)";
     pcout << "\n  positivity: reconstructions reset to the cell average (cell x direction x stage) "
-          << cs.limited_cells << ", cell updates redone first order (a posteriori) "
-          << cs.fallback_cells << "\n";
+          << cs.limited_cells << ", cell updates redone first order (a posteriori) " << cs.fallback_cells
+          << "\n";
     if (integrator)
       {
         const auto &ds = sum.diffusion;
@@ -216,11 +220,10 @@ namespace granhydro
               << ds.newton_iterations << " Newton iterations ("
               << double(ds.newton_iterations) / std::max<double>(ds.steps, 1) << "/step), "
               << ds.linear_iterations << " GMRES iterations ("
-              << double(ds.linear_iterations) / std::max<double>(ds.newton_iterations, 1)
-              << "/Newton), " << ds.newton_failures
-              << " Newton failures, " << ds.linear_failures << " GMRES failures, "
-              << ds.switches_to_midpoint << " switches to implicit midpoint, "
-              << ds.full_jacobian_retries << " retries with the fully coupled Jacobian";
+              << double(ds.linear_iterations) / std::max<double>(ds.newton_iterations, 1) << "/Newton), "
+              << ds.newton_failures << " Newton failures, " << ds.linear_failures << " GMRES failures, "
+              << ds.switches_to_midpoint << " switches to implicit midpoint, " << ds.full_jacobian_retries
+              << " retries with the fully coupled Jacobian";
         if (ds.explicit_substeps)
           pcout << ", " << ds.explicit_substeps << " explicit sub-steps";
         if (ds.rkl2_steps)
@@ -234,8 +237,8 @@ namespace granhydro
           pcout << "\n    of which: " << ds.jacobian_seconds << " s in " << ds.jacobians
                 << " Jacobians (finite differences + Newton matrix; kept for " << ds.matrix_reuses
                 << " further steps, " << ds.stale_matrix_retries << " steps redone with a fresh one), "
-                << ds.preconditioner_seconds
-                << " s in preconditioner set-ups, " << ds.linear_seconds << " s in GMRES (largest rank)";
+                << ds.preconditioner_seconds << " s in preconditioner set-ups, " << ds.linear_seconds
+                << " s in GMRES (largest rank)";
         pcout << "\n";
       }
     if (sum.diffusion_active && std::isfinite(sum.diffusion.min_explicit_dt))
@@ -253,35 +256,45 @@ namespace granhydro
     pcout << "  memory: peak resident " << sum.peak_memory_max / 1048576. << " MiB (largest rank), "
           << sum.peak_memory_total / 1024. / std::max<double>(sum.max_cells, 1)
           << " KiB per cell (all ranks, at the most cells)\n";
-    if (const auto &fc = sum.diffusion.faces; fc.tension_bounded + fc.friction_capped + fc.negative_temperature > 0)
-      pcout << "  diffusive face fluxes: " << fc.faces << " evaluations; tensile normal stress bounded by the pressure "
+    if (const auto &fc = sum.diffusion.faces;
+        fc.tension_bounded + fc.friction_capped + fc.negative_temperature > 0)
+      pcout << "  diffusive face fluxes: " << fc.faces
+            << " evaluations; tensile normal stress bounded by the pressure "
             << "(cohesionless grains) in " << fc.tension_bounded << " (" << fc.tension_bounded_walls
             << " at walls); frictional viscosity held at the Newtonian bound t_f sin(theta_f) p_f in "
-            << fc.friction_capped << "; T < 0 taken as 0 in the coefficients in " << fc.negative_temperature << "\n";
+            << fc.friction_capped << "; T < 0 taken as 0 in the coefficients in " << fc.negative_temperature
+            << "\n";
     if (sum.diffusion.friction_dissipation > 0)
       pcout << "  frictional dissipation (dense closure, work of mu_f lost to heat): "
-            << friction_dissipation_si(sum) << (dim == 3 ? " J" : dim == 2 ? " J/m" : " J/m^2")
+            << friction_dissipation_si(sum)
+            << (dim == 3 ? " J" :
+                dim == 2 ? " J/m" :
+                           " J/m^2")
             << "\n";
-    if (const auto [balanced, balance_skipped] = patch_->balance_counts(); scene.max_level > 0)
+    if (const auto [balanced, balance_skipped] = patch_->balance_counts(); report.adaptive)
       pcout << "  adaptive mesh: " << sum.adaptations << " adaptations, " << sum.refined_cells
             << " cells refined, " << sum.coarsened_cells << " coarsened; " << sum.cells
-            << " cells at the end, at most " << sum.max_cells << "; 2:1 balance by p4est in "
-            << balanced << " (skipped in " << balance_skipped
-            << ": the changes kept it); adaptation " << sum.adaptation_seconds << " s\n";
-    if (scene.max_level > 0 && sum.ranks > 1)
+            << " cells at the end, at most " << sum.max_cells << "; 2:1 balance by p4est in " << balanced
+            << " (skipped in " << balance_skipped << ": the changes kept it); adaptation "
+            << sum.adaptation_seconds << " s\n";
+    if (report.adaptive && sum.ranks > 1)
       pcout << "  partition: " << sum.min_rank_cells << " to " << sum.max_rank_cells
             << " cells per rank at the end, "
-            << (scene.balance_by_measured_cost(scene.diffusion_active()) ? "cells weighted by each rank's measured cost per cell" : "equal numbers of cells")
-            << " (Adaptivity/Load balance = " << scene.load_balance << ")\n";
+            << (report.balance_by_cost ? "cells weighted by each rank's measured cost per cell" :
+                                         "equal numbers of cells")
+            << " (Adaptivity/Load balance = " << report.load_balance << ")\n";
     if (sum.continuation_cells > 0)
-      pcout << "  close packing: " << sum.continuation_cells
-            << " cell updates ended beyond phi_c - delta, in the linear continuations of chi and of the contact "
-               "potential (doc/physics.md 2)\n";
+      pcout
+        << "  close packing: " << sum.continuation_cells
+        << " cell updates ended beyond phi_c - delta, in the linear continuations of chi and of the contact "
+           "potential (doc/physics.md 2)\n";
     if (sum.temperature_repairs > 0)
       pcout << "  temperature floor: " << sum.temperature_repairs
-            << " cell updates of a cooling dense pile ended with T < " << physics::GranularGas<dim>::temperature_floor
+            << " cell updates of a cooling dense pile ended with T < "
+            << physics::GranularGas<dim>::temperature_floor
             << " (scaled) and were set to it; largest thermal-energy deficit "
-            << sum.max_temperature_repair * units_.energy() << " J per grain (doc/user-guide.md, 'Dense closure')\n";
+            << sum.max_temperature_repair * units_.energy()
+            << " J per grain (doc/user-guide.md, 'Dense closure')\n";
     pcout << phase_table(sum.phases, sum.ranks);
   }
 
@@ -290,10 +303,10 @@ namespace granhydro
   {
     if (Utilities::MPI::this_mpi_process(comm) != 0)
       return;
-    const double t0 = units_.time();
-    const auto  &cs = sum.convection;
-    const auto  &ds = sum.diffusion;
-    using N         = unsigned long long;
+    const double t0                       = units_.time();
+    const auto  &cs                       = sum.convection;
+    const auto  &ds                       = sum.diffusion;
+    using N                               = unsigned long long;
     std::vector<io::SummaryEntry> entries = {
       {"status", status},
       {"dimension", N(dim)},
@@ -364,7 +377,7 @@ namespace granhydro
     entries.insert(entries.end(), records.begin(), records.end());
     try
       {
-        io::write_summary_csv(scene.output_directory, scene.output_file("_summary.csv"), entries);
+        io::write_summary_csv(files.directory, files.file("_summary.csv"), entries);
       }
     catch (const io::OutputError &e)
       {
@@ -378,12 +391,12 @@ namespace granhydro
     // the -p overrides as given, joined by ';' (for reading; a value may hold a ';' of its
     // own, e.g. a velocity "0; 0": <base>_parameters.prm is the exact record)
     std::string overrides;
-    for (const auto &o : scene.overrides)
+    for (const auto &o : report.overrides)
       overrides += (overrides.empty() ? "" : ";") + o;
     using N = unsigned long long;
     return {{"version", std::string(version())},
             {"git_revision", std::string(git_revision())},
-            {"scene", scene.source},
+            {"scene", report.source},
             {"overrides", overrides},
             {"ranks", N(Utilities::MPI::n_mpi_processes(comm))},
             {"start_time", started_utc_}};

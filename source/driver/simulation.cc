@@ -26,6 +26,68 @@ namespace granhydro
 {
   using namespace dealii;
 
+  RunSettings run_settings(const Scene &scene, const unsigned int dim)
+  {
+    RunSettings       r;
+    TimeLoopSettings &l = r.loop;
+    l.end_time          = scene.end_time;
+    l.fixed_time_step   = scene.fixed_time_step;
+    l.output_interval   = scene.output_interval;
+    l.cfl               = scene.cfl;
+    l.steady_tolerance  = scene.steady_tolerance;
+    l.max_wall_seconds  = scene.max_wall_seconds;
+    l.progress_interval = scene.progress_interval;
+    l.max_steps         = scene.max_steps;
+    l.max_step_retries  = scene.max_step_retries;
+    l.adapt_interval    = scene.max_level > 0 ? scene.adapt_interval : 0;
+    l.profile_direction = scene.profile_direction < 0 ? dim - 1 : scene.profile_direction;
+    l.convection        = scene.convection;
+    l.merge_strang      = scene.merge_strang;
+    l.from_checkpoint   = !scene.initial_checkpoint.empty();
+    l.max_body_acceleration =
+      std::sqrt(scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
+                scene.gravity[2] * scene.gravity[2]) +
+      scene.vibration_amplitude * std::pow(2 * M_PI * scene.vibration_frequency, 2);
+
+    RunFiles &f        = r.files;
+    f.directory        = scene.output_directory;
+    f.base_name        = scene.base_name;
+    f.vtu              = scene.write_vtu;
+    f.profiles         = scene.write_profiles;
+    f.summary          = scene.write_summary;
+    f.checkpoint       = scene.write_checkpoint;
+    f.keep_checkpoints = scene.keep_checkpoints;
+    f.history_steps    = scene.history_steps;
+    f.history_seconds  = scene.history_seconds;
+
+    RunReportSettings &p = r.report;
+    p.source             = scene.source;
+    p.overrides          = scene.overrides;
+    p.expanded_text      = scene.expanded_text;
+    p.verbose            = scene.verbose;
+    p.integrator         = scene.integrator;
+    p.musta              = scene.flux == FluxType::musta;
+    p.adaptive           = scene.max_level > 0;
+    p.load_balance       = scene.load_balance;
+    p.balance_by_cost    = scene.balance_by_measured_cost(scene.diffusion_active());
+
+    CheckpointIdentity &c = r.identity;
+    c.cells               = scene.cells;
+    c.lower               = scene.lower;
+    c.upper               = scene.upper;
+    c.model               = scene.model;
+    c.source              = scene.source;
+    c.adaptive            = scene.max_level > 0;
+
+    AdaptationSettings &a = r.adaptation;
+    a.refine_threshold    = scene.refine_threshold;
+    a.coarsen_threshold   = scene.coarsen_threshold;
+    a.buffer              = scene.adapt_buffer;
+    a.second_differences  = scene.adapt_indicator == "second differences";
+    a.balance_by_cost     = p.balance_by_cost;
+    return r;
+  }
+
   template <int dim, class Description>
   Simulation<dim, Description>::Simulation(const Scene &scene, const MPI_Comm comm, std::ostream &log)
     : scene(scene)
@@ -34,6 +96,12 @@ namespace granhydro
     , units_(scene.units())
   {
     AssertThrow(scene.dimension == dim, ExcMessage("scene dimension mismatch"));
+    const RunSettings run = run_settings(scene, dim);
+    loop                  = run.loop;
+    files                 = run.files;
+    report                = run.report;
+    identity              = run.identity;
+    adaptation            = run.adaptation;
     if constexpr (std::is_same_v<Description, physics::IdealGas<dim>>)
       desc.gamma = scene.adiabatic_index;
     else
@@ -45,13 +113,14 @@ namespace granhydro
         if (scene.dense_closure != "none") // scaled units: pressure p0, time t0
           {
             physics::FrictionalStress friction;
-            friction.law     = scene.frictional_stress == "newtonian" ? physics::FrictionalLaw::newtonian :
-                                                                         physics::FrictionalLaw::srivastava_sundaresan;
+            friction.law     = scene.frictional_stress == "newtonian" ?
+                                 physics::FrictionalLaw::newtonian :
+                                 physics::FrictionalLaw::srivastava_sundaresan;
             friction.sin_phi = std::sin(scene.closure_angle * M_PI / 180.);
             friction.t_f     = scene.closure_time / units_.time();
-            desc.contact     = physics::ContactPressure(scene.closure_F / units_.pressure(), scene.closure_phi_min,
-                                                        scene.phi_close_packing, scene.closure_r, scene.closure_s,
-                                                        scene.guard_delta, friction);
+            desc.contact     = physics::ContactPressure(
+                  scene.closure_F / units_.pressure(), scene.closure_phi_min, scene.phi_close_packing,
+                  scene.closure_r, scene.closure_s, scene.guard_delta, friction);
           }
       }
   }
@@ -76,13 +145,11 @@ namespace granhydro
       pcout << " (gamma_a = " << desc.gamma << "; no transport, cooling or body force)\n";
     else
       pcout << " (eps = " << scene.restitution
-            << (scene.friction > 0 ? ", friction mu = " + std::to_string(scene.friction) +
-                                       " (effective restitution " +
-                                       std::to_string(desc.model.effective_restitution()) +
-                                       " in the cooling rate)" :
-                                     std::string())
-            << ", Torquato chi with phi_f = "
-            << scene.phi_freezing << ", phi_c = " << scene.phi_close_packing
+            << (scene.friction > 0 ?
+                  ", friction mu = " + std::to_string(scene.friction) + " (effective restitution " +
+                    std::to_string(desc.model.effective_restitution()) + " in the cooling rate)" :
+                  std::string())
+            << ", Torquato chi with phi_f = " << scene.phi_freezing << ", phi_c = " << scene.phi_close_packing
             << (scene.max_free_path > 0 ?
                   "; Knudsen cap: transport coefficients scaled where the mean free path exceeds " +
                     std::to_string(scene.max_free_path) + " m" :
@@ -94,17 +161,14 @@ namespace granhydro
     if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
       pcout << "  diffusion step: "
             << (scene.diffusion_active() ?
-                  scene.integrator + ", " + (scene.diagonal_flux ? "diagonal" : "full") +
-                    " flux" +
+                  scene.integrator + ", " + (scene.diagonal_flux ? "diagonal" : "full") + " flux" +
                     (scene.convection ? std::string(", Strang splitting C(dt/2) V(dt) C(dt/2)") +
                                           (scene.merge_strang ? " with adjacent C halves merged" : "") :
                                         std::string()) :
                   std::string("off (no transport, cooling, body force or dissipative wall)"))
             << "\n";
-    pcout
-          << "  numerics: " << to_string(scene.reconstruction) << " reconstruction, "
-          << to_string(scene.face_quadrature) << " face quadrature, " << to_string(scene.flux)
-          << " flux";
+    pcout << "  numerics: " << to_string(scene.reconstruction) << " reconstruction, "
+          << to_string(scene.face_quadrature) << " face quadrature, " << to_string(scene.flux) << " flux";
     if (scene.flux == FluxType::musta)
       pcout << " (" << scene.musta_min_stages << " to " << scene.musta_max_stages << " stages, tol "
             << scene.musta_tolerance << ")";
@@ -114,8 +178,8 @@ namespace granhydro
             << to_string(scene.boundary[2 * d + 1]);
     if (!scene.mesh_file.empty())
       pcout << " (by boundary id 0..5 of the mesh file)";
-    pcout << "\n  scaled units: length " << units_.length << " m, mass " << units_.mass
-          << " kg, velocity " << units_.velocity << " m/s, time " << units_.time() << " s\n";
+    pcout << "\n  scaled units: length " << units_.length << " m, mass " << units_.mass << " kg, velocity "
+          << units_.velocity << " m/s, time " << units_.time() << " s\n";
   }
 
   template <int dim, class Description>
@@ -148,14 +212,14 @@ namespace granhydro
       if (scene.diffusion_active())
         {
           diffusion::DiffusionSettings ds;
-          ds.viscous       = scene.viscosity;
-          ds.heat          = scene.heat_conduction;
-          ds.cooling       = scene.cooling;
-          ds.diagonal_only = scene.diagonal_flux;
-          ds.max_free_path = scene.max_free_path / units_.length;
-          ds.no_tension    = scene.cohesionless;
+          ds.viscous          = scene.viscosity;
+          ds.heat             = scene.heat_conduction;
+          ds.cooling          = scene.cooling;
+          ds.diagonal_only    = scene.diagonal_flux;
+          ds.max_free_path    = scene.max_free_path / units_.length;
+          ds.no_tension       = scene.cohesionless;
           ds.wall_restitution = scene.wall_restitution;
-          ds.body = body_force();
+          ds.body             = body_force();
           diff = std::make_unique<diffusion::DiffusionOperator<dim>>(*patch_, desc, ds, units_.length);
           diff->setup();
           diffusion::IntegratorSettings is;
@@ -174,7 +238,7 @@ namespace granhydro
           is.amg                   = scene.preconditioner == "amg";
           is.block_ilu             = scene.preconditioner == "block ilu";
           is.full_jacobian         = scene.full_jacobian;
-          integrator = std::make_unique<diffusion::ImplicitIntegrator<dim>>(*diff, desc, is);
+          integrator               = std::make_unique<diffusion::ImplicitIntegrator<dim>>(*diff, desc, is);
         }
     U.reinit(patch_->partitioner());
     print_header();
@@ -187,8 +251,8 @@ namespace granhydro
       }
 
     // initial state from the scene's expressions (SI), averaged over cells
-    const auto constants = expression_constants(scene);
-    const std::string vars = dim == 1 ? "x" : (dim == 2 ? "x,y" : "x,y,z");
+    const auto          constants = expression_constants(scene);
+    const std::string   vars      = dim == 1 ? "x" : (dim == 2 ? "x,y" : "x,y,z");
     FunctionParser<dim> phi(1), T(1);
     phi.initialize(vars, scene.initial_packing_fraction, constants);
     T.initialize(vars, scene.initial_temperature, constants);
@@ -198,31 +262,31 @@ namespace granhydro
     vel.initialize(vars, vexpr, constants);
     const double m = scene.grain_mass(), sigma = scene.grain_diameter;
     bool         bad_phi = false, bad_T = false;
-    const auto initial_state = [&](const Point<dim> &x) {
-        const double p = phi.value(x), t = T.value(x);
-        bad_phi        = bad_phi || !(p > 0);
-        bad_T          = bad_T || !(t > 0);
-        const double n = physics::number_density_si(p, sigma);
-        double       u[3];
-        for (unsigned int d = 0; d < dim; ++d)
-          u[d] = vel.value(x, d);
-        State Us;
-        Us[0] = n;
-        double ke = 0;
-        for (unsigned int d = 0; d < dim; ++d)
-          {
-            Us[1 + d] = m * n * u[d];
-            ke += 0.5 * m * n * u[d] * u[d];
-          }
-        Us[dim + 1] = ke + n * t * desc.heat_capacity();
-        if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>) // contact potential
-          Us[dim + 1] += desc.contact.energy_density(n * units_.length * units_.length * units_.length) *
-                         units_.pressure();
-        // this Us is in SI with a *mass* momentum; convert to number momentum below
-        for (unsigned int d = 0; d < dim; ++d)
-          Us[1 + d] /= m;
-        return Us;
-      };
+    const auto   initial_state = [&](const Point<dim> &x) {
+      const double p = phi.value(x), t = T.value(x);
+      bad_phi        = bad_phi || !(p > 0);
+      bad_T          = bad_T || !(t > 0);
+      const double n = physics::number_density_si(p, sigma);
+      double       u[3];
+      for (unsigned int d = 0; d < dim; ++d)
+        u[d] = vel.value(x, d);
+      State Us;
+      Us[0]     = n;
+      double ke = 0;
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          Us[1 + d] = m * n * u[d];
+          ke += 0.5 * m * n * u[d] * u[d];
+        }
+      Us[dim + 1] = ke + n * t * desc.heat_capacity();
+      if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>) // contact potential
+        Us[dim + 1] +=
+          desc.contact.energy_density(n * units_.length * units_.length * units_.length) * units_.pressure();
+      // this Us is in SI with a *mass* momentum; convert to number momentum below
+      for (unsigned int d = 0; d < dim; ++d)
+        Us[1 + d] /= m;
+      return Us;
+    };
     set_initial_state(initial_state, scene.initial_quadrature);
     // initial refinement: adapt to the initial state, then evaluate it anew on the finer
     // cells (no interpolation), up to the maximum level
@@ -233,25 +297,28 @@ namespace granhydro
         set_initial_state(initial_state, scene.initial_quadrature);
       }
     if (scene.max_level > 0)
-      pcout << "  initial refinement: " << patch_->n_global_cells() << " cells, levels 0.."
-            << scene.max_level << " above " << [&]() {
-                 std::string c;
-                 for (unsigned int d = 0; d < dim; ++d)
-                   c += (d ? " x " : "") + std::to_string(scene.cells[d]);
-                 return c;
-               }() << "\n";
+      pcout << "  initial refinement: " << patch_->n_global_cells() << " cells, levels 0.." << scene.max_level
+            << " above " <<
+        [&]() {
+          std::string c;
+          for (unsigned int d = 0; d < dim; ++d)
+            c += (d ? " x " : "") + std::to_string(scene.cells[d]);
+          return c;
+        }() << "\n";
     if (Utilities::MPI::logical_or(bad_phi, comm))
-      throw SceneError("in " + scene.source + ": parameter 'Initial state/Packing fraction' "
+      throw SceneError("in " + scene.source +
+                       ": parameter 'Initial state/Packing fraction' "
                        "must be positive everywhere in the domain");
     if (Utilities::MPI::logical_or(bad_T, comm))
-      throw SceneError("in " + scene.source + ": parameter 'Initial state/Temperature' must be "
+      throw SceneError("in " + scene.source +
+                       ": parameter 'Initial state/Temperature' must be "
                        "positive everywhere in the domain");
     output = std::make_unique<io::Output<dim, Description>>(scene.output_settings(), *patch_, desc);
   }
 
   template <int dim, class Description>
   void Simulation<dim, Description>::set_initial_state(const std::function<State(const Point<dim> &)> &f,
-                                          const unsigned int nq)
+                                                       const unsigned int                              nq)
   {
     // SI -> scaled: n [1/m^3] * L^3; number momentum n u [1/(m^2 s)] * L^3 / V; nE [J/m^3] / p0
     const double nscale = 1. / units_.number_density(), mscale = nscale / units_.velocity,
@@ -261,7 +328,7 @@ namespace granhydro
       {
         State avg;
         avg.fill(0.);
-        const auto &ijk = patch_->lattice(s);
+        const auto        &ijk = patch_->lattice(s);
         const unsigned int nq2 = dim > 1 ? nq : 1, nq3 = dim > 2 ? nq : 1;
         for (unsigned int a = 0; a < nq; ++a)
           for (unsigned int b = 0; b < nq2; ++b)
@@ -287,13 +354,14 @@ namespace granhydro
   }
 
   template <int dim, class Description>
-  typename Simulation<dim, Description>::State Simulation<dim, Description>::state_si(const unsigned int s) const
+  typename Simulation<dim, Description>::State
+  Simulation<dim, Description>::state_si(const unsigned int s) const
   {
     State S;
     S[0] = U.local_element(std::size_t(s) * (dim + 2)) * units_.number_density();
     for (unsigned int d = 0; d < dim; ++d)
-      S[1 + d] = U.local_element(std::size_t(s) * (dim + 2) + 1 + d) * units_.number_density() *
-                 units_.velocity;
+      S[1 + d] =
+        U.local_element(std::size_t(s) * (dim + 2) + 1 + d) * units_.number_density() * units_.velocity;
     S[dim + 1] = U.local_element(std::size_t(s) * (dim + 2) + dim + 1) * units_.pressure();
     return S;
   }

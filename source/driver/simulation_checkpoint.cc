@@ -27,7 +27,7 @@ namespace granhydro
   void Simulation<dim, Description>::write_checkpoint(const std::string &file, const double t,
                                                       const unsigned int step, const bool with_history) const
   {
-    constexpr unsigned int NC = dim + 2;
+    constexpr unsigned int                               NC = dim + 2;
     typename diffusion::ImplicitIntegrator<dim>::History history;
     if (with_history && integrator)
       history = integrator->history();
@@ -39,9 +39,9 @@ namespace granhydro
     h.n_components = NC;
     for (unsigned int d = 0; d < 3; ++d)
       {
-        h.cells[d] = d < dim ? scene.cells[d] : 1;
-        h.lower[d] = d < dim ? scene.lower[d] : 0;
-        h.upper[d] = d < dim ? scene.upper[d] : 0;
+        h.cells[d] = d < dim ? identity.cells[d] : 1;
+        h.lower[d] = d < dim ? identity.lower[d] : 0;
+        h.upper[d] = d < dim ? identity.upper[d] : 0;
       }
     h.length          = units_.length;
     h.mass            = units_.mass;
@@ -50,7 +50,7 @@ namespace granhydro
     h.step            = step;
     h.convection_owed = owed_;
     h.outputs         = output ? output->count() : 0;
-    std::snprintf(h.model, sizeof(h.model), "%s", scene.model.c_str());
+    std::snprintf(h.model, sizeof(h.model), "%s", identity.model.c_str());
     try
       {
         io::set_run_record(h, record_);
@@ -80,15 +80,15 @@ namespace granhydro
   template <int dim, class Description>
   void Simulation<dim, Description>::read_checkpoint(const std::string &file)
   {
-    constexpr unsigned int NC   = dim + 2;
-    const std::string      what = "in " + scene.source + ": parameter 'Initial state/Checkpoint': '" +
-                             file + "' ";
+    constexpr unsigned int NC = dim + 2;
+    const std::string      what =
+      "in " + identity.source + ": parameter 'Initial state/Checkpoint': '" + file + "' ";
     // the header and the part table (O(ranks)); the parts are streamed below
     std::unique_ptr<io::CheckpointReader> reader;
     try
       {
         reader = std::make_unique<io::CheckpointReader>(file);
-        if (scene.max_level > 0 && reader->header().dim == dim)
+        if (identity.adaptive && reader->header().dim == dim)
           {
             // an adaptive mesh is rebuilt from the leaves in the file
             patch_->refine_to(io::checkpoint_keys(*reader, comm));
@@ -103,15 +103,18 @@ namespace granhydro
     const io::CheckpointHeader &h = reader->header();
     bool same_mesh = h.dim == dim && h.n_components == int(NC) && h.n_cells == patch_->n_global_cells();
     for (unsigned int d = 0; d < dim; ++d)
-      same_mesh = same_mesh && h.cells[d] == scene.cells[d] &&
-                  std::abs(h.lower[d] - scene.lower[d]) <= 1e-12 * std::abs(scene.upper[d] - scene.lower[d]) &&
-                  std::abs(h.upper[d] - scene.upper[d]) <= 1e-12 * std::abs(scene.upper[d] - scene.lower[d]);
+      {
+        const double extent = std::abs(identity.upper[d] - identity.lower[d]);
+        same_mesh           = same_mesh && h.cells[d] == identity.cells[d] &&
+                    std::abs(h.lower[d] - identity.lower[d]) <= 1e-12 * extent &&
+                    std::abs(h.upper[d] - identity.upper[d]) <= 1e-12 * extent;
+      }
     if (!same_mesh)
       throw SceneError(what + "was written for another mesh (dimension, Domain/Cells, corners or "
                               "Adaptivity/Maximum level differ)");
-    if (std::string(h.model) != scene.model)
+    if (std::string(h.model) != identity.model)
       throw SceneError(what + "was written with 'Material/Model = " + std::string(h.model) + "'");
-    const bool same_units = io::same_units(h, units_);
+    const bool                same_units = io::same_units(h, units_);
     std::vector<std::int64_t> keys(patch_->n_owned());
     for (unsigned int s = 0; s < keys.size(); ++s)
       keys[s] = lattice_key(s);
@@ -168,8 +171,8 @@ namespace granhydro
               << "): the summary counts from step " << h.step << "\n";
       }
     output->resume(h.outputs, start_time());
-    pcout << "  initial state: checkpoint " << file << " (t = " << start_time() << " s, step "
-          << start_step_ << (with_history ? ", with the implicit step's history" : "") << ")\n";
+    pcout << "  initial state: checkpoint " << file << " (t = " << start_time() << " s, step " << start_step_
+          << (with_history ? ", with the implicit step's history" : "") << ")\n";
   }
 
   GRANHYDRO_SIMULATION_INSTANCES

@@ -76,7 +76,7 @@ namespace granhydro
   {
     if (!integrator) // nothing is ever owed without the diffusion step
       return convect(U, dt);
-    if (scene.convection)
+    if (loop.convection)
       {
         // the owed half of the previous step merged with this step's first half, in
         // pieces of at most max_convective_step (the CFL limit)
@@ -94,12 +94,12 @@ namespace granhydro
     }
     if (integrator->statistics().switches_to_midpoint > switches)
       pcout << "  diffusion step: Gauss-Legendre Newton iteration did not converge, step "
-            << (ok ? "done with implicit midpoint" : "failed with both methods") << " (dt = "
-            << dt * units_.time() << " s)\n";
+            << (ok ? "done with implicit midpoint" : "failed with both methods")
+            << " (dt = " << dt * units_.time() << " s)\n";
     if (!ok)
       return false;
     repair(U);
-    if (scene.convection && sync)
+    if (loop.convection && sync)
       {
         if (!convect(U, 0.5 * dt))
           return false;

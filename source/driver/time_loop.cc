@@ -9,9 +9,9 @@
 #include <granhydro/io/diagnostics.h>
 #include <granhydro/io/summary_csv.h>
 
-#include <sys/resource.h>
-
 #include <deal.II/base/mpi.h>
+
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -54,10 +54,10 @@ namespace granhydro
 
     std::string hms(double s)
     {
-      const long          k = std::lround(std::max(0., s));
+      const long         k = std::lround(std::max(0., s));
       std::ostringstream os;
-      os << std::setfill('0') << std::setw(2) << k / 3600 << ':' << std::setw(2) << (k / 60) % 60
-         << ':' << std::setw(2) << k % 60;
+      os << std::setfill('0') << std::setw(2) << k / 3600 << ':' << std::setw(2) << (k / 60) % 60 << ':'
+         << std::setw(2) << k % 60;
       return os.str();
     }
 
@@ -87,7 +87,10 @@ namespace granhydro
     std::signal(SIGINT, on_stop_signal);
   }
 
-  int stop_signal() { return stop_requested; }
+  int stop_signal()
+  {
+    return stop_requested;
+  }
 
   template <int dim, class Description>
   RunSummary Simulation<dim, Description>::run()
@@ -95,11 +98,11 @@ namespace granhydro
     TimeLoopState L;
     L.start = clock::now();
     start_run(L);
-    while (L.t < L.t_end * (1 - 1e-12) && (scene.max_steps == 0 || L.step < scene.max_steps))
+    while (L.t < L.t_end * (1 - 1e-12) && (loop.max_steps == 0 || L.step < loop.max_steps))
       {
         // adaptation on absolute step numbers: a restarted run adapts where the
         // uninterrupted one did
-        if (scene.max_level > 0 && L.step % scene.adapt_interval == 0 && L.step > 0)
+        if (loop.adapt_interval > 0 && L.step % loop.adapt_interval == 0 && L.step > 0)
           {
             const TimerOutput::Scope scope(timers_, "adaptation");
             adapt_mesh(false);
@@ -133,26 +136,27 @@ namespace granhydro
     const bool step_limited =
       !L.sum.steady && !L.wall_limited && !L.interrupted_by && L.t < L.t_end * (1 - 1e-12);
     if (step_limited)
-      pcout << "  step limit (Time/Maximum steps = " << scene.max_steps << ") reached at t = " << L.t * L.t0
-            << " s of " << scene.end_time << " s\n";
+      pcout << "  step limit (Time/Maximum steps = " << loop.max_steps << ") reached at t = " << L.t * L.t0
+            << " s of " << loop.end_time << " s\n";
     L.sum.interrupted_by = L.interrupted_by;
-    finish(L, L.sum.steady      ? "steady" :
-              L.interrupted_by  ? (L.interrupted_by == SIGINT ? "interrupted (SIGINT)" : "interrupted (SIGTERM)") :
-              L.wall_limited    ? "wall time limit" :
-              step_limited      ? "maximum steps" :
-                                  "completed");
+    finish(L, L.sum.steady ? "steady" :
+              L.interrupted_by ?
+                             (L.interrupted_by == SIGINT ? "interrupted (SIGINT)" : "interrupted (SIGTERM)") :
+              L.wall_limited ? "wall time limit" :
+              step_limited   ? "maximum steps" :
+                               "completed");
     return L.sum;
   }
 
   template <int dim, class Description>
   void Simulation<dim, Description>::start_run(TimeLoopState &L)
   {
-    started_utc_ = utc_now(); // rank 0's clock gives the summary's start_time
-    L.t0       = units_.time();
-    L.t_end    = scene.end_time / L.t0;
-    L.dt_fixed = scene.fixed_time_step / L.t0;
-    L.interval = scene.output_interval / L.t0;
-    L.t        = start_time_;
+    started_utc_  = utc_now(); // rank 0's clock gives the summary's start_time
+    L.t0          = units_.time();
+    L.t_end       = loop.end_time / L.t0;
+    L.dt_fixed    = loop.fixed_time_step / L.t0;
+    L.interval    = loop.output_interval / L.t0;
+    L.t           = start_time_;
     L.next_output = L.interval > 0 ? L.interval : L.t_end;
     // the output times after a restart are the ones the uninterrupted run would have
     // chosen (same additions), so the time steps and results are identical
@@ -164,49 +168,47 @@ namespace granhydro
     convective_pieces   = 0;
     max_repair          = 0;
     L.step              = start_step_;
-    L.merge             = integrator && scene.convection && scene.merge_strang;
+    L.merge             = integrator && loop.convection && loop.merge_strang;
     if (owed_ > 0 && !L.merge) // a checkpoint of a merged run restarted with symmetric steps
       {
         if (!convect(U, owed_))
           throw RunError("the convective half-step owed by the checkpoint failed");
         owed_ = 0;
       }
-    L.checkpoint    = scene.output_file(".checkpoint");
+    L.checkpoint    = files.file(".checkpoint");
     L.last_progress = L.start;
     std::string why;
     if (!conv->admissible(U, &why))
       throw RunError("initial state is inadmissible (n <= 0 or T <= 0): " + why);
-    if (scene.write_summary && Utilities::MPI::this_mpi_process(comm) == 0)
-      io::write_running_summary(scene.output_file("_summary.csv"), record_entries());
+    if (files.summary && Utilities::MPI::this_mpi_process(comm) == 0)
+      io::write_running_summary(files.file("_summary.csv"), record_entries());
     // a run from the scene's initial state writes it; a restart (even from the t = 0
     // checkpoint) has it already
-    const bool fresh = L.step == 0 && scene.initial_checkpoint.empty();
+    const bool fresh = L.step == 0 && !loop.from_checkpoint;
     if (fresh)
       {
         write_output(U, L.t * L.t0, 0);
         checkpoint_now(L);
       }
     L.backup.reinit(U.get_partitioner());
-    L.backup  = U;
+    L.backup                      = U;
     const io::StateTotals<dim> s0 = io::state_totals(*patch_, U, desc, units_.length, comm);
     // the mass drift is taken against the mass at the start of the counted run
     L.mass0 = earlier_.initial_grains > 0 ? earlier_.initial_grains : s0.n;
     start_history(L, fresh, s0);
-    L.g_eff   = std::sqrt(scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
-                          scene.gravity[2] * scene.gravity[2]) +
-              scene.vibration_amplitude * std::pow(2 * M_PI * scene.vibration_frequency, 2);
+    L.g_eff = loop.max_body_acceleration;
   }
 
   template <int dim, class Description>
   double Simulation<dim, Description>::step_size(TimeLoopState &L, double &dt_cfl)
   {
     double dt = L.dt_fixed;
-    if (scene.convection) // the convective CFL limits the step; diffusion never does
+    if (loop.convection) // the convective CFL limits the step; diffusion never does
       {
         const double rate = conv->max_rate(U);
         if (!(rate > 0) || !std::isfinite(rate))
           throw RunError("no finite wave speed at t = " + std::to_string(L.t * L.t0) + " s");
-        dt_cfl = scene.cfl / rate;
+        dt_cfl = loop.cfl / rate;
         dt     = L.dt_fixed > 0 ? std::min(dt_cfl, L.dt_fixed) : dt_cfl;
         if (dt_cfl < L.min_cfl)
           {
@@ -232,7 +234,7 @@ namespace granhydro
     // merged Strang splitting: the closing C(dt/2) is owed to the next step, except
     // at output and end times and before the step limit (a checkpoint between output
     // times stores the owed time, so a restart continues exactly)
-    const bool last_step = scene.max_steps > 0 && L.step + 1 >= scene.max_steps;
+    const bool last_step = loop.max_steps > 0 && L.step + 1 >= loop.max_steps;
     auto       sync_at   = [&](const double h) {
       return !L.merge || last_step || L.t + h >= L.next_output * (1 - 1e-12);
     };
@@ -265,7 +267,7 @@ namespace granhydro
         // first step may halve down to 2^-30 ~ 1e-9 of its CFL step; every later step
         // keeps 'Maximum step retries'
         const unsigned int max_retries =
-          L.step == 0 ? std::max(scene.max_step_retries, first_step_retries) : scene.max_step_retries;
+          L.step == 0 ? std::max(loop.max_step_retries, first_step_retries) : loop.max_step_retries;
         if (++tries > max_retries)
           {
             const std::string details = io::inadmissible_step_message(
@@ -282,8 +284,8 @@ namespace granhydro
             pcout << "  the last admissible state (t = " << L.t * t0 << " s) is the final output\n";
             throw RunError(message);
           }
-        pcout << "  step " << L.step << ": inadmissible state, retrying with dt = " << dt * t0 / 2
-              << " s" << (why.empty() ? std::string() : " (" + why + ")") << "\n";
+        pcout << "  step " << L.step << ": inadmissible state, retrying with dt = " << dt * t0 / 2 << " s"
+              << (why.empty() ? std::string() : " (" + why + ")") << "\n";
         U  = L.backup;
         dt = dt / 2;
       }
@@ -302,7 +304,7 @@ namespace granhydro
     if (history_)
       history_->check(); // a failed history write stops every rank here
     L.next_output = L.interval > 0 ? std::min(L.next_output + L.interval, L.t_end) : L.t_end;
-    return scene.steady_tolerance > 0 && L.interval > 0 && steady_state(L);
+    return loop.steady_tolerance > 0 && L.interval > 0 && steady_state(L);
   }
 
   template <int dim, class Description>
@@ -310,13 +312,13 @@ namespace granhydro
   {
     // steady state: total kinetic energy and centre of mass along the profile
     // direction both change by less than the tolerance over one output interval
-    const unsigned int pd = scene.profile_direction < 0 ? dim - 1 : scene.profile_direction;
+    const unsigned int pd   = loop.profile_direction;
     double             v[3] = {0, 0, 0}; // kinetic energy, n x_pd, n
     for (unsigned int s = 0; s < patch_->n_owned(); ++s)
       {
-        const double *u = &U.local_element(std::size_t(s) * (dim + 2));
+        const double *u   = &U.local_element(std::size_t(s) * (dim + 2));
         const double  vol = patch_->cell_volume(s);
-        double        m2 = 0;
+        double        m2  = 0;
         for (unsigned int d = 0; d < dim; ++d)
           m2 += u[1 + d] * u[1 + d];
         v[0] += 0.5 * m2 / u[0] * vol;
@@ -326,14 +328,13 @@ namespace granhydro
     Utilities::MPI::sum(ArrayView<const double>(v, 3), comm, ArrayView<double>(v, 3));
     const double ke = v[0], com = v[1] / v[2];
     const double L_pd = patch_->cell_size(pd) * patch_->cells(pd);
-    if (L.have_steady_reference && std::abs(ke - L.steady_ke) <= scene.steady_tolerance * ke &&
-        std::abs(com - L.steady_com) <= scene.steady_tolerance * L_pd)
+    if (L.have_steady_reference && std::abs(ke - L.steady_ke) <= loop.steady_tolerance * ke &&
+        std::abs(com - L.steady_com) <= loop.steady_tolerance * L_pd)
       {
         pcout << "  steady state at t = " << L.t * L.t0 << " s: kinetic energy and centre of mass "
               << "changed by " << std::abs(ke - L.steady_ke) / ke << " and "
-              << std::abs(com - L.steady_com) / L_pd << " (relative) over the last "
-              << scene.output_interval << " s (Time/Steady state tolerance = "
-              << scene.steady_tolerance << ")\n";
+              << std::abs(com - L.steady_com) / L_pd << " (relative) over the last " << loop.output_interval
+              << " s (Time/Steady state tolerance = " << loop.steady_tolerance << ")\n";
         L.sum.steady = true;
         return true;
       }
@@ -352,14 +353,15 @@ namespace granhydro
     L.interrupted_by = Utilities::MPI::max(int(stop_signal()), comm);
     if (L.interrupted_by)
       {
-        pcout << "  " << (L.interrupted_by == SIGINT ? "SIGINT" : "SIGTERM") << " received: stopping at t = "
-              << L.t * L.t0 << " s, step " << L.step << " (final output, checkpoint and summary follow)\n";
+        pcout << "  " << (L.interrupted_by == SIGINT ? "SIGINT" : "SIGTERM")
+              << " received: stopping at t = " << L.t * L.t0 << " s, step " << L.step
+              << " (final output, checkpoint and summary follow)\n";
         return true;
       }
-    if (scene.max_wall_seconds > 0 &&
-        Utilities::MPI::max(seconds_since(L.start), comm) > scene.max_wall_seconds)
+    if (loop.max_wall_seconds > 0 &&
+        Utilities::MPI::max(seconds_since(L.start), comm) > loop.max_wall_seconds)
       {
-        pcout << "  wall time limit (Time/Maximum wall time = " << scene.max_wall_seconds
+        pcout << "  wall time limit (Time/Maximum wall time = " << loop.max_wall_seconds
               << " s) reached at t = " << L.t * L.t0 << " s, step " << L.step << "\n";
         L.wall_limited = true;
         return true;
@@ -371,23 +373,22 @@ namespace granhydro
   void Simulation<dim, Description>::progress_line(TimeLoopState &L, const double dt)
   {
     const auto now = clock::now();
-    if (std::chrono::duration<double>(now - L.last_progress).count() < scene.progress_interval)
+    if (std::chrono::duration<double>(now - L.last_progress).count() < loop.progress_interval)
       return;
-    L.last_progress     = now;
-    const double wall   = std::chrono::duration<double>(now - L.start).count();
-    const double frac   = L.t / L.t_end;
+    L.last_progress   = now;
+    const double wall = std::chrono::duration<double>(now - L.start).count();
+    const double frac = L.t / L.t_end;
     // rate and ETA from this run's own steps and time (a restart starts mid-way);
     // with Time/Maximum steps the run ends at whichever comes first
-    const double done   = (L.t - start_time_) / std::max(L.t_end - start_time_, 1e-300);
-    const double rate   = (L.step - start_step_) / std::max(wall, 1e-12);
-    double       eta    = wall * (1 - done) / std::max(done, 1e-12);
-    if (scene.max_steps > 0 && rate > 0)
-      eta = std::min(eta, (double(scene.max_steps) - L.step) / rate);
-    pcout << "  t = " << std::scientific << std::setprecision(4) << L.t * L.t0 << " s ("
-          << std::fixed << std::setprecision(1) << 100 * frac << " %)  dt = "
-          << std::scientific << std::setprecision(3) << dt * L.t0 << " s  step " << L.step
-          << "  " << std::fixed << std::setprecision(1) << rate << " steps/s  ETA "
-          << hms(eta) << std::defaultfloat << std::setprecision(6) << "\n";
+    const double done = (L.t - start_time_) / std::max(L.t_end - start_time_, 1e-300);
+    const double rate = (L.step - start_step_) / std::max(wall, 1e-12);
+    double       eta  = wall * (1 - done) / std::max(done, 1e-12);
+    if (loop.max_steps > 0 && rate > 0)
+      eta = std::min(eta, (double(loop.max_steps) - L.step) / rate);
+    pcout << "  t = " << std::scientific << std::setprecision(4) << L.t * L.t0 << " s (" << std::fixed
+          << std::setprecision(1) << 100 * frac << " %)  dt = " << std::scientific << std::setprecision(3)
+          << dt * L.t0 << " s  step " << L.step << "  " << std::fixed << std::setprecision(1) << rate
+          << " steps/s  ETA " << hms(eta) << std::defaultfloat << std::setprecision(6) << "\n";
   }
 
   template <int dim, class Description>
@@ -395,18 +396,18 @@ namespace granhydro
   {
     if (integrator && !L.interrupted_by) // a restart starts here: the integrator forgets its history too
       integrator->restart_point();
-    if (!scene.write_checkpoint)
+    if (!files.checkpoint)
       return;
     const TimerOutput::Scope scope(timers_, "output");
     record_ = to_run_record(whole ? *whole : combine_segments(earlier_, segment_summary(L)), record_units());
     write_checkpoint(L.checkpoint, L.t, L.step, L.interrupted_by != 0);
-    if (scene.keep_checkpoints > 1)
+    if (files.keep_checkpoints > 1)
       {
         // the numbered copy and the deletion of the oldest: rank 0, now that every rank
         // has verified its part of the new checkpoint
         std::string error;
         if (Utilities::MPI::this_mpi_process(comm) == 0)
-          error = io::keep_recent_checkpoints(L.checkpoint, L.step, scene.keep_checkpoints);
+          error = io::keep_recent_checkpoints(L.checkpoint, L.step, files.keep_checkpoints);
         error = io::first_error(error, comm);
         if (!error.empty())
           throw io::OutputError(error + " (Output/Keep checkpoints)");
@@ -428,18 +429,19 @@ namespace granhydro
   {
     const double t0  = L.t0;
     RunSummary   sum = L.sum; // rejected steps, steady, interrupted_by
-    sum.steps       = L.step;
-    sum.min_dt_si   = (std::isfinite(L.min_dt) ? L.min_dt : (std::isfinite(L.min_cut_dt) ? L.min_cut_dt : 0)) * t0;
-    sum.max_dt_si   = L.max_dt * t0;
-    sum.min_cfl_dt_si      = std::isfinite(L.min_cfl) ? L.min_cfl * t0 : 0;
-    sum.min_cfl_dt_time_si = L.min_cfl_t * t0;
-    sum.cells              = patch_->n_global_cells();
-    sum.max_cells          = std::max<unsigned long long>(max_cells, sum.cells);
-    sum.adaptations        = adaptations;
-    sum.refined_cells      = refined_cells;
-    sum.coarsened_cells    = coarsened_cells;
-    sum.min_rank_cells     = Utilities::MPI::min<unsigned long long>(patch_->n_owned(), comm);
-    sum.max_rank_cells     = Utilities::MPI::max<unsigned long long>(patch_->n_owned(), comm);
+    sum.steps        = L.step;
+    sum.min_dt_si =
+      (std::isfinite(L.min_dt) ? L.min_dt : (std::isfinite(L.min_cut_dt) ? L.min_cut_dt : 0)) * t0;
+    sum.max_dt_si              = L.max_dt * t0;
+    sum.min_cfl_dt_si          = std::isfinite(L.min_cfl) ? L.min_cfl * t0 : 0;
+    sum.min_cfl_dt_time_si     = L.min_cfl_t * t0;
+    sum.cells                  = patch_->n_global_cells();
+    sum.max_cells              = std::max<unsigned long long>(max_cells, sum.cells);
+    sum.adaptations            = adaptations;
+    sum.refined_cells          = refined_cells;
+    sum.coarsened_cells        = coarsened_cells;
+    sum.min_rank_cells         = Utilities::MPI::min<unsigned long long>(patch_->n_owned(), comm);
+    sum.max_rank_cells         = Utilities::MPI::max<unsigned long long>(patch_->n_owned(), comm);
     sum.temperature_repairs    = Utilities::MPI::sum(temperature_repairs, comm);
     sum.continuation_cells     = Utilities::MPI::sum(continuation_cells, comm);
     sum.convective_steps       = convective_pieces; // the same on every rank
@@ -452,10 +454,10 @@ namespace granhydro
       sum.peak_memory_max   = Utilities::MPI::max(bytes, comm);
       sum.peak_memory_total = Utilities::MPI::sum(bytes, comm);
     }
-    sum.time_si            = L.t * t0;
-    sum.wall_seconds       = seconds_since(L.start);
-    sum.convection         = conv->global_statistics();
-    sum.diffusion_active   = integrator != nullptr;
+    sum.time_si          = L.t * t0;
+    sum.wall_seconds     = seconds_since(L.start);
+    sum.convection       = conv->global_statistics();
+    sum.diffusion_active = integrator != nullptr;
     if (integrator)
       {
         sum.diffusion = integrator->global_statistics();
@@ -496,9 +498,9 @@ namespace granhydro
     // the final state's totals, once: the summary's and the history's last row (the state
     // the checkpoint holds)
     const io::StateTotals<dim> s = io::state_totals(*patch_, U, desc, units_.length, comm);
-    sum.mass_drift      = std::abs(s.n - L.mass0) / L.mass0;
-    sum.final_mass_si   = s.n * units_.mass * std::pow(units_.length, dim - 3.);
-    sum.final_energy_si = s.energy * units_.energy() * std::pow(units_.length, dim - 3.);
+    sum.mass_drift               = std::abs(s.n - L.mass0) / L.mass0;
+    sum.final_mass_si            = s.n * units_.mass * std::pow(units_.length, dim - 3.);
+    sum.final_energy_si          = s.energy * units_.energy() * std::pow(units_.length, dim - 3.);
     if (history_)
       {
         if (L.history_step != (long long)L.step)
@@ -507,19 +509,19 @@ namespace granhydro
       }
     L.sum = sum;
     print_run_summary(sum);
-    if (scene.write_summary)
+    if (files.summary)
       write_summary(sum, status);
-    if (scene.write_vtu || scene.write_profiles || scene.write_summary)
+    if (files.vtu || files.profiles || files.summary)
       {
-        pcout << "  output in " << scene.output_directory << "/:";
-        if (scene.write_vtu)
-          pcout << " " << scene.base_name << ".pvd (ParaView)";
-        if (scene.write_profiles)
-          pcout << " " << scene.base_name << "_profiles.csv";
-        if (scene.write_summary)
-          pcout << " " << scene.base_name << "_summary.csv";
+        pcout << "  output in " << files.directory << "/:";
+        if (files.vtu)
+          pcout << " " << files.base_name << ".pvd (ParaView)";
+        if (files.profiles)
+          pcout << " " << files.base_name << "_profiles.csv";
+        if (files.summary)
+          pcout << " " << files.base_name << "_summary.csv";
         if (history_)
-          pcout << " " << scene.base_name << "_history.csv";
+          pcout << " " << files.base_name << "_history.csv";
         pcout << "\n";
       }
   }

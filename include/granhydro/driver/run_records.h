@@ -9,7 +9,7 @@
  * Both are written once the mesh and the initial state are set up, so that a scene
  * refused there leaves no files; the log then starts with the lines printed so far.
  */
-#include <granhydro/scene/scene.h>
+#include <granhydro/driver/run_settings.h>
 
 #include <mpi.h>
 
@@ -22,8 +22,10 @@ namespace granhydro
   class RunRecords
   {
   public:
-    /// the records of `scene`; `terminal` is where rank 0 prints (std::cout)
-    RunRecords(const Scene &scene, const MPI_Comm comm, std::ostream &terminal);
+    /// the records of a run writing `files`, described by `report` (run_settings() of its
+    /// scene); `terminal` is where rank 0 prints (std::cout)
+    RunRecords(const RunFiles &files, const RunReportSettings &report, const MPI_Comm comm,
+               std::ostream &terminal);
     ~RunRecords();
 
     /// the stream the run prints to: the terminal, and on rank 0 also <base>.log
@@ -40,7 +42,8 @@ namespace granhydro
 
   private:
     class Tee;
-    const Scene                   scene; ///< a copy: main's messages may outlive its scene
+    const RunFiles                files; ///< copies: main's messages may outlive its scene
+    const RunReportSettings       report;
     const MPI_Comm                comm;
     const bool                    logging; ///< rank 0 of a run that writes its records and log
     std::unique_ptr<Tee>          tee;

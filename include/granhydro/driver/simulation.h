@@ -9,6 +9,7 @@
  */
 #include <granhydro/convection/convection_operator.h>
 #include <granhydro/diffusion/implicit_integrator.h>
+#include <granhydro/driver/run_settings.h>
 #include <granhydro/driver/run_summary.h>
 #include <granhydro/driver/time_loop.h>
 #include <granhydro/io/diagnostics.h>
@@ -20,13 +21,13 @@
 #include <granhydro/physics/ideal_gas.h>
 #include <granhydro/scene/scene.h>
 
-#include <cmath>
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/timer.h>
 #include <deal.II/lac/la_parallel_vector.h>
 
-#include <functional>
+#include <cmath>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <ostream>
 #include <string>
@@ -58,8 +59,7 @@ namespace granhydro
 
     /// replace the initial state: f(x) returns the conservative state in SI
     /// units at a point x [m]; cell averages by Gauss quadrature (nq points per direction)
-    void set_initial_state(const std::function<State(const dealii::Point<dim> &)> &f,
-                           const unsigned int nq);
+    void set_initial_state(const std::function<State(const dealii::Point<dim> &)> &f, const unsigned int nq);
 
     /// run to the scene's end time (or max steps)
     RunSummary run();
@@ -83,14 +83,11 @@ namespace granhydro
     /// (and the unsynchronised state) if that convective step fails
     bool synchronised_state(Vector &V);
 
-    const CartesianPatch<dim> &patch() const { return *patch_; }
-    const Vector              &state() const { return U; }
-    const Units               &units() const { return units_; }
-    const Description &description() const { return desc; }
-    const convection::ConvectionOperator<dim, Description> &convection() const
-    {
-      return *conv;
-    }
+    const CartesianPatch<dim>                              &patch() const { return *patch_; }
+    const Vector                                           &state() const { return U; }
+    const Units                                            &units() const { return units_; }
+    const Description                                      &description() const { return desc; }
+    const convection::ConvectionOperator<dim, Description> &convection() const { return *conv; }
 
     /// conservative SI state of owned slot s
     State state_si(const unsigned int s) const;
@@ -209,33 +206,40 @@ namespace granhydro
     /// key of owned slot s in the checkpoint file (lattice index, x fastest)
     std::int64_t lattice_key(const unsigned int s) const;
 
-    Scene                     scene;
-    MPI_Comm                  comm;
-    dealii::ConditionalOStream pcout;
-    Units                     units_;
-    Description               desc;
+    /// the scene: read here, in the composition root (simulation.cc) only; the parts of
+    /// the run read their settings below (run_settings.h)
+    Scene                                scene;
+    TimeLoopSettings                     loop;       ///< time_loop.cc, strang_step.cc
+    RunFiles                             files;      ///< outputs, checkpoints, history, summary
+    RunReportSettings                    report;     ///< run_summary.cc, run_history.cc
+    CheckpointIdentity                   identity;   ///< simulation_checkpoint.cc
+    AdaptationSettings                   adaptation; ///< adapt_mesh.cc
+    MPI_Comm                             comm;
+    dealii::ConditionalOStream           pcout;
+    Units                                units_;
+    Description                          desc;
     std::unique_ptr<CartesianPatch<dim>> patch_;
     std::unique_ptr<convection::ConvectionOperator<dim, Description>> conv;
-    std::unique_ptr<io::Output<dim, Description>> output;
-    std::unique_ptr<diffusion::DiffusionOperator<dim>>  diff;
-    std::unique_ptr<diffusion::ImplicitIntegrator<dim>> integrator;
+    std::unique_ptr<io::Output<dim, Description>>                     output;
+    std::unique_ptr<diffusion::DiffusionOperator<dim>>                diff;
+    std::unique_ptr<diffusion::ImplicitIntegrator<dim>>               integrator;
     /// this rank's wall time in the sections convection, diffusion, adaptation and output
     /// (no barriers: TimerOutput without a communicator); measure_phases() reduces them
     dealii::TimerOutput timers_{pcout, dealii::TimerOutput::never, dealii::TimerOutput::wall_times};
-    unsigned long long temperature_repairs = 0;
+    unsigned long long  temperature_repairs = 0;
     /// cell updates that ended beyond phi_c - delta (the continuations of chi and w)
     unsigned long long continuation_cells = 0;
-    unsigned long long convective_pieces   = 0; ///< SSP-RK3 steps taken (convect())
-    double             max_repair          = 0;
-    double       owed_       = 0; ///< scaled convective time owed (merged Strang splitting)
-    double       start_time_ = 0; ///< scaled
-    std::string  started_utc_;    ///< when run() started, ISO 8601 UTC (the summary's start_time)
-    unsigned int start_step_ = 0;
-    Vector                    U;
-    unsigned int              adaptations = 0;
-    double                    busy_at_adapt_ = 0; ///< conv->busy_seconds() at the last adaptation
-    double                    fixed_cost_    = 0; ///< set_cost_per_cell()
-    unsigned long long        max_cells = 0, refined_cells = 0, coarsened_cells = 0;
+    unsigned long long convective_pieces  = 0; ///< SSP-RK3 steps taken (convect())
+    double             max_repair         = 0;
+    double             owed_              = 0; ///< scaled convective time owed (merged Strang splitting)
+    double             start_time_        = 0; ///< scaled
+    std::string        started_utc_; ///< when run() started, ISO 8601 UTC (the summary's start_time)
+    unsigned int       start_step_ = 0;
+    Vector             U;
+    unsigned int       adaptations    = 0;
+    double             busy_at_adapt_ = 0; ///< conv->busy_seconds() at the last adaptation
+    double             fixed_cost_    = 0; ///< set_cost_per_cell()
+    unsigned long long max_cells = 0, refined_cells = 0, coarsened_cells = 0;
     /// the record of the run's earlier segments, read from the checkpoint it restarted
     /// from (none: no segments, counted from step 0)
     RunSummary earlier_ = [] {
