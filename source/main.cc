@@ -370,6 +370,10 @@ int main(int argc, char **argv)
     {
       return stopped(e.what(), "failed");
     }
+  catch (const granhydro::Error &e) // a checkpoint or mesh-file error no caller named
+    {
+      return stopped(e.what(), "failed");
+    }
   catch (const std::exception &e)
     {
       std::cerr << "granhydro: internal error: " << e.what() << std::endl;

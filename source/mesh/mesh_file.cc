@@ -36,8 +36,8 @@ namespace granhydro
       for (std::string line; std::getline(in, line);)
         lines.push_back(line);
       const auto bad = [&](const std::size_t i, const std::string &what) {
-        throw std::runtime_error("cannot read '" + filename + "' as " + (msh ? "a gmsh" : "a ucd") +
-                                 " mesh: line " + std::to_string(i + 1) + ": " + what);
+        throw MeshFileError("cannot read '" + filename + "' as " + (msh ? "a gmsh" : "a ucd") +
+                            " mesh: line " + std::to_string(i + 1) + ": " + what);
       };
       const auto count_at = [&](const std::size_t i) {
         std::istringstream is(i < lines.size() ? lines[i] : std::string());
@@ -90,7 +90,7 @@ namespace granhydro
                   for (long long t = 0; t < ntags; ++t)
                     if (!(is >> tag) || tag < 0)
                       bad(i + 2 + k, "element tags (physical id = boundary id, elementary id) must "
-                                       "be non-negative integers");
+                                     "be non-negative integers");
                 }
             }
         }
@@ -102,26 +102,27 @@ namespace granhydro
   {
     const bool msh = ends_with(filename, ".msh"), inp = ends_with(filename, ".inp");
     if (!msh && !inp)
-      throw std::runtime_error("'" + filename + "' has an unknown extension (expected .msh for "
-                               "gmsh or .inp for ucd)");
+      throw MeshFileError("'" + filename +
+                          "' has an unknown extension (expected .msh for "
+                          "gmsh or .inp for ucd)");
     // a mesh is a regular file of bounded size: a link to /dev/zero or /dev/urandom was
     // read until the memory ran out (the prescan keeps every line)
     std::error_code ec;
     const auto      status = std::filesystem::status(filename, ec);
     if (ec || !std::filesystem::exists(status))
-      throw std::runtime_error("cannot open '" + filename + "': no such file");
+      throw MeshFileError("cannot open '" + filename + "': no such file");
     if (!std::filesystem::is_regular_file(status))
-      throw std::runtime_error("'" + filename + "' is not a regular file (a directory or a "
-                               "device); give a .msh or .inp file");
+      throw MeshFileError("'" + filename +
+                          "' is not a regular file (a directory or a "
+                          "device); give a .msh or .inp file");
     const std::uintmax_t bytes = std::filesystem::file_size(filename, ec);
     if (ec || bytes > max_mesh_file_bytes)
-      throw std::runtime_error("'" + filename + "' is larger than " +
-                               std::to_string(max_mesh_file_bytes >> 20) +
-                               " MiB (or unreadable); give a coarser mesh and refine it with "
-                               "'Domain/Mesh refinements'");
+      throw MeshFileError("'" + filename + "' is larger than " + std::to_string(max_mesh_file_bytes >> 20) +
+                          " MiB (or unreadable); give a coarser mesh and refine it with "
+                          "'Domain/Mesh refinements'");
     std::ifstream in(filename);
     if (!in)
-      throw std::runtime_error("cannot open '" + filename + "'");
+      throw MeshFileError("cannot open '" + filename + "'");
     prescan_mesh_file(filename, msh);
     GridIn<dim> gi;
     gi.attach_triangulation(tria);
@@ -134,11 +135,11 @@ namespace granhydro
       }
     catch (const std::exception &e)
       {
-        throw std::runtime_error("cannot read '" + filename + "' as " +
-                                 (msh ? "a gmsh" : "a ucd") + " mesh: " + human_message(e.what()));
+        throw MeshFileError("cannot read '" + filename + "' as " + (msh ? "a gmsh" : "a ucd") +
+                            " mesh: " + human_message(e.what()));
       }
     if (tria.n_active_cells() == 0)
-      throw std::runtime_error("'" + filename + "' has no cells");
+      throw MeshFileError("'" + filename + "' has no cells");
   }
 
   template <int dim>
@@ -162,15 +163,15 @@ namespace granhydro
             }
         boxes.push_back(b);
       }
-    const Box   &ref = boxes[0];
-    double       tol = 1e300;
+    const Box &ref = boxes[0];
+    double     tol = 1e300;
     for (unsigned int d = 0; d < dim; ++d)
       {
         info.cell_size[d] = ref.hi[d] - ref.lo[d];
         tol               = std::min(tol, 1e-8 * info.cell_size[d]);
       }
     if (!(tol > 0))
-      throw std::runtime_error("a cell has zero extent");
+      throw MeshFileError("a cell has zero extent");
     for (unsigned int d = 0; d < dim; ++d)
       {
         info.lower[d] = ref.lo[d];
@@ -196,8 +197,8 @@ namespace granhydro
         const Box &b = boxes[index++];
         for (unsigned int d = 0; d < dim; ++d)
           if (std::abs((b.hi[d] - b.lo[d]) - info.cell_size[d]) > tol)
-            throw std::runtime_error(where(cell) + " is not congruent with the first cell: all "
-                                     "cells must be axis-aligned boxes of the same size");
+            throw MeshFileError(where(cell) + " is not congruent with the first cell: all "
+                                              "cells must be axis-aligned boxes of the same size");
         std::set<unsigned int> corners;
         for (const unsigned int v : cell->vertex_indices())
           {
@@ -208,7 +209,7 @@ namespace granhydro
                 if (std::abs(x - b.hi[d]) <= tol)
                   mask |= 1u << d;
                 else if (std::abs(x - b.lo[d]) > tol)
-                  throw std::runtime_error(where(cell) + " is not an axis-aligned box");
+                  throw MeshFileError(where(cell) + " is not an axis-aligned box");
               }
             corners.insert(mask);
           }
@@ -217,24 +218,24 @@ namespace granhydro
           volume *= info.cell_size[d];
         // a wrong vertex order (a twisted box) has all corners but not the box's volume
         if (corners.size() != cell->n_vertices() || std::abs(cell->measure() - volume) > 1e-6 * volume)
-          throw std::runtime_error(where(cell) + " is not an axis-aligned box (or its vertices "
-                                   "are not in the format's order)");
+          throw MeshFileError(where(cell) + " is not an axis-aligned box (or its vertices "
+                                            "are not in the format's order)");
         std::array<long long, 3> ijk{{0, 0, 0}};
         for (unsigned int d = 0; d < dim; ++d)
           {
             const double q = (b.lo[d] - info.lower[d]) / info.cell_size[d];
             ijk[d]         = std::llround(q);
             if (std::abs(q - ijk[d]) > 1e-6)
-              throw std::runtime_error(where(cell) + " is not on the lattice of the other cells "
-                                       "(its corner is not a whole number of cell sizes from the "
-                                       "lower corner of the mesh)");
+              throw MeshFileError(where(cell) + " is not on the lattice of the other cells "
+                                                "(its corner is not a whole number of cell sizes from the "
+                                                "lower corner of the mesh)");
           }
         if (!occupied.emplace(ijk, 0).second)
-          throw std::runtime_error(where(cell) + " overlaps another cell");
+          throw MeshFileError(where(cell) + " overlaps another cell");
       }
     for (unsigned int d = 0; d < dim; ++d)
       info.lattice[d] = std::llround((info.upper[d] - info.lower[d]) / info.cell_size[d]);
-    info.n_cells = boxes.size();
+    info.n_cells             = boxes.size();
     const std::size_t stride = boxes.size() / 262144 + 1;
     for (std::size_t i = 0; i < boxes.size(); i += stride)
       {
@@ -253,18 +254,17 @@ namespace granhydro
             const types::boundary_id id = cell->face(f)->boundary_id();
             const auto [d, upper]       = face_direction(cell, f);
             if (id >= 2 * dim)
-              throw std::runtime_error("boundary id " + std::to_string(id) + " on a face of " +
-                                       where(cell) + ": ids must lie in 0 .. " +
-                                       std::to_string(2 * dim - 1) +
-                                       " (0 = 'Boundary x-', 1 = 'Boundary x+', 2 = 'Boundary y-', ...)");
+              throw MeshFileError("boundary id " + std::to_string(id) + " on a face of " + where(cell) +
+                                  ": ids must lie in 0 .. " + std::to_string(2 * dim - 1) +
+                                  " (0 = 'Boundary x-', 1 = 'Boundary x+', 2 = 'Boundary y-', ...)");
             std::array<long long, 3> n{{0, 0, 0}};
             for (unsigned int k = 0; k < dim; ++k)
               n[k] = std::llround((cell->center()[k] - 0.5 * info.cell_size[k] - info.lower[k]) /
                                   info.cell_size[k]);
             n[d] += upper ? 1 : -1;
             if (occupied.count(n))
-              throw std::runtime_error(where(cell) + " and its neighbour do not share their face "
-                                       "(duplicated vertices?): the mesh must be conforming");
+              throw MeshFileError(where(cell) + " and its neighbour do not share their face "
+                                                "(duplicated vertices?): the mesh must be conforming");
             info.id_direction.emplace(id, d);
           }
     return info;
@@ -284,11 +284,11 @@ namespace granhydro
         read_mesh_file(filename, tria);
         return inspect_mesh(tria);
       }
-    throw std::runtime_error("mesh files need 'Dimension' 2 or 3");
+    throw MeshFileError("mesh files need 'Dimension' 2 or 3");
   }
 
-  template void read_mesh_file(const std::string &, Triangulation<2> &);
-  template void read_mesh_file(const std::string &, Triangulation<3> &);
+  template void         read_mesh_file(const std::string &, Triangulation<2> &);
+  template void         read_mesh_file(const std::string &, Triangulation<3> &);
   template MeshFileInfo inspect_mesh(const Triangulation<2> &);
   template MeshFileInfo inspect_mesh(const Triangulation<3> &);
 } // namespace granhydro

@@ -7,6 +7,7 @@
  * and stops the run with a clear message when retries run out), output
  * schedule, progress line and run summary.
  */
+#include <granhydro/base/errors.h>
 #include <granhydro/convection/convection_operator.h>
 #include <granhydro/diffusion/implicit_integrator.h>
 #include <granhydro/driver/run_settings.h>
@@ -35,13 +36,6 @@
 
 namespace granhydro
 {
-  /// a run that cannot continue (inadmissible state after all retries, ...)
-  class RunError : public std::runtime_error
-  {
-  public:
-    using std::runtime_error::runtime_error;
-  };
-
   /// the time loop of a scene with the constitutive description Description
   /// (physics::IdealGas<dim> or physics::GranularGas<dim>)
   template <int dim, class Description = physics::IdealGas<dim>>

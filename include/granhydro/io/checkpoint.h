@@ -31,6 +31,8 @@
  * checkpoint in place and raises the same CheckpointError (with the OS reason) on every
  * rank.
  */
+#include <granhydro/base/errors.h>
+
 #include <mpi.h>
 
 #include <cstdint>
@@ -42,12 +44,8 @@
 
 namespace granhydro::io
 {
-  /// a checkpoint could not be written, or a file is not a valid checkpoint
-  class CheckpointError : public std::runtime_error
-  {
-  public:
-    using std::runtime_error::runtime_error;
-  };
+  /// a checkpoint could not be written, or a file is not a valid checkpoint (base/errors.h)
+  using granhydro::CheckpointError;
 
   /// what the implicit step remembers across steps (0 / false / empty: nothing)
   struct IntegratorHistory
@@ -66,10 +64,10 @@ namespace granhydro::io
     std::uint64_t     cells[3] = {0, 0, 0};
     double            lower[3] = {0, 0, 0}, upper[3] = {0, 0, 0};
     double            length = 0, mass = 0, velocity = 0; ///< the scaled units of the values
-    double            time = 0;                            ///< scaled
+    double            time = 0;                           ///< scaled
     std::uint64_t     step = 0, n_cells = 0, outputs = 0;
     char              model[16] = {};
-    std::int32_t      n_values = 0; ///< doubles per row: n_components, or 2 n_components with history
+    std::int32_t      n_values  = 0; ///< doubles per row: n_components, or 2 n_components with history
     IntegratorHistory history;
     /// scaled convective time the state still owes: with merged Strang half-steps a run
     /// interrupted between output times stops after V, before the second C(dt/2)
@@ -92,9 +90,9 @@ namespace granhydro::io
   /// one entry of the part table
   struct CheckpointPart
   {
-    std::uint64_t offset = 0, n_rows = 0;      ///< byte offset in the file, rows
+    std::uint64_t offset = 0, n_rows = 0;        ///< byte offset in the file, rows
     std::int64_t  first_key = -1, last_key = -1; ///< key range (-1: empty part)
-    std::uint64_t checksum = 0;                 ///< FNV-1a of the part's bytes
+    std::uint64_t checksum = 0;                  ///< FNV-1a of the part's bytes
   };
 
   /// the magic line of the current format
@@ -121,7 +119,7 @@ namespace granhydro::io
   public:
     explicit CheckpointReader(const std::string &file);
 
-    const CheckpointHeader            &header() const { return h_; }
+    const CheckpointHeader &header() const { return h_; }
     /// the file's format version (5 or 6)
     int                                version() const { return version_; }
     const std::vector<CheckpointPart> &parts() const { return parts_; }
@@ -153,7 +151,8 @@ namespace granhydro::io
   /// left by a run that went further before this one restarted from an earlier
   /// checkpoint, are neither counted nor deleted). Empty, or why the copy failed (a
   /// file that cannot be deleted is left and not reported)
-  std::string keep_recent_checkpoints(const std::string &file, const std::uint64_t step, const unsigned int keep);
+  std::string keep_recent_checkpoints(const std::string &file, const std::uint64_t step,
+                                      const unsigned int keep);
 
   /// the first non-empty error of the ranks of comm (the lowest rank's), or empty: a
   /// failure on one rank stops every rank with the same message

@@ -9,11 +9,11 @@
  * doc/user-guide.md, "Profiles and cross-sections"). Velocities are written in
  * the lab frame: for a vibrated container the frame velocity ds/dt is added.
  */
+#include <granhydro/base/errors.h>
+#include <granhydro/io/settings.h>
 #include <granhydro/mesh/cartesian_patch.h>
 #include <granhydro/physics/granular_gas.h>
 #include <granhydro/physics/ideal_gas.h>
-#include <granhydro/base/errors.h>
-#include <granhydro/io/settings.h>
 
 #include <deal.II/lac/la_parallel_vector.h>
 
@@ -25,13 +25,8 @@
 
 namespace granhydro::io
 {
-  /// a result file could not be written (disk full, permissions, a vanished folder): the
-  /// run stops with exit code 3 and this message, never with an internal error
-  class OutputError : public std::runtime_error
-  {
-  public:
-    using std::runtime_error::runtime_error;
-  };
+  /// a result file could not be written (base/errors.h): the run stops with exit code 3
+  using granhydro::OutputError;
 
   /// the n_groups argument of deal.II's write_vtu_with_pvtu_record for 'Output/VTU files
   /// per output' = files_per_output on n_ranks ranks: 0 (one file per rank, the plain
@@ -60,16 +55,16 @@ namespace granhydro::io
   private:
     /// velocity of the frame the equations are solved in (vibrated container) [m/s]
     std::array<double, 3> frame_velocity(const double time_si) const;
-    void write_vtu(const Vector &U, const double time_si, const unsigned int step);
-    void write_profiles(const Vector &U, const double time_si);
-    void write_cross_section(const Vector &U, const double time_si);
+    void                  write_vtu(const Vector &U, const double time_si, const unsigned int step);
+    void                  write_profiles(const Vector &U, const double time_si);
+    void                  write_cross_section(const Vector &U, const double time_si);
 
-    const OutputSettings           settings;
-    const CartesianPatch<dim>     &patch;
-    const Description             &desc;
-    Units                          units;
-    unsigned int                   counter = 0;
+    const OutputSettings                        settings;
+    const CartesianPatch<dim>                  &patch;
+    const Description                          &desc;
+    Units                                       units;
+    unsigned int                                counter = 0;
     std::vector<std::pair<double, std::string>> pvd_records;
-    bool profiles_started = false, section_started = false;
+    bool                                        profiles_started = false, section_started = false;
   };
 } // namespace granhydro::io

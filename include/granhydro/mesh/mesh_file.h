@@ -18,9 +18,9 @@
 #include <cmath>
 #include <cstdint>
 #include <set>
-#include <vector>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace granhydro
 {
@@ -28,9 +28,9 @@ namespace granhydro
   struct MeshFileInfo
   {
     std::array<double, 3>       lower{{0, 0, 0}}, upper{{1, 1, 1}};
-    std::array<double, 3>       cell_size{{1, 1, 1}};  ///< of the coarse cells
-    std::array<unsigned int, 3> lattice{{1, 1, 1}};    ///< coarse cells per direction of the bounding box
-    unsigned long long          n_cells = 0;           ///< coarse cells in the file
+    std::array<double, 3>       cell_size{{1, 1, 1}}; ///< of the coarse cells
+    std::array<unsigned int, 3> lattice{{1, 1, 1}};   ///< coarse cells per direction of the bounding box
+    unsigned long long          n_cells = 0;          ///< coarse cells in the file
     /// (boundary id, geometric normal direction) of every boundary face
     std::set<std::pair<unsigned int, unsigned int>> id_direction;
     /// centres of the coarse cells (every k-th cell beyond 262 144), where the scene
@@ -43,12 +43,12 @@ namespace granhydro
   constexpr std::uintmax_t max_mesh_file_bytes = std::uintmax_t(256) << 20;
 
   /// read a gmsh (.msh) or ucd (.inp) file into an empty serial triangulation;
-  /// throws std::runtime_error with a message for a person
+  /// throws MeshFileError with a message for a person
   template <int dim>
   void read_mesh_file(const std::string &filename, dealii::Triangulation<dim> &tria);
 
   /// check that the (coarse) cells are congruent axis-aligned boxes on one lattice, the
-  /// mesh is conforming and the boundary ids lie in 0 .. 2 dim - 1; throws std::runtime_error
+  /// mesh is conforming and the boundary ids lie in 0 .. 2 dim - 1; throws MeshFileError
   template <int dim>
   MeshFileInfo inspect_mesh(const dealii::Triangulation<dim> &tria);
 
@@ -61,8 +61,8 @@ namespace granhydro
   template <class CellIterator>
   std::pair<unsigned int, unsigned int> face_direction(const CellIterator &cell, const unsigned int f)
   {
-    const auto   dx  = cell->face(f)->center() - cell->center();
-    unsigned int d   = 0;
+    const auto   dx = cell->face(f)->center() - cell->center();
+    unsigned int d  = 0;
     for (unsigned int k = 1; k < CellIterator::AccessorType::dimension; ++k)
       if (std::abs(dx[k]) > std::abs(dx[d]))
         d = k;
