@@ -52,7 +52,8 @@
 #include <algorithm>
 
 #include <granhydro/mesh/cartesian_patch.h>
-#include <granhydro/mesh/stencil_tables.h>
+
+#include "stencil_tables.h" // source/mesh: an internal header of the patch
 
 #include <deal.II/distributed/tria.h>
 

@@ -1,8 +1,8 @@
 #include <granhydro/mesh/cartesian_patch.h>
 
-#include <granhydro/mesh/forest.h>
-#include <granhydro/mesh/lattice.h>
-#include <granhydro/mesh/stencil_tables.h>
+#include "forest.h"
+#include "lattice.h"
+#include "stencil_tables.h"
 
 #include <deal.II/distributed/tria.h>
 

@@ -1,10 +1,11 @@
 #include <granhydro/mesh/cartesian_patch.h>
-#include <granhydro/mesh/forest.h>
-#include <granhydro/mesh/ghost_layer.h>
-#include <granhydro/mesh/lattice.h>
-#include <granhydro/mesh/stencil_tables.h>
-#include <granhydro/mesh/triangulation_builder.h>
-#include <granhydro/mesh/virtual_cells.h>
+
+#include "forest.h"
+#include "ghost_layer.h"
+#include "lattice.h"
+#include "stencil_tables.h"
+#include "triangulation_builder.h"
+#include "virtual_cells.h"
 
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_renumbering.h>

@@ -1,4 +1,4 @@
-#include <granhydro/mesh/ghost_layer.h>
+#include "ghost_layer.h"
 
 #include <algorithm>
 

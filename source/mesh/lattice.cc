@@ -1,5 +1,6 @@
-#include <granhydro/mesh/lattice.h>
 #include <granhydro/mesh/mesh_file.h>
+
+#include "lattice.h"
 
 #include <deal.II/base/mpi.h>
 

@@ -4,7 +4,7 @@
  * distributed over the ranks by level-0 block (the directory, the blocks within reach,
  * the answers, the leaves and their ancestors, the dense window of levels).
  */
-#include <granhydro/mesh/lattice.h>
+#include "lattice.h"
 
 #include <deal.II/base/mpi.h>
 

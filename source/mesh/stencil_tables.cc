@@ -1,8 +1,8 @@
 #include <granhydro/mesh/cartesian_patch.h>
-#include <granhydro/mesh/ghost_layer.h>
-#include <granhydro/mesh/stencil_tables.h>
 
-#include <granhydro/mesh/flat_key_map.h>
+#include "flat_key_map.h"
+#include "ghost_layer.h"
+#include "stencil_tables.h"
 
 #include <map>
 

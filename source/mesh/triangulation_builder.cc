@@ -1,6 +1,7 @@
 #include <granhydro/mesh/cartesian_patch.h>
 #include <granhydro/mesh/mesh_file.h>
-#include <granhydro/mesh/triangulation_builder.h>
+
+#include "triangulation_builder.h"
 
 #include <deal.II/distributed/shared_tria.h>
 #include <deal.II/distributed/tria.h>

@@ -5,12 +5,12 @@
  *
  * deal.II/p4est own the mesh, the partition and the DoF numbering (DG0
  * FESystem with dim+2 components: one value per cell and conserved
- * variable); on adaptive boxes a p4est forest of its own (mesh/forest.h)
+ * variable); on adaptive boxes a p4est forest of its own (source/mesh/forest.h)
  * does, and deal.II's mesh follows it only for output. deal.II gives one ghost layer; WENO5 with transverse Gauss-point
  * reconstruction reaches the cells within Chebyshev distance r (r = stencil
  * half width) of an owned cell, and the face neighbours' gradient stencils
  * reach one further (the reconstruction stages of a face neighbour owned by
- * another rank come from that rank: ghost_layer.h, slot_exchange.h). This
+ * another rank come from that rank: source/mesh/ghost_layer.h, mesh/slot_exchange.h). This
  * class builds that wider ghost set from the cells' lattice indices, a
  * Utilities::MPI::Partitioner for the state vector with those ghosts, and
  * flat neighbour tables (no cell iterators in hot loops). Walls are represented by boundary-ghost slots whose state is a
@@ -50,8 +50,9 @@
  *
  * Limits: adaptive meshes need a box domain (no mesh file) and 2 or 3
  * dimensions. No rank holds the whole fine lattice: the leaves a rank's
- * tables reach come from a directory distributed by level-0 block (lattice.h).
+ * tables reach come from a directory distributed by level-0 block (source/mesh/lattice.h).
  */
+#include <granhydro/mesh/boundary_ghost.h>
 #include <granhydro/mesh/settings.h>
 
 #include <deal.II/base/partitioner.h>
@@ -88,24 +89,8 @@ namespace granhydro
   public:
     static constexpr unsigned int n_components = dim + 2;
 
-    /// a boundary-ghost slot: copy of slot source, momentum components with bit d of
-    /// flip_mask set change sign (mirror at a slip wall normal to d)
-    struct BoundaryGhost
-    {
-      unsigned int slot, source, flip_mask;
-      /// true if any wall this ghost lies behind is a no-slip wall
-      bool no_slip = false;
-      /// the walls this ghost lies behind (1 at a face, 2 at an edge, 3 at a corner),
-      /// applied in turn: slip wall flips the normal velocity, no-slip wall mirrors the
-      /// velocity about the wall velocity u -> 2 u_w - u (scaled units); n and the
-      /// internal energy are copied (doc/physics.md 5.1). wall_dir is the geometric normal
-      /// direction, wall_id the boundary id (index of the scene's Boundary entry)
-      unsigned int n_walls = 0;
-      std::array<unsigned int, 3>          wall_dir{{0, 0, 0}};
-      std::array<unsigned int, 3>          wall_id{{0, 0, 0}};
-      std::array<bool, 3>                  wall_no_slip{{false, false, false}};
-      std::array<std::array<double, 3>, 3> wall_velocity{};
-    };
+    /// a boundary-ghost slot (mesh/boundary_ghost.h)
+    using BoundaryGhost = granhydro::BoundaryGhost;
 
     CartesianPatch(const MPI_Comm comm);
     ~CartesianPatch();
@@ -345,7 +330,7 @@ namespace granhydro
     std::vector<signed char> slot_face_id_; ///< 2 dim per real-cell slot
     std::array<BoundaryType, 6> btype_{};
     mutable std::vector<unsigned int> active_index_;
-    /// adaptive boxes: the octree, adapted by p4est alone (mesh/forest.h); deal.II's mesh
+    /// adaptive boxes: the octree, adapted by p4est alone (source/mesh/forest.h); deal.II's mesh
     /// and DoFs follow it only when asked for
     std::unique_ptr<Forest<dim>> forest_;
     /// adapt(): true if the forest stays 2:1 balanced when each owned leaf changes its

@@ -4,7 +4,7 @@
  * The slot numbering shared by the table builders of CartesianPatch (an internal part
  * of the patch; the builders are its private members, source/mesh/stencil_tables.cc).
  */
-#include <granhydro/mesh/lattice.h>
+#include "lattice.h"
 
 #include <algorithm>
 #include <vector>

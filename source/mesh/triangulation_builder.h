@@ -1,8 +1,8 @@
 #pragma once
 /**
  * @file triangulation_builder.h
- * The triangulation of a CartesianPatch: parallel::distributed (p4est) in 2 and 3
- * dimensions, parallel::shared in 1. The box and mesh-file meshes themselves are built
+ * The triangulation of a CartesianPatch (an internal part of the patch: source/mesh,
+ * not installed): parallel::distributed (p4est) in 2 and 3 dimensions, parallel::shared in 1. The box and mesh-file meshes themselves are built
  * by the patch's private make_box_mesh() and make_file_mesh()
  * (source/mesh/triangulation_builder.cc).
  */

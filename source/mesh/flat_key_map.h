@@ -1,7 +1,8 @@
 #pragma once
 /**
  * @file flat_key_map.h
- * A hash map from 64-bit keys (any but the smallest, no_slot_key) to small values, for the table builders:
+ * A hash map from 64-bit keys (any but the smallest, no_slot_key) to small values, for the table
+ * builders of CartesianPatch (an internal part of the patch: source/mesh, not installed):
  * open addressing with linear probing in one array of (key, value) pairs, a power-of-two
  * capacity kept at least twice the size, Fibonacci hashing. About three times faster than
  * std::unordered_map<long long, V> for the lookups of the stencil closure (one cache line

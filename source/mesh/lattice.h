@@ -17,8 +17,9 @@
  * are met, with the mirror of the wall mirror rule (boundary/wall_mirror.h).
  */
 #include <granhydro/boundary/wall_mirror.h>
-#include <granhydro/mesh/cartesian_patch.h>
-#include <granhydro/mesh/flat_key_map.h>
+#include <granhydro/mesh/boundary_ghost.h>
+
+#include "flat_key_map.h"
 
 #include <deal.II/dofs/dof_handler.h>
 
@@ -46,7 +47,7 @@ namespace granhydro
   class Lattice
   {
   public:
-    using BoundaryGhost = typename CartesianPatch<dim>::BoundaryGhost;
+    using BoundaryGhost = granhydro::BoundaryGhost;
     using Position      = std::array<long long, 3>;
     /// a wall ghost: its reflections, the leaf whose state it takes, its position
     struct WallGhost
