@@ -56,7 +56,7 @@ namespace granhydro
     std::vector<long long> keys(Lattice<dim> &lattice) const;
 
   private:
-    std::array<int, 3> blo{{0, 0, 0}}, bn{{1, 1, 1}};
+    std::array<int, 3> box_lower{{0, 0, 0}}, box_size{{1, 1, 1}}; ///< the box the mask covers
     std::vector<char>  mask;
   };
 
