@@ -62,7 +62,7 @@ namespace
   /// after its refinements), each rank's share plus its halo (the ghost layers around a
   /// compact part of that share), and every rank on this node (MPI_COMM_TYPE_SHARED)
   /// against this node's available memory. (No rank holds a map of the whole fine lattice:
-  /// each knows the leaves near its own, see mesh/lattice.h.)
+  /// each knows the leaves near its own, see source/mesh/lattice.h.)
   void check_memory(const granhydro::Scene &s, const MPI_Comm comm)
   {
     double cells = 1;

@@ -1,9 +1,11 @@
 # ctest install.check_scenes: installs the build into a scratch prefix and checks what a
 # user of the installed tree gets: the executables, every installed scene accepted by
 # `granhydro --check` (the silo scenes find their mesh in share/granhydro/meshes through
-# their relative Mesh file), the documentation that README.md links to, and the tools with
-# their Python package.
-#   cmake -DBUILD=<build dir> -DPREFIX=<scratch prefix> -P tests/install_check.cmake
+# their relative Mesh file), the documentation that README.md links to, the tools with
+# their Python package, and headers that are the public API only: no internal header
+# (source/<layer>/*.h) is installed, and every granhydro header an installed header
+# includes is installed.
+#   cmake -DBUILD=<build dir> -DPREFIX=<scratch prefix> [-DSOURCE=<checkout>] -P tests/install_check.cmake
 if(NOT BUILD OR NOT PREFIX)
   message(FATAL_ERROR "install_check: give -DBUILD=<build dir> -DPREFIX=<scratch prefix>")
 endif()
@@ -23,6 +25,30 @@ foreach(f "${PREFIX}/${CMAKE_INSTALL_BINDIR}/granhydro" "${PREFIX}/${CMAKE_INSTA
   if(NOT EXISTS "${f}")
     message(FATAL_ERROR "install_check: not installed: ${f}")
   endif()
+endforeach()
+# the headers: the public API only, and closed under #include
+set(incdir "${PREFIX}/${CMAKE_INSTALL_INCLUDEDIR}")
+if(NOT EXISTS "${incdir}/granhydro/mesh/cartesian_patch.h")
+  message(FATAL_ERROR "install_check: not installed: ${incdir}/granhydro/mesh/cartesian_patch.h")
+endif()
+if(SOURCE)
+  file(GLOB_RECURSE internal RELATIVE "${SOURCE}/source" "${SOURCE}/source/*.h")
+  foreach(h ${internal})
+    if(EXISTS "${incdir}/granhydro/${h}")
+      message(FATAL_ERROR "install_check: internal header installed: ${incdir}/granhydro/${h}")
+    endif()
+  endforeach()
+endif()
+file(GLOB_RECURSE headers "${incdir}/granhydro/*.h")
+foreach(h ${headers})
+  file(STRINGS "${h}" lines REGEX "^[ \t]*#[ \t]*include[ \t]*[<\"]")
+  foreach(l ${lines})
+    if(l MATCHES "include[ \t]*\"")
+      message(FATAL_ERROR "install_check: ${h} includes a quoted (internal) header: ${l}")
+    elseif(l MATCHES "<(granhydro/[^>]+)>" AND NOT EXISTS "${incdir}/${CMAKE_MATCH_1}")
+      message(FATAL_ERROR "install_check: ${h} includes ${CMAKE_MATCH_1}, which is not installed")
+    endif()
+  endforeach()
 endforeach()
 # the installed executable finds its library through its install run path ($ORIGIN/../lib)
 file(GLOB_RECURSE scenes "${share}/parameters/*.prm")

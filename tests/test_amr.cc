@@ -47,7 +47,8 @@
 //                           32^3); GRANHYDRO_SOD_UNIFORM=... reuses a uniform run's numbers
 //                           (printed by an earlier run) for parameter scans.
 #include <granhydro/mesh/cartesian_patch.h>
-#include <granhydro/mesh/stencil_tables.h>
+
+#include "stencil_tables.h" // source/mesh: an internal header of the patch
 
 #include <deal.II/distributed/tria.h>
 

@@ -95,6 +95,8 @@ set_tests_properties(stability.scene_silo-ci PROPERTIES LABELS stability TIMEOUT
 # adaptive octree refinement (tests/test_amr.cc): conservation with refinement and coarsening
 # every 5 steps for 500 steps (1 and 2 ranks); 1 rank vs 2 ranks with AMR; restart with AMR
 granhydro_test_executable(test_amr test_amr.cc)
+# test_amr slot-grid unit-tests SlotGrid, an internal header of the patch (not installed)
+target_include_directories(test_amr PRIVATE ${CMAKE_SOURCE_DIR}/source/mesh)
 add_test(NAME verify.amr_conservation COMMAND test_amr conservation)
 set_tests_properties(verify.amr_conservation PROPERTIES LABELS verify TIMEOUT 600)
 add_test(NAME mpi.amr_conservation_2ranks COMMAND ${DEAL_II_MPIEXEC} -n 2 $<TARGET_FILE:test_amr> conservation)

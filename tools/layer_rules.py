@@ -10,8 +10,13 @@ granhydro headers only from its own layer and the layers below it
     base < physics < boundary < mesh < {convection, diffusion, io} < scene < driver < main.cc
 
 convection, diffusion and io are side by side (none includes another), and nothing
-below driver/ includes scene/: each layer takes its own settings struct. Prints every
-include that breaks the rule and exits with 1 if there is one.
+below driver/ includes scene/: each layer takes its own settings struct.
+
+A layer's internal headers (not installed) live beside its sources, e.g.
+source/mesh/lattice.h, and are included with quotes ("lattice.h") only from the
+same folder of source/: an installed header (include/granhydro/...) includes no
+quoted header, and a source file includes only quoted headers of its own folder.
+Prints every include that breaks the rules and exits with 1 if there is one.
 """
 import argparse
 import pathlib
@@ -30,6 +35,7 @@ BELOW = {
     "driver": {"base", "physics", "boundary", "mesh", "convection", "diffusion", "io", "scene"},
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]granhydro/([A-Za-z_]+)/', re.M)
+LOCAL = re.compile(r'^\s*#\s*include\s*"([^"]+)"', re.M)
 
 
 def layer_of(path, root):
@@ -39,6 +45,23 @@ def layer_of(path, root):
     if parts[0] == "source" and len(parts) > 2:
         return parts[1]
     return None  # source/main.cc: the top, may include anything
+
+
+def local_include_errors(f, root):
+    """quoted includes: none in installed headers; in source/, files of the same folder only"""
+    bad = []
+    text = f.read_text()
+    installed = f.relative_to(root).parts[0] == "include"
+    for m in LOCAL.finditer(text):
+        line = text.count("\n", 0, m.start()) + 1
+        target = (f.parent / m.group(1)).resolve()
+        if installed:
+            bad.append("%s:%d: an installed header includes \"%s\" (internal headers are not installed)" %
+                       (f.relative_to(root), line, m.group(1)))
+        elif target.parent != f.parent.resolve() or not target.exists():
+            bad.append("%s:%d: \"%s\" is not an internal header of this folder" %
+                       (f.relative_to(root), line, m.group(1)))
+    return bad
 
 
 def main():
@@ -62,6 +85,7 @@ def main():
                 line = f.read_text().count("\n", 0, m.start()) + 1
                 bad.append("%s:%d: %s/ includes %s/ (allowed: %s)" % (
                     f.relative_to(root), line, layer, other, ", ".join(sorted(BELOW[layer] | {layer}))))
+        bad += local_include_errors(f, root)
     for b in bad:
         print(b)
     print("%d files, %d includes against the layer order" % (len(files), len(bad)))

@@ -1,8 +1,8 @@
 #include <granhydro/mesh/cartesian_patch.h>
 
-#include <granhydro/mesh/forest.h>
-#include <granhydro/mesh/lattice.h>
-#include <granhydro/mesh/stencil_tables.h>
+#include "forest.h"
+#include "lattice.h"
+#include "stencil_tables.h"
 
 #include <deal.II/distributed/tria.h>
 
@@ -45,17 +45,17 @@ namespace granhydro
     else
       {
         AssertThrow(forest_, ExcMessage("adapt() needs an adaptive box mesh"));
-        AssertThrow(flags.size() == n_owned_, ExcMessage("one flag per owned cell"));
+        AssertThrow(flags.size() == tables_.n_owned, ExcMessage("one flag per owned cell"));
         unsigned int changes = 0;
-        std::vector<signed char> f(n_owned_, 0);
-        for (unsigned int s = 0; s < n_owned_; ++s)
-          if (flags[s] > 0 && level_[s] < max_level_)
+        std::vector<signed char> f(tables_.n_owned, 0);
+        for (unsigned int s = 0; s < tables_.n_owned; ++s)
+          if (flags[s] > 0 && tables_.levels[s] < max_level_)
             f[s] = 1;
-          else if (flags[s] < 0 && level_[s] > 0)
+          else if (flags[s] < 0 && tables_.levels[s] > 0)
             f[s] = -1;
         for (const signed char x : f)
           changes += x != 0;
-        if (Utilities::MPI::sum(changes, comm) == 0)
+        if (Utilities::MPI::sum(changes, communicator_) == 0)
           return false;
 
         // the transfer: a leaf that stays keeps its values; a parent takes the mean of its
@@ -71,8 +71,8 @@ namespace granhydro
           {
             std::vector<double> W;
             gather(U, W);
-            slopes.assign(std::size_t(n_owned_) * dim * NC, 0.);
-            for (unsigned int s = 0; s < n_owned_; ++s)
+            slopes.assign(std::size_t(tables_.n_owned) * dim * NC, 0.);
+            for (unsigned int s = 0; s < tables_.n_owned; ++s)
               for (unsigned int d = 0; d < dim; ++d)
                 {
                   const int m = gradient_neighbor(s, d, 0), q = gradient_neighbor(s, d, 1);
@@ -93,10 +93,10 @@ namespace granhydro
         for (unsigned int ch = 0; ch < (1u << dim); ++ch)
           for (unsigned int c = 0; c < NC; ++c)
             {
-              P[ch][c] = fe->get_prolongation_matrix(ch)(c, c);
-              R[ch][c] = fe->get_restriction_matrix(ch)(c, c);
+              P[ch][c] = finite_element_->get_prolongation_matrix(ch)(c, c);
+              R[ch][c] = finite_element_->get_restriction_matrix(ch)(c, c);
             }
-        // (fill() runs inside the forest's adapt(), before rebuild(): level_ is still the
+        // (fill() runs inside the forest's adapt(), before rebuild(): tables_.levels is still the
         // old leaves')
         auto fill = [&](const typename Forest<dim>::Source &src, double *out) {
           using Source = typename Forest<dim>::Source;
@@ -119,14 +119,15 @@ namespace granhydro
               std::copy(v, v + NC, out);
               if (!linear)
                 return;
-              const unsigned int k = level_[src.first] + 1;
+              const unsigned int k = tables_.levels[src.first] + 1;
               auto sibling = [&](const unsigned int sib, double *child) {
                 for (unsigned int c = 0; c < NC; ++c)
                   {
                     child[c] = v[c];
                     for (unsigned int d = 0; d < dim; ++d)
                       child[c] += row(P[src.child][c], slopes[(std::size_t(src.first) * dim + d) * NC + c]) *
-                                  0.5 * (h_[d] / double(1u << k)) * ((sib >> d & 1u) ? 1. : -1.);
+                                  0.5 * (geometry_.cell_size[d] / double(1u << k)) *
+                                  ((sib >> d & 1u) ? 1. : -1.);
                   }
               };
               double child[NC];
@@ -146,12 +147,12 @@ namespace granhydro
           });
         dealii_mesh_current_ = false;
         rebuild();
-        U.reinit(part);
-        AssertThrow(values.size() == std::size_t(n_owned_) * NC, ExcInternalError());
+        U.reinit(partitioner_);
+        AssertThrow(values.size() == std::size_t(tables_.n_owned) * NC, ExcInternalError());
         for (std::size_t i = 0; i < values.size(); ++i)
           U.local_element(i) = values[i];
-        last_refined_   = Utilities::MPI::sum(nr, comm);
-        last_coarsened_ = Utilities::MPI::sum(nc, comm);
+        last_refined_   = Utilities::MPI::sum(nr, communicator_);
+        last_coarsened_ = Utilities::MPI::sum(nc, communicator_);
         return true;
       }
   }
@@ -179,29 +180,30 @@ namespace granhydro
     // fetched part), it answers false: p4est then balances. (Only boxes are adaptive.)
     constexpr unsigned int NC = n_components;
     bool                   ok = true;
-    LinearAlgebra::distributed::Vector<double> change(part);
-    for (unsigned int s = 0; s < n_owned_; ++s)
+    LinearAlgebra::distributed::Vector<double> change(partitioner_);
+    for (unsigned int s = 0; s < tables_.n_owned; ++s)
       change.local_element(std::size_t(s) * NC) = delta[s];
     change.update_ghost_values();
-    const unsigned int n_leaves = n_owned_ + n_mpi_ghost_;
+    const unsigned int n_leaves = tables_.n_owned + tables_.n_mpi_ghosts;
     auto               moved    = [&](const int t) { return int(std::lround(change.local_element(std::size_t(t) * NC))); };
     using Position = typename Lattice<dim>::Position;
     const Lattice<dim> lattice = make_lattice();
-    const std::vector<std::array<int, 3>> pos(lattice_.begin(), lattice_.begin() + n_leaves);
-    const std::vector<unsigned char>      lev(level_.begin(), level_.begin() + n_leaves);
+    const std::vector<std::array<int, 3>> pos(tables_.positions.begin(),
+                                              tables_.positions.begin() + n_leaves);
+    const std::vector<unsigned char>      lev(tables_.levels.begin(), tables_.levels.begin() + n_leaves);
     const SlotGrid<dim>                   grid(lattice, pos, lev);
-    for (unsigned int s = 0; s < n_owned_ && ok; ++s)
+    for (unsigned int s = 0; s < tables_.n_owned && ok; ++s)
       {
         if (delta[s] == 0)
           continue;
-        const unsigned int L = level_[s];
+        const unsigned int L = tables_.levels[s];
         for (unsigned int e = 0; e < Utilities::pow(3u, dim) && ok; ++e)
           {
             Position     q{{0, 0, 0}};
             unsigned int code = e, zero = 0;
             for (unsigned int d = 0; d < dim; ++d, code /= 3)
               {
-                q[d] = lattice_[s][d] + int(code % 3) - 1;
+                q[d] = tables_.positions[s][d] + int(code % 3) - 1;
                 zero += code % 3 == 1;
               }
             if (zero == dim || !lattice.wrap(L, q)) // s itself; beyond a wall
@@ -233,7 +235,7 @@ namespace granhydro
                              : (coarser >= 0 || (finer == (1 << dim) && finer_staying == 0));
           }
       }
-    return Utilities::MPI::min(ok ? 1 : 0, comm) == 1;
+    return Utilities::MPI::min(ok ? 1 : 0, communicator_) == 1;
   }
 
   template <int dim>
@@ -252,16 +254,17 @@ namespace granhydro
         for (unsigned int pass = 0; pass < max_level_; ++pass)
           {
             unsigned int n = 0;
-            for (const auto &cell : tria->active_cell_iterators())
+            for (const auto &cell : triangulation_->active_cell_iterators())
               if (cell->is_locally_owned())
                 {
                   // this cell's leaf key; refine unless it is a target leaf or contains none
-                  const unsigned int k = cell->level() - base_tria_level_;
+                  const unsigned int k = cell->level() - geometry_.base_level;
                   long long          key = 0;
                   bool               refine = false;
                   for (int d = dim - 1; d >= 0; --d)
-                    key = key * ((long long)(N_[d]) << max_level_) +
-                          ((long long)(std::floor((cell->center()[d] - lo_[d]) / (h_[d] / double(1u << k))))
+                    key = key * ((long long)(geometry_.cells[d]) << max_level_) +
+                          ((long long)(std::floor((cell->center()[d] - geometry_.lower[d]) /
+                                                  (geometry_.cell_size[d] / double(1u << k))))
                            << (max_level_ - k));
                   if (k < max_level_ && !target.count(key * 8 + k))
                     {
@@ -276,9 +279,9 @@ namespace granhydro
                       ++n;
                     }
                 }
-            if (Utilities::MPI::sum(n, comm) == 0)
+            if (Utilities::MPI::sum(n, communicator_) == 0)
               break;
-            tria->execute_coarsening_and_refinement();
+            triangulation_->execute_coarsening_and_refinement();
           }
         if (forest_)
           make_forest();

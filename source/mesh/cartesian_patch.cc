@@ -1,10 +1,11 @@
 #include <granhydro/mesh/cartesian_patch.h>
-#include <granhydro/mesh/forest.h>
-#include <granhydro/mesh/ghost_layer.h>
-#include <granhydro/mesh/lattice.h>
-#include <granhydro/mesh/stencil_tables.h>
-#include <granhydro/mesh/triangulation_builder.h>
-#include <granhydro/mesh/virtual_cells.h>
+
+#include "forest.h"
+#include "ghost_layer.h"
+#include "lattice.h"
+#include "stencil_tables.h"
+#include "triangulation_builder.h"
+#include "virtual_cells.h"
 
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_renumbering.h>
@@ -19,15 +20,15 @@ namespace granhydro
 
   template <int dim>
   CartesianPatch<dim>::CartesianPatch(const MPI_Comm comm)
-    : comm(comm)
+    : communicator_(comm)
   {}
 
   template <int dim>
   CartesianPatch<dim>::~CartesianPatch()
   {
     forest_.reset(); // shares deal.II's connectivity
-    dofh.reset();
-    tria.reset();
+    dof_handler_.reset();
+    triangulation_.reset();
   }
 
   template <int dim>
@@ -44,7 +45,7 @@ namespace granhydro
   {
     Point<dim> p;
     for (unsigned int d = 0; d < dim; ++d)
-      p[d] = lo_[d] + (lattice_[s][d] + 0.5) * cell_size(s, d);
+      p[d] = geometry_.lower[d] + (tables_.positions[s][d] + 0.5) * cell_size(s, d);
     return p;
   }
 
@@ -56,26 +57,24 @@ namespace granhydro
     if (is_cell(l) == is_cell(r))
       return false;
     const int id = is_cell(l) ? face_boundary_id(l, 2 * d + 1) : face_boundary_id(r, 2 * d);
-    return id >= 0 && (btype_[id] == BoundaryType::slip_wall || btype_[id] == BoundaryType::no_slip_wall);
+    return id >= 0 &&
+           (walls_.type[id] == BoundaryType::slip_wall || walls_.type[id] == BoundaryType::no_slip_wall);
   }
 
   template <int dim>
   void CartesianPatch<dim>::build(const MeshSettings &settings, const unsigned int ghost_width)
   {
-    G              = ghost_width;
-    btype_         = settings.boundary;
-    wall_velocity_ = settings.wall_velocity;
-    velocity_unit_ = settings.velocity_unit;
+    tables_.ghost_width  = ghost_width;
+    walls_.type          = settings.boundary;
+    walls_.velocity      = settings.wall_velocity;
+    walls_.velocity_unit = settings.velocity_unit;
     subset_        = !settings.mesh_file.empty();
     max_level_     = subset_ ? 0 : settings.max_level;
     forest_.reset();
-    dofh.reset();
-    tria = make_triangulation<dim>(comm);
-    fe   = std::make_unique<FESystem<dim>>(FE_DGQ<dim>(0), n_components);
-    if (subset_)
-      make_file_mesh(settings);
-    else
-      make_box_mesh(settings);
+    dof_handler_.reset();
+    triangulation_  = make_triangulation<dim>(communicator_);
+    finite_element_ = std::make_unique<FESystem<dim>>(FE_DGQ<dim>(0), n_components);
+    geometry_ = subset_ ? make_file_mesh(*triangulation_, settings) : make_box_mesh(*triangulation_, settings);
     if (max_level_ > 0)
       make_forest();
     dealii_mesh_current_ = true;
@@ -87,8 +86,9 @@ namespace granhydro
   {
     forest_.reset();
     if constexpr (dim > 1)
-      forest_ = std::make_unique<Forest<dim>>(dynamic_cast<const parallel::distributed::Triangulation<dim> &>(*tria),
-                                              base_tria_level_, lo_, h_, n_components);
+      forest_ = std::make_unique<Forest<dim>>(
+        dynamic_cast<const parallel::distributed::Triangulation<dim> &>(*triangulation_), geometry_.base_level,
+        geometry_.lower, geometry_.cell_size, n_components);
     dealii_mesh_current_ = true;
   }
 
@@ -101,25 +101,27 @@ namespace granhydro
       if (!dealii_mesh_current_)
         {
           // deal.II copies the forest and refines/coarsens its mesh until they match
-          dynamic_cast<parallel::distributed::Triangulation<dim> &>(*tria).load(forest_->get());
+          dynamic_cast<parallel::distributed::Triangulation<dim> &>(*triangulation_).load(forest_->get());
           dealii_mesh_current_ = true;
           dealii_dofs_current_ = false;
         }
     if (dealii_dofs_current_)
       return;
-    if (!dofh)
-      dofh = std::make_unique<DoFHandler<dim>>(*tria);
-    dofh->distribute_dofs(*fe);
-    DoFRenumbering::hierarchical(*dofh);
+    if (!dof_handler_)
+      dof_handler_ = std::make_unique<DoFHandler<dim>>(*triangulation_);
+    dof_handler_->distribute_dofs(*finite_element_);
+    DoFRenumbering::hierarchical(*dof_handler_);
     // deal.II's owned cells in DoF order must be the slots (same partition and order)
     Lattice<dim> lattice = make_lattice();
-    const std::vector<OwnedCell> owned = lattice.owned_cells(*dofh, lo_, h_, base_tria_level_);
-    bool same = owned.size() == n_owned_ && dofh->locally_owned_dofs() == part->locally_owned_range();
-    for (unsigned int s = 0; same && s < n_owned_; ++s)
-      same = owned[s].level == level_[s] && owned[s].ijk == lattice_[s];
+    const std::vector<OwnedCell> owned =
+      lattice.owned_cells(*dof_handler_, geometry_.lower, geometry_.cell_size, geometry_.base_level);
+    bool same = owned.size() == tables_.n_owned &&
+                dof_handler_->locally_owned_dofs() == partitioner_->locally_owned_range();
+    for (unsigned int s = 0; same && s < tables_.n_owned; ++s)
+      same = owned[s].level == tables_.levels[s] && owned[s].ijk == tables_.positions[s];
     AssertThrow(same, ExcMessage("deal.II's mesh does not match the adaptive forest (internal error)"));
-    active_index_.resize(n_owned_);
-    for (unsigned int s = 0; s < n_owned_; ++s)
+    active_index_.resize(tables_.n_owned);
+    for (unsigned int s = 0; s < tables_.n_owned; ++s)
       active_index_[s] = owned[s].active;
     dealii_dofs_current_ = true;
   }
@@ -127,7 +129,7 @@ namespace granhydro
   template <int dim>
   Lattice<dim> CartesianPatch<dim>::make_lattice() const
   {
-    return Lattice<dim>(N_, periodic_, max_level_, G, {btype_, wall_velocity_, velocity_unit_}, subset_);
+    return Lattice<dim>(geometry_.cells, geometry_.periodic, max_level_, tables_.ghost_width, walls_, subset_);
   }
 
   template <int dim>
@@ -135,7 +137,7 @@ namespace granhydro
   {
     AssertThrow(max_level_ <= 7, ExcMessage("at most 7 refinement levels"));
     for (unsigned int c = 0; c < n_components; ++c)
-      AssertThrow(fe->system_to_component_index(c).first == c, ExcInternalError());
+      AssertThrow(finite_element_->system_to_component_index(c).first == c, ExcInternalError());
     Lattice<dim> lattice = make_lattice();
     std::vector<OwnedCell> owned;
     IndexSet               owned_dofs;
@@ -165,16 +167,16 @@ namespace granhydro
       }
     else
       {
-        if (!dofh)
-          dofh = std::make_unique<DoFHandler<dim>>(*tria);
-        dofh->distribute_dofs(*fe);
-        owned_dofs = dofh->locally_owned_dofs();
+        if (!dof_handler_)
+          dof_handler_ = std::make_unique<DoFHandler<dim>>(*triangulation_);
+        dof_handler_->distribute_dofs(*finite_element_);
+        owned_dofs = dof_handler_->locally_owned_dofs();
         AssertThrow(owned_dofs.is_contiguous(), ExcMessage("owned DoFs must be contiguous"));
-        n_global_ = tria->n_global_active_cells();
-        owned     = lattice.owned_cells(*dofh, lo_, h_, base_tria_level_);
+        n_global_ = triangulation_->n_global_active_cells();
+        owned = lattice.owned_cells(*dof_handler_, geometry_.lower, geometry_.cell_size, geometry_.base_level);
       }
-    n_owned_ = owned.size();
-    lattice.distribute(owned, n_global_, comm);
+    tables_.n_owned = owned.size();
+    lattice.distribute(owned, n_global_, communicator_);
 
     // the positions needed besides the owned cells, then the slots and tables
     const auto face_keys = face_neighbour_keys(owned, lattice);
@@ -184,28 +186,30 @@ namespace granhydro
     std::vector<char>                  full_box; // per owned cell (the stencil closure)
     if (subset_)
       {
-        mask   = std::make_unique<DilatedMask<dim>>(owned, G);
+        mask   = std::make_unique<DilatedMask<dim>>(owned, tables_.ghost_width);
         needed = mask->keys(lattice);
       }
     else
-      needed = stencil_closure(owned, face_keys, lattice, virtuals, int(G) - 1, full_box);
+      needed = stencil_closure(owned, face_keys, lattice, virtuals, int(tables_.ghost_width) - 1,
+                               full_box);
     add_wall_sources(needed, lattice);
     SlotIndex index;
-    assign_slots(owned, needed, lattice, virtuals, owned_dofs, index);
-    make_face_ids(lattice);
-    const SlotGrid<dim> grid(lattice, lattice_, level_);
-    make_neighbor_table(lattice, virtuals, index, grid, mask.get(), full_box);
+    partitioner_ =
+      assign_slots(owned, needed, lattice, virtuals, owned_dofs, communicator_, tables_, active_index_, index);
+    make_face_ids(lattice, tables_);
+    const SlotGrid<dim> grid(lattice, tables_.positions, tables_.levels);
+    make_neighbor_table(lattice, virtuals, index, grid, mask.get(), full_box, geometry_, tables_);
     std::vector<unsigned int> face_slots(face_keys.keys.size());
     for (std::size_t i = 0; i < face_slots.size(); ++i)
       face_slots[i] = index.slot_of.at(face_keys.keys[i]);
     // gradient rows are read for the owned cells and their face neighbours only
-    std::vector<char> rows(lattice_.size(), 0);
-    std::fill(rows.begin(), rows.begin() + n_owned_, 1);
+    std::vector<char> rows(tables_.positions.size(), 0);
+    std::fill(rows.begin(), rows.begin() + tables_.n_owned, 1);
     for (const unsigned int s : face_slots)
       rows[s] = 1;
     std::vector<char> incomplete; // per slot: a gradient neighbour lies beyond the fetched blocks
-    make_gradient_table(lattice, index, grid, mask.get(), rows, incomplete);
-    make_faces(face_keys.start, face_slots);
+    make_gradient_table(lattice, index, grid, mask.get(), rows, geometry_, tables_, incomplete);
+    make_faces<dim>(face_keys.start, face_slots, tables_);
     // the rows made are the ones read (owned and face cells): each must be complete
     AssertThrow(std::find(incomplete.begin(), incomplete.end(), 1) == incomplete.end(),
                 ExcMessage("internal error: a face cell's gradient neighbour lies beyond the part "
@@ -217,8 +221,8 @@ namespace granhydro
   {
     long long key = 0;
     for (int d = dim - 1; d >= 0; --d)
-      key = key * ((long long)(N_[d]) << max_level_) + fine_begin(s, d);
-    return key * 8 + level_[s];
+      key = key * ((long long)(geometry_.cells[d]) << max_level_) + fine_begin(s, d);
+    return key * 8 + tables_.levels[s];
   }
 
   template <int dim>
@@ -227,13 +231,13 @@ namespace granhydro
   {
     constexpr unsigned int NC = n_components;
     U.update_ghost_values();
-    const std::size_t nloc = std::size_t(n_owned_ + n_mpi_ghost_) * NC;
+    const std::size_t nloc = std::size_t(tables_.n_owned + tables_.n_mpi_ghosts) * NC;
     AssertThrow(U.locally_owned_size() + U.get_partitioner()->n_ghost_indices() == nloc,
                 ExcMessage("state vector does not match the patch"));
     W.resize(std::size_t(n_slots()) * NC);
     if (nloc > 0)
       std::copy(U.begin(), U.begin() + nloc, W.begin()); // ghosts follow the owned entries
-    for (const auto &v : virtual_) // restriction / prolongation next to level changes
+    for (const auto &v : tables_.virtual_cells) // restriction / prolongation next to level changes
       for (unsigned int c = 0; c < NC; ++c)
         {
           double sum = 0;
@@ -241,7 +245,7 @@ namespace granhydro
             sum += w * W[std::size_t(t) * NC + c];
           W[std::size_t(v.slot) * NC + c] = sum;
         }
-    for (const auto &g : bghosts_)
+    for (const auto &g : tables_.boundary_ghosts)
       {
         const double *in  = &W[std::size_t(g.source) * NC];
         double       *out = &W[std::size_t(g.slot) * NC];

@@ -1,4 +1,4 @@
-#include <granhydro/mesh/forest.h>
+#include "forest.h"
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/grid/tria_accessor.h>

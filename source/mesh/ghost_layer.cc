@@ -1,4 +1,4 @@
-#include <granhydro/mesh/ghost_layer.h>
+#include "ghost_layer.h"
 
 #include <algorithm>
 
@@ -308,34 +308,36 @@ namespace granhydro
           }
         if (owned.empty())
           mn = mx = 0;
-        blo[d] = mn - int(G);
-        bn[d]  = mx - mn + 1 + 2 * int(G);
+        box_lower[d] = mn - int(G);
+        box_size[d]  = mx - mn + 1 + 2 * int(G);
       }
-    const std::size_t nbox = std::size_t(bn[0]) * bn[1] * bn[2];
+    const std::size_t nbox = std::size_t(box_size[0]) * box_size[1] * box_size[2];
     mask.assign(nbox, 0);
     for (const auto &o : owned)
-      mask[std::size_t(o.ijk[0] - blo[0]) +
-           std::size_t(bn[0]) * (std::size_t(o.ijk[1] - blo[1]) + std::size_t(bn[1]) * (o.ijk[2] - blo[2]))] = 1;
-    dilate_box(mask, {{bn[0], bn[1], bn[2]}}, dim, int(G));
+      mask[std::size_t(o.ijk[0] - box_lower[0]) +
+           std::size_t(box_size[0]) *
+             (std::size_t(o.ijk[1] - box_lower[1]) + std::size_t(box_size[1]) * (o.ijk[2] - box_lower[2]))] = 1;
+    dilate_box(mask, {{box_size[0], box_size[1], box_size[2]}}, dim, int(G));
   }
 
   template <int dim>
   bool DilatedMask<dim>::contains(const Position &p) const
   {
     for (unsigned int d = 0; d < 3; ++d)
-      if (p[d] < blo[d] || p[d] >= blo[d] + bn[d])
+      if (p[d] < box_lower[d] || p[d] >= box_lower[d] + box_size[d])
         return false;
-    return mask[std::size_t(p[0] - blo[0]) +
-                std::size_t(bn[0]) * (std::size_t(p[1] - blo[1]) + std::size_t(bn[1]) * (p[2] - blo[2]))];
+    return mask[std::size_t(p[0] - box_lower[0]) +
+                std::size_t(box_size[0]) *
+                  (std::size_t(p[1] - box_lower[1]) + std::size_t(box_size[1]) * (p[2] - box_lower[2]))];
   }
 
   template <int dim>
   std::vector<long long> DilatedMask<dim>::keys(Lattice<dim> &lattice) const
   {
     std::vector<long long> needed;
-    for (int k = blo[2]; k < blo[2] + bn[2]; ++k)
-      for (int j = blo[1]; j < blo[1] + bn[1]; ++j)
-        for (int i = blo[0]; i < blo[0] + bn[0]; ++i)
+    for (int k = box_lower[2]; k < box_lower[2] + box_size[2]; ++k)
+      for (int j = box_lower[1]; j < box_lower[1] + box_size[1]; ++j)
+        for (int i = box_lower[0]; i < box_lower[0] + box_size[0]; ++i)
           if (contains({{i, j, k}}))
             needed.push_back(lattice.same_level(0, {{i, j, k}}));
     return needed;

@@ -1,5 +1,6 @@
-#include <granhydro/mesh/lattice.h>
 #include <granhydro/mesh/mesh_file.h>
+
+#include "lattice.h"
 
 #include <deal.II/base/mpi.h>
 
@@ -14,16 +15,16 @@ namespace granhydro
   Lattice<dim>::Lattice(const std::array<unsigned int, 3> &N, const std::array<bool, 3> &periodic,
                         const unsigned int max_level, const unsigned int ghost_width,
                         const WallTable &walls, const bool subset)
-    : N(N)
+    : cells_(N)
     , periodic(periodic)
-    , m(max_level)
-    , G(ghost_width)
+    , max_level_(max_level)
+    , ghost_width_(ghost_width)
     , walls(walls)
     , subset_(subset)
-    , E(2 * ghost_width + 2)
+    , margin_(2 * ghost_width + 2)
   {
     for (unsigned int d = 0; d < dim; ++d)
-      Nf[d] = (long long)(N[d]) << m;
+      fine_cells_[d] = (long long)(cells_[d]) << max_level_;
   }
 
   template <int dim>
@@ -42,14 +43,14 @@ namespace granhydro
           for (unsigned int c = 1; c < nc; ++c)
             AssertThrow(dofs[c] == dofs[0] + c, ExcMessage("DG0 DoFs of a cell must be consecutive"));
           const unsigned int k = cell->level() - base_level;
-          AssertThrow(k <= m, ExcMessage("cell above the maximum level"));
+          AssertThrow(k <= max_level_, ExcMessage("cell above the maximum level"));
           const Point<dim>   x = cell->center();
           std::array<int, 3> ijk{{0, 0, 0}};
           Position           corner{{0, 0, 0}};
           for (unsigned int d = 0; d < dim; ++d)
             {
               ijk[d]    = static_cast<int>(std::floor((x[d] - lo[d]) / (h[d] / double(1u << k))));
-              corner[d] = (long long)(ijk[d]) << (m - k);
+              corner[d] = (long long)(ijk[d]) << (max_level_ - k);
             }
           const long long fk = fine_key(corner);
           int             faces = 0;
@@ -72,14 +73,16 @@ namespace granhydro
   template <int dim>
   unsigned int Lattice<dim>::reach() const
   {
-    return subset_ ? G + 2 * (unsigned int)(std::ceil(std::sqrt(double(dim)) * G)) + 2 : 2 * G + 4;
+    return subset_ ? ghost_width_ + 2 * (unsigned int)(std::ceil(std::sqrt(double(dim)) * ghost_width_)) + 2 :
+                     2 * ghost_width_ + 4;
   }
 
   template <int dim>
   long long Lattice<dim>::block_of(const long long fk) const
   {
-    const Position c{{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}};
-    return (c[0] >> m) + (long long)(N[0]) * ((c[1] >> m) + (long long)(N[1]) * (c[2] >> m));
+    const Position c = fine_position(fk);
+    return (c[0] >> max_level_) +
+           (long long)(cells_[0]) * ((c[1] >> max_level_) + (long long)(cells_[1]) * (c[2] >> max_level_));
   }
 
   template <int dim>
@@ -91,7 +94,7 @@ namespace granhydro
   template <int dim>
   int Lattice<dim>::window_at(const long long fk, bool *missing) const
   {
-    return window_at_point({{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}}, missing);
+    return window_at_point(fine_position(fk), missing);
   }
 
   template <int dim>
@@ -123,18 +126,18 @@ namespace granhydro
         if (e->first >= 0)
           return k;
         // refined: the finer leaf at the same corner
-        for (unsigned int l = k + 1; l <= m; ++l)
+        for (unsigned int l = k + 1; l <= max_level_; ++l)
           if ((e = leaves.find(fk * 8 + l)) && e->first >= 0)
             return l;
         AssertThrow(false, ExcMessage("mesh is not the expected octree"));
       }
     // a coarser leaf, or a solid point
-    const Position c{{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}};
+    const Position c = fine_position(fk);
     for (int l = int(k) - 1; l >= 0; --l)
       {
         Position a = c;
         for (unsigned int d = 0; d < dim; ++d)
-          a[d] = (c[d] >> (m - l)) << (m - l);
+          a[d] = (c[d] >> (max_level_ - l)) << (max_level_ - l);
         if ((e = leaves.find(fine_key(a) * 8 + l)))
           {
             AssertThrow(e->first >= 0, ExcMessage("mesh is not the expected octree"));
@@ -166,7 +169,7 @@ namespace granhydro
   {
     Position c{{0, 0, 0}};
     for (unsigned int d = 0; d < dim; ++d)
-      c[d] = p[d] << (m - k);
+      c[d] = p[d] << (max_level_ - k);
     return fine_key(c);
   }
 
@@ -195,9 +198,9 @@ namespace granhydro
   bool Lattice<dim>::fluid(const Position &e) const
   {
     for (unsigned int d = 0; d < 3; ++d)
-      if (e[d] < 0 || e[d] >= Nf[d])
+      if (e[d] < 0 || e[d] >= fine_cells_[d])
         return false;
-    return level_from(fine_key(e), m) >= 0;
+    return level_from(fine_key(e), max_level_) >= 0;
   }
 
   template <int dim>
@@ -215,14 +218,14 @@ namespace granhydro
     // a lattice subset (level 0): smallest squared lattice distance; ties: fewest
     // nonzero offset components, then smallest key. Any position looked at has fluid
     // within R.
-    const int R = int(std::ceil(std::sqrt(double(dim)) * G));
+    const int R = int(std::ceil(std::sqrt(double(dim)) * ghost_width_));
     long long best_d2 = -1, best_key = 0;
     int       best_nnz = 0;
     Position  lo{{0, 0, 0}}, hi{{0, 0, 0}};
     for (unsigned int d = 0; d < dim; ++d)
       {
         lo[d] = std::max(e[d] - R, 0ll);
-        hi[d] = std::min(e[d] + R, Nf[d] - 1);
+        hi[d] = std::min(e[d] + R, fine_cells_[d] - 1);
       }
     for (long long z = lo[2]; z <= hi[2]; ++z)
       for (long long y = lo[1]; y <= hi[1]; ++y)
@@ -230,7 +233,7 @@ namespace granhydro
           {
             const Position  c{{x, y, z}};
             const long long ck = fine_key(c);
-            if (level_from(ck, m) < 0)
+            if (level_from(ck, max_level_) < 0)
               continue;
             long long d2  = 0;
             int       nnz = 0;
@@ -283,7 +286,7 @@ namespace granhydro
             // the fine corner, without decoding a key (the hot path of the tables)
             Position c{{0, 0, 0}};
             for (unsigned int d = 0; d < dim; ++d)
-              c[d] = p[d] << (m - k);
+              c[d] = p[d] << (max_level_ - k);
             const int l = window_at_point(c, missing);
             if (l == -2)
               return no_slot_key; // beyond the fetched blocks (*missing set)
@@ -329,9 +332,9 @@ namespace granhydro
       {
         k                  = key & 7;
         const long long fk = key >> 3;
-        p                  = {{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}};
+        p                  = fine_position(fk);
         for (unsigned int d = 0; d < dim; ++d)
-          p[d] >>= (m - k);
+          p[d] >>= (max_level_ - k);
       }
     else
       {
@@ -351,9 +354,9 @@ namespace granhydro
     if (lv < 0)
       return no_slot_key;
     const unsigned int l = lv;
-    Position           c{{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}};
+    Position           c = fine_position(fk);
     for (unsigned int d = 0; d < dim; ++d)
-      c[d] = (c[d] >> (m - l)) << (m - l);
+      c[d] = (c[d] >> (max_level_ - l)) << (max_level_ - l);
     return fine_key(c) * 8 + l;
   }
 

@@ -4,7 +4,7 @@
  * distributed over the ranks by level-0 block (the directory, the blocks within reach,
  * the answers, the leaves and their ancestors, the dense window of levels).
  */
-#include <granhydro/mesh/lattice.h>
+#include "lattice.h"
 
 #include <deal.II/base/mpi.h>
 
@@ -48,7 +48,7 @@ namespace granhydro
   template <int dim>
   int Lattice<dim>::directory_rank(const long long b, const int P) const
   {
-    const long long nblocks = (long long)(N[0]) * N[1] * N[2];
+    const long long nblocks = (long long)(cells_[0]) * cells_[1] * cells_[2];
     return int((__int128)(b)*P / nblocks);
   }
 
@@ -68,7 +68,7 @@ namespace granhydro
                                                  const unsigned long long n_global, const MPI_Comm comm) const
   {
     const int       P       = Utilities::MPI::n_mpi_processes(comm);
-    const long long nblocks = (long long)(N[0]) * N[1] * N[2];
+    const long long nblocks = (long long)(cells_[0]) * cells_[1] * cells_[2];
     auto home = [&](const long long b) { return directory_rank(b, P); };
     // 1. the leaves to the directory: (block, key, first DoF, faces)
     std::vector<std::vector<long long>> out(P);
@@ -96,7 +96,7 @@ namespace granhydro
     }
     // checks: the leaves of a block tile it (a box) or are one level-0 cell (a mesh file)
     {
-      const long long full = 1ll << (m * dim);
+      const long long full = 1ll << (max_level_ * dim);
       long long       n_blocks_seen = 0;
       for (std::size_t i = 0; i < nrec;)
         {
@@ -105,7 +105,7 @@ namespace granhydro
           for (; j < nrec && dir[4 * j] == dir[4 * i]; ++j)
             {
               AssertThrow(j == i || dir[4 * j + 1] != dir[4 * j - 3], ExcMessage("two cells on one lattice point"));
-              vol += 1ll << ((m - (dir[4 * j + 1] & 7)) * dim);
+              vol += 1ll << ((max_level_ - (dir[4 * j + 1] & 7)) * dim);
             }
           AssertThrow(vol == full, ExcMessage(subset_ ? "mesh is not the expected lattice"
                                                       : "mesh is not the expected octree"));
@@ -144,17 +144,17 @@ namespace granhydro
         FlatKeyMap<int> grown;
         grown.reserve(radius.size() * 2);
         radius.for_each([&](const long long b, const int r) {
-            Position c{{b % N[0], (b / N[0]) % N[1], b / ((long long)(N[0]) * N[1])}};
+            Position c{{b % cells_[0], (b / cells_[0]) % cells_[1], b / ((long long)(cells_[0]) * cells_[1])}};
             const long long c0 = c[d];
             for (int o = -r; o <= r; ++o)
               {
                 long long x = c0 + o;
                 if (periodic[d])
-                  x = ((x % N[d]) + N[d]) % N[d];
-                else if (x < 0 || x >= N[d])
+                  x = ((x % cells_[d]) + cells_[d]) % cells_[d];
+                else if (x < 0 || x >= cells_[d])
                   continue;
                 c[d]      = x;
-                int &e    = grown[c[0] + (long long)(N[0]) * (c[1] + (long long)(N[1]) * c[2])];
+                int &e    = grown[c[0] + (long long)(cells_[0]) * (c[1] + (long long)(cells_[1]) * c[2])];
                 e         = std::max(e, r);
               }
           });
@@ -222,12 +222,12 @@ namespace granhydro
     for (std::size_t i = 0; i < got.size(); i += 3)
       {
         const long long fk = got[i] >> 3;
-        const Position  c{{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}};
+        const Position  c = fine_position(fk);
         for (int a = int(got[i] & 7) - 1; a >= 0; --a)
           {
             Position an = c;
             for (unsigned int d = 0; d < dim; ++d)
-              an[d] = (c[d] >> (m - a)) << (m - a);
+              an[d] = (c[d] >> (max_level_ - a)) << (max_level_ - a);
             const auto [e, inserted] = leaves.insert(fine_key(an) * 8 + a, Leaf{-1, 0});
             AssertThrow(e->first < 0, ExcMessage("mesh is not the expected octree"));
             if (!inserted) // its ancestors are in already
@@ -247,7 +247,8 @@ namespace granhydro
       Position blo{{0, 0, 0}}, bhi{{0, 0, 0}};
       bool     first = true;
       blocks.for_each([&](const long long b, const char) {
-        const Position c{{b % N[0], (b / N[0]) % N[1], b / ((long long)(N[0]) * N[1])}};
+        const Position c{{b % cells_[0], (b / cells_[0]) % cells_[1],
+                          b / ((long long)(cells_[0]) * cells_[1])}};
         for (unsigned int d = 0; d < 3; ++d)
           {
             blo[d] = first ? c[d] : std::min(blo[d], c[d]);
@@ -258,28 +259,29 @@ namespace granhydro
       long long vol = first ? 0 : 1;
       for (unsigned int d = 0; d < 3; ++d)
         {
-          window_lo[d] = blo[d] << (d < dim ? m : 0);
-          window_n[d]  = (bhi[d] - blo[d] + 1) << (d < dim ? m : 0);
+          window_lo[d] = blo[d] << (d < dim ? max_level_ : 0);
+          window_n[d]  = (bhi[d] - blo[d] + 1) << (d < dim ? max_level_ : 0);
           vol *= window_n[d];
         }
       if (vol > 0 && vol <= 8 * (long long)(leaves.size()) + 4096)
         {
           window_level.assign(vol, -2);
-          const long long span0 = 1ll << m;
+          const long long span0 = 1ll << max_level_;
           blocks.for_each([&](const long long b, const char) {
-            const Position c{{b % N[0], (b / N[0]) % N[1], b / ((long long)(N[0]) * N[1])}};
+            const Position c{{b % cells_[0], (b / cells_[0]) % cells_[1],
+                              b / ((long long)(cells_[0]) * cells_[1])}};
             for (long long z = 0; z < (dim > 2 ? span0 : 1); ++z)
               for (long long y = 0; y < (dim > 1 ? span0 : 1); ++y)
                 for (long long x = 0; x < span0; ++x)
-                  window_level[window_index({{(c[0] << m) + x, dim > 1 ? (c[1] << m) + y : 0,
-                                              dim > 2 ? (c[2] << m) + z : 0}})] = -1;
+                  window_level[window_index({{(c[0] << max_level_) + x, dim > 1 ? (c[1] << max_level_) + y : 0,
+                                              dim > 2 ? (c[2] << max_level_) + z : 0}})] = -1;
           });
           for (std::size_t i = 0; i < got.size(); i += 3)
             {
               const long long    fk   = got[i] >> 3;
               const unsigned int k    = got[i] & 7;
-              const long long    span = 1ll << (m - k);
-              const Position     c{{fk % Nf[0], (fk / Nf[0]) % Nf[1], fk / (Nf[0] * Nf[1])}};
+              const long long    span = 1ll << (max_level_ - k);
+              const Position     c = fine_position(fk);
               for (long long z = 0; z < (dim > 2 ? span : 1); ++z)
                 for (long long y = 0; y < (dim > 1 ? span : 1); ++y)
                   for (long long x = 0; x < span; ++x)

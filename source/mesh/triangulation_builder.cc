@@ -1,6 +1,6 @@
-#include <granhydro/mesh/cartesian_patch.h>
 #include <granhydro/mesh/mesh_file.h>
-#include <granhydro/mesh/triangulation_builder.h>
+
+#include "triangulation_builder.h"
 
 #include <deal.II/distributed/shared_tria.h>
 #include <deal.II/distributed/tria.h>
@@ -21,15 +21,16 @@ namespace granhydro
   }
 
   template <int dim>
-  void CartesianPatch<dim>::make_box_mesh(const MeshSettings &settings)
+  LatticeGeometry make_box_mesh(parallel::TriangulationBase<dim> &tria, const MeshSettings &settings)
   {
+    LatticeGeometry geometry;
     // coarse box refined globally L times (p4est)
     for (unsigned int d = 0; d < 3; ++d)
       {
-        N_[d]        = d < dim ? settings.cells[d] : 1;
-        lo_[d]       = d < dim ? settings.lower[d] : 0;
-        h_[d]        = d < dim ? (settings.upper[d] - settings.lower[d]) / N_[d] : 1;
-        periodic_[d] = d < dim ? settings.boundary[2 * d] == BoundaryType::periodic : true;
+        geometry.cells[d]     = d < dim ? settings.cells[d] : 1;
+        geometry.lower[d]     = d < dim ? settings.lower[d] : 0;
+        geometry.cell_size[d] = d < dim ? (settings.upper[d] - settings.lower[d]) / geometry.cells[d] : 1;
+        geometry.periodic[d]  = d < dim ? settings.boundary[2 * d] == BoundaryType::periodic : true;
       }
     unsigned int L = 0;
     if (dim > 1)
@@ -37,7 +38,7 @@ namespace granhydro
         {
           bool ok = true;
           for (unsigned int d = 0; d < dim; ++d)
-            ok = ok && (N_[d] % (1u << (L + 1)) == 0);
+            ok = ok && (geometry.cells[d] % (1u << (L + 1)) == 0);
           if (!ok)
             break;
           ++L;
@@ -46,28 +47,30 @@ namespace granhydro
     Point<dim>                p1, p2;
     for (unsigned int d = 0; d < dim; ++d)
       {
-        rep[d] = N_[d] >> L;
+        rep[d] = geometry.cells[d] >> L;
         p1[d]  = settings.lower[d];
         p2[d]  = settings.upper[d];
       }
-    GridGenerator::subdivided_hyper_rectangle(*tria, rep, p1, p2, /*colorize=*/true);
+    GridGenerator::subdivided_hyper_rectangle(tria, rep, p1, p2, /*colorize=*/true);
     if constexpr (dim > 1)
       {
-        auto &ptria = dynamic_cast<parallel::distributed::Triangulation<dim> &>(*tria);
+        auto &ptria = dynamic_cast<parallel::distributed::Triangulation<dim> &>(tria);
         std::vector<GridTools::PeriodicFacePair<typename parallel::distributed::Triangulation<dim>::cell_iterator>> pairs;
         for (unsigned int d = 0; d < dim; ++d)
-          if (periodic_[d])
+          if (geometry.periodic[d])
             GridTools::collect_periodic_faces(ptria, 2 * d, 2 * d + 1, d, pairs);
         if (!pairs.empty())
           ptria.add_periodicity(pairs);
       }
-    tria->refine_global(L);
-    base_tria_level_ = L;
+    tria.refine_global(L);
+    geometry.base_level = L;
+    return geometry;
   }
 
   template <int dim>
-  void CartesianPatch<dim>::make_file_mesh(const MeshSettings &settings)
+  LatticeGeometry make_file_mesh(parallel::TriangulationBase<dim> &tria, const MeshSettings &settings)
   {
+    LatticeGeometry geometry;
     // the lattice is the bounding box at the fine cell size
     if constexpr (dim == 1)
       {
@@ -81,23 +84,24 @@ namespace granhydro
         const MeshFileInfo info = inspect_mesh(coarse);
         for (unsigned int d = 0; d < 3; ++d)
           {
-            N_[d]  = d < dim ? info.lattice[d] << settings.mesh_refinements : 1;
-            lo_[d] = d < dim ? info.lower[d] : 0;
+            geometry.cells[d] = d < dim ? info.lattice[d] << settings.mesh_refinements : 1;
+            geometry.lower[d] = d < dim ? info.lower[d] : 0;
             // the same expression as for the box: a box read from a file gets bitwise
             // the same cell size and centres as the generated one
-            h_[d]        = d < dim ? (info.upper[d] - info.lower[d]) / N_[d] : 1;
-            periodic_[d] = d >= dim;
+            geometry.cell_size[d] = d < dim ? (info.upper[d] - info.lower[d]) / geometry.cells[d] : 1;
+            geometry.periodic[d]  = d >= dim;
           }
-        tria->copy_triangulation(coarse);
-        tria->refine_global(settings.mesh_refinements);
-        base_tria_level_ = settings.mesh_refinements;
+        tria.copy_triangulation(coarse);
+        tria.refine_global(settings.mesh_refinements);
+        geometry.base_level = settings.mesh_refinements;
       }
+    return geometry;
   }
 
 #define GRANHYDRO_INSTANTIATE(d)                                                                   \
   template std::unique_ptr<parallel::TriangulationBase<d>> make_triangulation(const MPI_Comm);     \
-  template void CartesianPatch<d>::make_box_mesh(const MeshSettings &);                            \
-  template void CartesianPatch<d>::make_file_mesh(const MeshSettings &);
+  template LatticeGeometry make_box_mesh(parallel::TriangulationBase<d> &, const MeshSettings &);   \
+  template LatticeGeometry make_file_mesh(parallel::TriangulationBase<d> &, const MeshSettings &);
   GRANHYDRO_INSTANTIATE(1)
   GRANHYDRO_INSTANTIATE(2)
   GRANHYDRO_INSTANTIATE(3)

@@ -1,4 +1,4 @@
-#include <granhydro/mesh/virtual_cells.h>
+#include "virtual_cells.h"
 
 #include <algorithm>
 #include <cmath>

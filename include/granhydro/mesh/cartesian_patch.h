@@ -5,12 +5,12 @@
  *
  * deal.II/p4est own the mesh, the partition and the DoF numbering (DG0
  * FESystem with dim+2 components: one value per cell and conserved
- * variable); on adaptive boxes a p4est forest of its own (mesh/forest.h)
+ * variable); on adaptive boxes a p4est forest of its own (source/mesh/forest.h)
  * does, and deal.II's mesh follows it only for output. deal.II gives one ghost layer; WENO5 with transverse Gauss-point
  * reconstruction reaches the cells within Chebyshev distance r (r = stencil
  * half width) of an owned cell, and the face neighbours' gradient stencils
  * reach one further (the reconstruction stages of a face neighbour owned by
- * another rank come from that rank: ghost_layer.h, slot_exchange.h). This
+ * another rank come from that rank: source/mesh/ghost_layer.h, mesh/slot_exchange.h). This
  * class builds that wider ghost set from the cells' lattice indices, a
  * Utilities::MPI::Partitioner for the state vector with those ghosts, and
  * flat neighbour tables (no cell iterators in hot loops). Walls are represented by boundary-ghost slots whose state is a
@@ -48,10 +48,21 @@
  * (never a finer one; then the gradient is one-sided); the rows exist for the
  * owned cells and the cells on their faces (-1 elsewhere), the only ones read.
  *
+ * The class is a facade: its parts live beside its sources in source/mesh and are not
+ * installed (triangulation_builder.h: the mesh and its LatticeGeometry; lattice.h: the
+ * leaves a rank knows and the wall ghosts; ghost_layer.h and virtual_cells.h: the
+ * positions a rank needs; stencil_tables.h: the table builders; forest.h: the adaptive
+ * octree). What they build is plain data held here (mesh/patch_tables.h: SlotTables), so
+ * the accessors the operators call in their hot loops (neighbor(), faces(),
+ * cell_faces(), gradient_neighbor(), ...) are inline reads of those vectors.
+ *
  * Limits: adaptive meshes need a box domain (no mesh file) and 2 or 3
  * dimensions. No rank holds the whole fine lattice: the leaves a rank's
- * tables reach come from a directory distributed by level-0 block (lattice.h).
+ * tables reach come from a directory distributed by level-0 block (source/mesh/lattice.h).
  */
+#include <granhydro/boundary/wall_mirror.h>
+#include <granhydro/mesh/boundary_ghost.h>
+#include <granhydro/mesh/patch_tables.h>
 #include <granhydro/mesh/settings.h>
 
 #include <deal.II/base/partitioner.h>
@@ -69,16 +80,9 @@
 
 namespace granhydro
 {
-  struct OwnedCell;
-  struct SlotIndex;
+  // parts of the patch (source/mesh, not installed), held by pointer or made on demand
   template <int dim>
   class Lattice;
-  template <int dim>
-  class VirtualCells;
-  template <int dim>
-  class DilatedMask;
-  template <int dim>
-  class SlotGrid;
   template <int dim>
   class Forest;
 
@@ -88,24 +92,8 @@ namespace granhydro
   public:
     static constexpr unsigned int n_components = dim + 2;
 
-    /// a boundary-ghost slot: copy of slot source, momentum components with bit d of
-    /// flip_mask set change sign (mirror at a slip wall normal to d)
-    struct BoundaryGhost
-    {
-      unsigned int slot, source, flip_mask;
-      /// true if any wall this ghost lies behind is a no-slip wall
-      bool no_slip = false;
-      /// the walls this ghost lies behind (1 at a face, 2 at an edge, 3 at a corner),
-      /// applied in turn: slip wall flips the normal velocity, no-slip wall mirrors the
-      /// velocity about the wall velocity u -> 2 u_w - u (scaled units); n and the
-      /// internal energy are copied (doc/physics.md 5.1). wall_dir is the geometric normal
-      /// direction, wall_id the boundary id (index of the scene's Boundary entry)
-      unsigned int n_walls = 0;
-      std::array<unsigned int, 3>          wall_dir{{0, 0, 0}};
-      std::array<unsigned int, 3>          wall_id{{0, 0, 0}};
-      std::array<bool, 3>                  wall_no_slip{{false, false, false}};
-      std::array<std::array<double, 3>, 3> wall_velocity{};
-    };
+    /// a boundary-ghost slot (mesh/boundary_ghost.h)
+    using BoundaryGhost = granhydro::BoundaryGhost;
 
     CartesianPatch(const MPI_Comm comm);
     ~CartesianPatch();
@@ -113,37 +101,24 @@ namespace granhydro
     /// build mesh, DoFs and tables; ghost_width = r + 1 for a stencil half width r
     void build(const MeshSettings &settings, const unsigned int ghost_width);
 
-    /// a face normal to direction d between slots l (low side) and r; frac_l/frac_r: the
-    /// share of l's/r's whole face this face is (1, or 1/2^(dim-1) on the coarse side of
-    /// a hanging face)
-    struct Face
-    {
-      unsigned int l, r;
-      double       frac_l, frac_r;
-      /// hanging face: index of the coarse face's Gauss point in this fine sub-face
-      /// (the coarse side's value there is used at all of the sub-face's points); -1 else
-      int coarse_point = -1;
-    };
+    /// a face normal to direction d between slots l (low side) and r (mesh/patch_tables.h)
+    using Face = PatchFace;
     /// a face of an owned cell: index into faces(d), and whether the cell is the face's
-    /// low side (the face is on the cell's upper side)
-    struct CellFace
-    {
-      unsigned int face;
-      bool         upper;
-    };
-    const std::vector<Face> &faces(const unsigned int d) const { return faces_[d]; }
+    /// low side (mesh/patch_tables.h)
+    using CellFace = PatchCellFace;
+    const std::vector<Face> &faces(const unsigned int d) const { return tables_.faces[d]; }
     /// faces of owned slot s normal to d: lower ones first, then upper ones, each in
     /// a fixed geometric order
     std::pair<const CellFace *, const CellFace *> cell_faces(const unsigned int d,
                                                             const unsigned int s) const
     {
-      const auto &st = cell_face_start_[d];
-      return {cell_face_[d].data() + st[s], cell_face_[d].data() + st[s + 1]};
+      const auto &start = tables_.cell_face_start[d];
+      return {tables_.cell_faces[d].data() + start[s], tables_.cell_faces[d].data() + start[s + 1]};
     }
     /// the slot on the other side of an owned cell's face cf normal to d
     unsigned int across(const unsigned int d, const CellFace &cf) const
     {
-      const Face &f = faces_[d][cf.face];
+      const Face &f = tables_.faces[d][cf.face];
       return cf.upper ? f.r : f.l;
     }
     /// the fluxes F (NC values per face of faces(d)) through owned slot s's faces normal to
@@ -156,7 +131,7 @@ namespace granhydro
       const auto [b, e] = cell_faces(d, s);
       for (auto cf = b; cf != e; ++cf)
         {
-          const Face   &f    = faces_[d][cf->face];
+          const Face   &f    = tables_.faces[d][cf->face];
           const double *Ff   = F + std::size_t(cf->face) * NC;
           double       *sum  = cf->upper ? upper : lower;
           const double  frac = cf->upper ? f.frac_l : f.frac_r;
@@ -169,30 +144,30 @@ namespace granhydro
     /// Only for owned cells and the cells on their faces (other slots: -1)
     int gradient_neighbor(const unsigned int s, const unsigned int j, const unsigned int side) const
     {
-      return gnb_[(std::size_t(s) * dim + j) * 2 + side];
+      return tables_.gradient_neighbors[(std::size_t(s) * dim + j) * 2 + side];
     }
     double gradient_offset(const unsigned int s, const unsigned int j, const unsigned int side) const
     {
-      return goff_[(std::size_t(s) * dim + j) * 2 + side];
+      return tables_.gradient_offsets[(std::size_t(s) * dim + j) * 2 + side];
     }
     /// true if the slot's reconstruction stencil box is complete at its own level
-    bool uniform(const unsigned int s) const { return uniform_[s] != 0; }
+    bool uniform(const unsigned int s) const { return tables_.uniform[s] != 0; }
     /// refinement level of a slot above the scene's Domain/Cells (0 on uniform meshes)
-    unsigned int level(const unsigned int s) const { return level_[s]; }
+    unsigned int level(const unsigned int s) const { return tables_.levels[s]; }
     unsigned int max_level() const { return max_level_; }
     /// edge of slot s along d [m], and its volume [m^dim]
     double cell_size(const unsigned int s, const unsigned int d) const
     {
-      return h_[d] / double(1u << level_[s]);
+      return geometry_.cell_size[d] / double(1u << tables_.levels[s]);
     }
     double cell_volume(const unsigned int s) const;
     /// first fine-lattice index along d covered by slot s and how many it covers
     /// (the fine lattice has cells(d) << max_level() points along d)
     int          fine_begin(const unsigned int s, const unsigned int d) const
     {
-      return lattice_[s][d] << (max_level_ - level_[s]);
+      return tables_.positions[s][d] << (max_level_ - tables_.levels[s]);
     }
-    unsigned int fine_span(const unsigned int s) const { return 1u << (max_level_ - level_[s]); }
+    unsigned int fine_span(const unsigned int s) const { return 1u << (max_level_ - tables_.levels[s]); }
 
     /**
      * Adapt the mesh: flags per owned slot (+1 refine, -1 coarsen, 0 keep; p4est adds
@@ -229,55 +204,56 @@ namespace granhydro
     const dealii::parallel::TriangulationBase<dim> &triangulation() const
     {
       sync_dealii();
-      return *tria;
+      return *triangulation_;
     }
     const dealii::DoFHandler<dim> &dof_handler() const
     {
       sync_dealii();
-      return *dofh;
+      return *dof_handler_;
     }
-    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> partitioner() const { return part; }
-    MPI_Comm communicator() const { return comm; }
+    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> partitioner() const { return partitioner_; }
+    MPI_Comm communicator() const { return communicator_; }
 
-    unsigned int n_owned() const { return n_owned_; }
-    unsigned int n_mpi_ghosts() const { return n_mpi_ghost_; }
-    unsigned int n_slots() const { return lattice_.size(); }
-    unsigned int ghost_width() const { return G; }
+    unsigned int n_owned() const { return tables_.n_owned; }
+    unsigned int n_mpi_ghosts() const { return tables_.n_mpi_ghosts; }
+    unsigned int n_slots() const { return tables_.positions.size(); }
+    unsigned int ghost_width() const { return tables_.ghost_width; }
     unsigned long long n_global_cells() const { return n_global_; }
 
     /// neighbour slot of s at offset o (|o| <= ghost_width) along d, or -1
     int neighbor(const unsigned int s, const unsigned int d, const int o) const
     {
-      return nb_[(std::size_t(s) * dim + d) * (2 * G + 1) + (o + int(G))];
+      const unsigned int G = tables_.ghost_width;
+      return tables_.neighbors[(std::size_t(s) * dim + d) * (2 * G + 1) + (o + int(G))];
     }
 
     /// true for the slots of real cells (owned or MPI ghost), false for boundary ghosts
-    bool is_cell(const unsigned int s) const { return s < n_owned_ + n_mpi_ghost_; }
+    bool is_cell(const unsigned int s) const { return s < tables_.n_owned + tables_.n_mpi_ghosts; }
 
     /// boundary id of the face on side f = 2 d + upper of the real-cell slot s (lattice
     /// directions, not deal.II's face numbering), or -1 for an interior face
     int face_boundary_id(const unsigned int s, const unsigned int f) const
     {
-      return slot_face_id_[std::size_t(s) * 2 * dim + f];
+      return tables_.face_boundary_ids[std::size_t(s) * 2 * dim + f];
     }
 
     /// the boundary condition of boundary id i
-    BoundaryType boundary_type(const unsigned int i) const { return btype_[i]; }
+    BoundaryType boundary_type(const unsigned int i) const { return walls_.type[i]; }
 
     /// true if the face between slots l (low side) and r along d is a wall (slip or
     /// no-slip): one real cell, one boundary ghost, and the cell's face has a wall id
     bool wall_face(const unsigned int l, const unsigned int r, const unsigned int d) const;
 
     /// extended lattice coordinates of a slot (may lie outside [0,N) for boundary ghosts)
-    const std::array<int, 3> &lattice(const unsigned int s) const { return lattice_[s]; }
-    const std::vector<BoundaryGhost> &boundary_ghosts() const { return bghosts_; }
+    const std::array<int, 3> &lattice(const unsigned int s) const { return tables_.positions[s]; }
+    const std::vector<BoundaryGhost> &boundary_ghosts() const { return tables_.boundary_ghosts; }
 
     /// edge of a level-0 cell along d [m] (the scene's Domain/Cells)
-    double cell_size(const unsigned int d) const { return h_[d]; }
+    double cell_size(const unsigned int d) const { return geometry_.cell_size[d]; }
     /// lattice points per direction (the box, or the bounding box of a mesh file; a mesh
     /// file may leave some of them without a cell)
-    unsigned int cells(const unsigned int d) const { return N_[d]; }
-    double lower(const unsigned int d) const { return lo_[d]; }
+    unsigned int cells(const unsigned int d) const { return geometry_.cells[d]; }
+    double lower(const unsigned int d) const { return geometry_.lower[d]; }
     dealii::Point<dim> center(const unsigned int s) const;
 
     /// slot array from a state vector on partitioner(): update ghosts, copy owned and
@@ -293,31 +269,9 @@ namespace granhydro
     }
 
   private:
-    /// the triangulation of a box (coarse cells refined globally) or of a mesh file, and
-    /// the lattice's size (source/mesh/triangulation_builder.cc)
-    void make_box_mesh(const MeshSettings &settings);
-    void make_file_mesh(const MeshSettings &settings);
     /// DoFs, slots and all tables of the current mesh: ONE builder for box, adaptive and
-    /// mesh-file lattices
+    /// mesh-file lattices (the table builders: source/mesh/stencil_tables.h)
     void rebuild();
-    /// the table builders rebuild() calls (source/mesh/stencil_tables.cc): slots of the
-    /// owned cells and needed keys; boundary ids of the real cells' faces; neighbour
-    /// table and uniform flags (grid: the slot at each position; full_box: the stencil
-    /// closure's flags per owned cell, or empty to look); gradient neighbours (rows:
-    /// per slot, whether its row is read, i.e. owned cells and face cells; mask: the
-    /// positions whose neighbours exist, nullptr for all); faces from each owned cell's
-    /// neighbour lists per direction and side
-    void assign_slots(const std::vector<OwnedCell> &owned, const std::vector<long long> &needed,
-                      const Lattice<dim> &lattice, const VirtualCells<dim> &virtuals,
-                      const dealii::IndexSet &owned_dofs, SlotIndex &index);
-    void make_face_ids(const Lattice<dim> &lattice);
-    void make_neighbor_table(Lattice<dim> &lattice, const VirtualCells<dim> &virtuals,
-                             const SlotIndex &index, const SlotGrid<dim> &grid,
-                             const DilatedMask<dim> *mask, const std::vector<char> &full_box);
-    void make_gradient_table(Lattice<dim> &lattice, const SlotIndex &index, const SlotGrid<dim> &grid,
-                             const DilatedMask<dim> *mask, const std::vector<char> &rows,
-                             std::vector<char> &incomplete);
-    void make_faces(const std::vector<unsigned int> &start, const std::vector<unsigned int> &slots);
     /// the lattice of this patch's box or mesh file, nothing fetched yet (Lattice::distribute())
     Lattice<dim> make_lattice() const;
     /// adaptive boxes (2, 3 dimensions): the forest, a copy of deal.II's current one
@@ -325,50 +279,30 @@ namespace granhydro
     /// adaptive meshes: bring deal.II's triangulation to the forest's leaves and number its
     /// DoFs (the same partition and order as the slots: checked), if not done yet
     void sync_dealii() const;
-
-    MPI_Comm comm;
-    std::unique_ptr<dealii::parallel::TriangulationBase<dim>> tria;
-    std::unique_ptr<dealii::FESystem<dim>> fe;
-    mutable std::unique_ptr<dealii::DoFHandler<dim>> dofh;
-    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> part;
-
-    unsigned int G = 3;
-    std::array<unsigned int, 3> N_{{1, 1, 1}};
-    std::array<double, 3> h_{{1, 1, 1}}, lo_{{0, 0, 0}};
-    std::array<bool, 3> periodic_{{true, true, true}};
-    bool subset_ = false; ///< a mesh file's lattice (solid points, boundary ids from the file)
-    unsigned long long n_global_ = 0;
-    unsigned int n_owned_ = 0, n_mpi_ghost_ = 0;
-    std::vector<std::array<int, 3>> lattice_;
-    std::vector<int> nb_;
-    std::vector<BoundaryGhost> bghosts_;
-    std::vector<signed char> slot_face_id_; ///< 2 dim per real-cell slot
-    std::array<BoundaryType, 6> btype_{};
-    mutable std::vector<unsigned int> active_index_;
-    /// adaptive boxes: the octree, adapted by p4est alone (mesh/forest.h); deal.II's mesh
-    /// and DoFs follow it only when asked for
-    std::unique_ptr<Forest<dim>> forest_;
     /// adapt(): true if the forest stays 2:1 balanced when each owned leaf changes its
     /// level by delta (+1, 0, -1) and the MPI ghosts as their owners say (collective)
     bool stays_balanced(const std::vector<signed char> &delta) const;
-    mutable bool dealii_mesh_current_ = true, dealii_dofs_current_ = true;
 
-    std::array<std::array<double, 3>, 6> wall_velocity_{}; ///< [m/s], per boundary id
-    double velocity_unit_ = 1;
-    unsigned int max_level_ = 0, base_tria_level_ = 0;
-    std::vector<unsigned char> level_, uniform_;
-    std::vector<Face> faces_[3];
-    std::vector<unsigned int> cell_face_start_[3];
-    std::vector<CellFace> cell_face_[3];
-    std::vector<int> gnb_;
-    /// a virtual cell: weighted sum of real slots (restriction or prolongation)
-    struct VirtualCell
-    {
-      unsigned int                                  slot;
-      std::vector<std::pair<unsigned int, double>> sources;
-    };
-    std::vector<VirtualCell> virtual_;
+    MPI_Comm                                                  communicator_;
+    std::unique_ptr<dealii::parallel::TriangulationBase<dim>> triangulation_;
+    std::unique_ptr<dealii::FESystem<dim>>                    finite_element_;
+    mutable std::unique_ptr<dealii::DoFHandler<dim>>          dof_handler_;
+    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> partitioner_;
+
+    /// the lattice as the mesh was built (source/mesh/triangulation_builder.cc)
+    LatticeGeometry geometry_;
+    bool subset_ = false; ///< a mesh file's lattice (solid points, boundary ids from the file)
+    unsigned int max_level_ = 0;
+    /// the boundary kinds and wall velocities per boundary id (velocities in [m/s])
+    WallTable walls_;
+    unsigned long long n_global_ = 0;
+    /// the slots' tables, held here so that the inline accessors index them directly
+    SlotTables tables_;
+    mutable std::vector<unsigned int> active_index_;
+    /// adaptive boxes: the octree, adapted by p4est alone (source/mesh/forest.h); deal.II's
+    /// mesh and DoFs follow it only when asked for
+    std::unique_ptr<Forest<dim>> forest_;
+    mutable bool dealii_mesh_current_ = true, dealii_dofs_current_ = true;
     unsigned long long last_refined_ = 0, last_coarsened_ = 0;
-    std::vector<double> goff_;
   };
 } // namespace granhydro

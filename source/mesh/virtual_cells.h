@@ -9,7 +9,7 @@
  * value plus central-difference slopes); outside a wall, the mirror of such a
  * position. WENO then runs on a uniform (partly virtual) neighbourhood everywhere.
  */
-#include <granhydro/mesh/lattice.h>
+#include "lattice.h"
 
 #include <array>
 #include <utility>

@@ -1,7 +1,8 @@
 #pragma once
 /**
  * @file flat_key_map.h
- * A hash map from 64-bit keys (any but the smallest, no_slot_key) to small values, for the table builders:
+ * A hash map from 64-bit keys (any but the smallest, no_slot_key) to small values, for the table
+ * builders of CartesianPatch (an internal part of the patch: source/mesh, not installed):
  * open addressing with linear probing in one array of (key, value) pairs, a power-of-two
  * capacity kept at least twice the size, Fibonacci hashing. About three times faster than
  * std::unordered_map<long long, V> for the lookups of the stencil closure (one cache line
@@ -21,12 +22,12 @@ namespace granhydro
   public:
     static constexpr long long empty = std::numeric_limits<long long>::min(); ///< no key
 
-    std::size_t size() const { return n; }
+    std::size_t size() const { return n_keys; }
     void        clear()
     {
       slots.clear();
-      n    = 0;
-      bits = 0;
+      n_keys = 0;
+      bits   = 0;
     }
     /// room for at least m keys without rehashing
     void reserve(const std::size_t m)
@@ -40,7 +41,7 @@ namespace granhydro
     /// the value of key, nullptr if absent
     const V *find(const long long key) const
     {
-      if (n == 0)
+      if (n_keys == 0)
         return nullptr;
       for (std::size_t i = home(key);; i = (i + 1) & mask())
         {
@@ -62,7 +63,7 @@ namespace granhydro
     /// the value of key, inserted as V() if absent; the bool: inserted
     std::pair<V *, bool> insert(const long long key, const V &value = V())
     {
-      if (2 * (n + 1) > (std::size_t(1) << bits))
+      if (2 * (n_keys + 1) > (std::size_t(1) << bits))
         rehash(bits < 4 ? 4 : bits + 1);
       for (std::size_t i = home(key);; i = (i + 1) & mask())
         {
@@ -72,7 +73,7 @@ namespace granhydro
           if (s.first == empty)
             {
               s = {key, value};
-              ++n;
+              ++n_keys;
               return {&s.second, true};
             }
         }
@@ -97,15 +98,15 @@ namespace granhydro
     {
       std::vector<std::pair<long long, V>> old(std::size_t(1) << b, {empty, V()});
       old.swap(slots);
-      bits = b;
-      n    = 0;
+      bits   = b;
+      n_keys = 0;
       for (const auto &s : old)
         if (s.first != empty)
           insert(s.first, s.second);
     }
 
     std::vector<std::pair<long long, V>> slots;
-    std::size_t                          n    = 0;
-    unsigned int                         bits = 0;
+    std::size_t                          n_keys = 0;
+    unsigned int                         bits   = 0;
   };
 } // namespace granhydro

@@ -1,7 +1,8 @@
 #pragma once
 /**
  * @file forest.h
- * The adaptive octree of a box scene, kept in p4est directly.
+ * The adaptive octree of a box scene, kept in p4est directly (an internal part of
+ * CartesianPatch: source/mesh, not installed).
  *
  * deal.II's parallel::distributed::Triangulation stores a p4est forest and,
  * beside it, a full deal.II mesh (vertices, lines, faces, cells on every

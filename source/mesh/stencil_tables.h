@@ -1,12 +1,21 @@
 #pragma once
 /**
  * @file stencil_tables.h
- * The slot numbering shared by the table builders of CartesianPatch (an internal part
- * of the patch; the builders are its private members, source/mesh/stencil_tables.cc).
+ * The table builders of CartesianPatch and the slot numbering they share (an internal
+ * part of the patch: source/mesh, not installed). CartesianPatch::rebuild() runs them in
+ * turn on the lattice, the virtual cells and the keys the ghost layer needs; they fill
+ * the patch's SlotTables (mesh/patch_tables.h), source/mesh/stencil_tables.cc.
  */
-#include <granhydro/mesh/lattice.h>
+#include <granhydro/mesh/patch_tables.h>
+
+#include "ghost_layer.h"
+#include "lattice.h"
+
+#include <deal.II/base/index_set.h>
+#include <deal.II/base/partitioner.h>
 
 #include <algorithm>
+#include <memory>
 #include <vector>
 
 namespace granhydro
@@ -42,18 +51,18 @@ namespace granhydro
     using Position = typename Lattice<dim>::Position;
     struct Level
     {
-      Position                 lo{{0, 0, 0}}, n{{1, 1, 1}};
+      Position                 lower{{0, 0, 0}}, extent{{1, 1, 1}}; ///< the grid's box
       std::size_t              count = 0;
       std::vector<int>         dense;
       FlatKeyMap<unsigned int> sparse;
       std::size_t idx(const Position &q) const
       {
-        return std::size_t((q[0] - lo[0]) + n[0] * ((q[1] - lo[1]) + n[1] * (q[2] - lo[2])));
+        return std::size_t((q[0] - lower[0]) + extent[0] * ((q[1] - lower[1]) + extent[1] * (q[2] - lower[2])));
       }
       bool inside(const Position &q) const
       {
         for (unsigned int d = 0; d < dim; ++d)
-          if (q[d] < lo[d] || q[d] >= lo[d] + n[d])
+          if (q[d] < lower[d] || q[d] >= lower[d] + extent[d])
             return false;
         return true;
       }
@@ -73,7 +82,7 @@ namespace granhydro
           Level &g = levels[level[s]];
           for (unsigned int d = 0; d < dim; ++d)
             {
-              g.lo[d]            = g.count ? std::min<long long>(g.lo[d], pos[s][d]) : pos[s][d];
+              g.lower[d]            = g.count ? std::min<long long>(g.lower[d], pos[s][d]) : pos[s][d];
               hi[level[s]][d] = g.count ? std::max<long long>(hi[level[s]][d], pos[s][d]) : pos[s][d];
             }
           ++g.count;
@@ -82,8 +91,8 @@ namespace granhydro
         {
           Level &g = levels[k];
           for (unsigned int d = 0; d < dim; ++d)
-            g.n[d] = hi[k][d] - g.lo[d] + 1;
-          const long long vol = g.n[0] * g.n[1] * g.n[2];
+            g.extent[d] = hi[k][d] - g.lower[d] + 1;
+          const long long vol = g.extent[0] * g.extent[1] * g.extent[2];
           if (g.count && dense_factor >= 0 && vol <= dense_factor * (long long)(g.count) + 4096)
             g.dense.assign(vol, -1);
           else
@@ -116,4 +125,38 @@ namespace granhydro
     const Lattice<dim> &lattice;
     std::vector<Level>  levels;
   };
+
+  /// the slots: owned cells in DoF order, MPI ghosts in DoF order, wall ghosts by key,
+  /// virtual cells (tables: positions, levels, n_mpi_ghosts, boundary_ghosts,
+  /// virtual_cells; active_index: of the owned cells; index); returns the state vector's
+  /// partitioner with the MPI ghosts (collective). tables.n_owned is set
+  template <int dim>
+  std::shared_ptr<const dealii::Utilities::MPI::Partitioner>
+  assign_slots(const std::vector<OwnedCell> &owned, const std::vector<long long> &needed,
+               const Lattice<dim> &lattice, const VirtualCells<dim> &virtuals,
+               const dealii::IndexSet &owned_dofs, const MPI_Comm comm, SlotTables &tables,
+               std::vector<unsigned int> &active_index, SlotIndex &index);
+  /// boundary ids of the real cells' faces (tables.face_boundary_ids)
+  template <int dim>
+  void make_face_ids(const Lattice<dim> &lattice, SlotTables &tables);
+  /// neighbour table and uniform flags (grid: the slot at each position; mask: a mesh
+  /// file's dilated mask, the positions whose rows exist, nullptr for all; full_box: the
+  /// stencil closure's flags per owned cell, or empty to look)
+  template <int dim>
+  void make_neighbor_table(Lattice<dim> &lattice, const VirtualCells<dim> &virtuals, const SlotIndex &index,
+                           const SlotGrid<dim> &grid, const DilatedMask<dim> *mask,
+                           const std::vector<char> &full_box, const LatticeGeometry &geometry,
+                           SlotTables &tables);
+  /// gradient neighbours and offsets (rows: per slot, whether its row is read, i.e. owned
+  /// cells and face cells; incomplete: per slot, 1 if a neighbour lies beyond the fetched
+  /// blocks)
+  template <int dim>
+  void make_gradient_table(Lattice<dim> &lattice, const SlotIndex &index, const SlotGrid<dim> &grid,
+                           const DilatedMask<dim> *mask, const std::vector<char> &rows,
+                           const LatticeGeometry &geometry, SlotTables &tables, std::vector<char> &incomplete);
+  /// faces from each owned cell's face-neighbour lists per direction and side (start,
+  /// slots: FaceKeys with the keys' slots)
+  template <int dim>
+  void make_faces(const std::vector<unsigned int> &start, const std::vector<unsigned int> &slots,
+                  SlotTables &tables);
 } // namespace granhydro

@@ -10,12 +10,12 @@
  * r = G - 1) of the owned cells and of the wall ghosts among the face neighbours, and
  * the leaves the virtual cells are made of. A face neighbour owned by another rank gets
  * no box: the convective operator receives its reconstruction stages from its owner
- * (slot_exchange.h). Mesh-file lattices take
+ * (mesh/slot_exchange.h). Mesh-file lattices take
  * every position within Chebyshev distance G of an owned cell (the dilated mask); their
  * neighbour tables cover the mask only.
  */
-#include <granhydro/mesh/lattice.h>
-#include <granhydro/mesh/virtual_cells.h>
+#include "lattice.h"
+#include "virtual_cells.h"
 
 #include <vector>
 
@@ -56,7 +56,7 @@ namespace granhydro
     std::vector<long long> keys(Lattice<dim> &lattice) const;
 
   private:
-    std::array<int, 3> blo{{0, 0, 0}}, bn{{1, 1, 1}};
+    std::array<int, 3> box_lower{{0, 0, 0}}, box_size{{1, 1, 1}}; ///< the box the mask covers
     std::vector<char>  mask;
   };
 

@@ -17,8 +17,9 @@
  * are met, with the mirror of the wall mirror rule (boundary/wall_mirror.h).
  */
 #include <granhydro/boundary/wall_mirror.h>
-#include <granhydro/mesh/cartesian_patch.h>
-#include <granhydro/mesh/flat_key_map.h>
+#include <granhydro/mesh/boundary_ghost.h>
+
+#include "flat_key_map.h"
 
 #include <deal.II/dofs/dof_handler.h>
 
@@ -46,7 +47,7 @@ namespace granhydro
   class Lattice
   {
   public:
-    using BoundaryGhost = typename CartesianPatch<dim>::BoundaryGhost;
+    using BoundaryGhost = granhydro::BoundaryGhost;
     using Position      = std::array<long long, 3>;
     /// a wall ghost: its reflections, the leaf whose state it takes, its position
     struct WallGhost
@@ -88,14 +89,23 @@ namespace granhydro
     /// adds the search for the nearest fluid cell, ceil(sqrt(dim) G) (G + 2 ceil(sqrt(dim) G) + 2)
     unsigned int reach() const;
 
-    unsigned int max_level() const { return m; }
+    unsigned int max_level() const { return max_level_; }
     bool         subset() const { return subset_; }
     /// points along d at level k
     long long n(const unsigned int k, const unsigned int d) const
     {
-      return d < dim ? (long long)(N[d]) << k : 1;
+      return d < dim ? (long long)(cells_[d]) << k : 1;
     }
-    long long fine_key(const Position &c) const { return c[0] + Nf[0] * (c[1] + Nf[1] * c[2]); }
+    long long fine_key(const Position &c) const
+    {
+      return c[0] + fine_cells_[0] * (c[1] + fine_cells_[1] * c[2]);
+    }
+    /// the fine lattice coordinates of fine key fk (the inverse of fine_key())
+    Position fine_position(const long long fk) const
+    {
+      return {{fk % fine_cells_[0], (fk / fine_cells_[0]) % fine_cells_[1],
+               fk / (fine_cells_[0] * fine_cells_[1])}};
+    }
     /// fine key of the lower corner of position p of level k
     long long corner_key(const unsigned int k, const Position &p) const;
     /// wrap the periodic directions of p; false if p lies outside a non-periodic side
@@ -108,7 +118,7 @@ namespace granhydro
       long long ek = 0;
       for (int d = dim - 1; d >= 0; --d)
         {
-          const long long e = p[d] + E, ne = n(k, d) + 2 * E;
+          const long long e = p[d] + margin_, ne = n(k, d) + 2 * margin_;
           if (e < 0 || e >= ne)
             return -1;
           ek = ek * ne + e;
@@ -183,13 +193,13 @@ namespace granhydro
     /// the dense window of levels over the fetched blocks, when it is small
     void fill_window(const std::vector<long long> &got);
 
-    std::array<unsigned int, 3> N;
+    std::array<unsigned int, 3> cells_; ///< N: level-0 points per direction
     std::array<bool, 3>         periodic;
-    unsigned int                m, G;
+    unsigned int                max_level_, ghost_width_; ///< m and G
     WallTable                   walls;
     bool                        subset_;
-    std::array<long long, 3>    Nf{{1, 1, 1}};
-    long long                   E;
+    std::array<long long, 3>    fine_cells_{{1, 1, 1}}; ///< fine-lattice points per direction, N << m
+    long long                   margin_; ///< E = 2 G + 2: how far outside positions have keys
     FlatKeyMap<Leaf> leaves; ///< the leaves of the fetched blocks by key, and their ancestors (first -1)
     FlatKeyMap<char> blocks; ///< the fetched level-0 blocks
     /// the leaf level per fine point over the bounding box of the fetched blocks (-1:
