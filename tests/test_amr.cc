@@ -48,12 +48,11 @@
 //                           (printed by an earlier run) for parameter scans.
 #include <granhydro/mesh/cartesian_patch.h>
 
-#include "stencil_tables.h" // source/mesh: an internal header of the patch
-
 #include <deal.II/distributed/tria.h>
 
 #include "common/exact_riemann.h"
 #include "common/test_common.h"
+#include "stencil_tables.h" // source/mesh: an internal header of the patch
 #include <p4est_ghost.h>
 #include <p8est_ghost.h>
 

@@ -1,10 +1,10 @@
 #include <granhydro/mesh/cartesian_patch.h>
 
+#include <deal.II/distributed/tria.h>
+
 #include "forest.h"
 #include "lattice.h"
 #include "stencil_tables.h"
-
-#include <deal.II/distributed/tria.h>
 
 #include <algorithm>
 #include <cmath>
@@ -28,10 +28,10 @@ namespace granhydro
   } // namespace
 
   template <int dim>
-  bool CartesianPatch<dim>::adapt(const std::vector<signed char> &flags,
+  bool CartesianPatch<dim>::adapt(const std::vector<signed char>             &flags,
                                   LinearAlgebra::distributed::Vector<double> &U,
-                                  const std::function<bool(const double *)> &admissible,
-                                  const int leaf_weight)
+                                  const std::function<bool(const double *)>  &admissible,
+                                  const int                                   leaf_weight)
   {
     if constexpr (dim == 1)
       {
@@ -46,7 +46,7 @@ namespace granhydro
       {
         AssertThrow(forest_, ExcMessage("adapt() needs an adaptive box mesh"));
         AssertThrow(flags.size() == tables_.n_owned, ExcMessage("one flag per owned cell"));
-        unsigned int changes = 0;
+        unsigned int             changes = 0;
         std::vector<signed char> f(tables_.n_owned, 0);
         for (unsigned int s = 0; s < tables_.n_owned; ++s)
           if (flags[s] > 0 && tables_.levels[s] < max_level_)
@@ -99,7 +99,7 @@ namespace granhydro
         // (fill() runs inside the forest's adapt(), before rebuild(): tables_.levels is still the
         // old leaves')
         auto fill = [&](const typename Forest<dim>::Source &src, double *out) {
-          using Source = typename Forest<dim>::Source;
+          using Source    = typename Forest<dim>::Source;
           const double *u = &U.local_element(std::size_t(src.first) * NC);
           if (src.kind == Source::same)
             std::copy(u, u + NC, out);
@@ -119,8 +119,8 @@ namespace granhydro
               std::copy(v, v + NC, out);
               if (!linear)
                 return;
-              const unsigned int k = tables_.levels[src.first] + 1;
-              auto sibling = [&](const unsigned int sib, double *child) {
+              const unsigned int k       = tables_.levels[src.first] + 1;
+              auto               sibling = [&](const unsigned int sib, double *child) {
                 for (unsigned int c = 0; c < NC; ++c)
                   {
                     child[c] = v[c];
@@ -140,11 +140,10 @@ namespace granhydro
               sibling(src.child, out);
             }
         };
-        unsigned long long nr = 0, nc = 0;
+        unsigned long long        nr = 0, nc = 0;
         const std::vector<double> values =
-          forest_->adapt(f, fill, nr, nc, leaf_weight, [this](const std::vector<signed char> &delta) {
-            return stays_balanced(delta);
-          });
+          forest_->adapt(f, fill, nr, nc, leaf_weight,
+                         [this](const std::vector<signed char> &delta) { return stays_balanced(delta); });
         dealii_mesh_current_ = false;
         rebuild();
         U.reinit(partitioner_);
@@ -163,8 +162,8 @@ namespace granhydro
     if constexpr (dim == 1)
       return {0, 0};
     else
-      return forest_ ? std::make_pair(forest_->balances_run(), forest_->balances_skipped())
-                     : std::make_pair(0u, 0u);
+      return forest_ ? std::make_pair(forest_->balances_run(), forest_->balances_skipped()) :
+                       std::make_pair(0u, 0u);
   }
 
   template <int dim>
@@ -178,16 +177,16 @@ namespace granhydro
     // around them, among the leaves it knows (owned and MPI ghosts, with the ghosts'
     // changes from their owners). Where it cannot tell (a neighbourhood beyond the
     // fetched part), it answers false: p4est then balances. (Only boxes are adaptive.)
-    constexpr unsigned int NC = n_components;
-    bool                   ok = true;
+    constexpr unsigned int                     NC = n_components;
+    bool                                       ok = true;
     LinearAlgebra::distributed::Vector<double> change(partitioner_);
     for (unsigned int s = 0; s < tables_.n_owned; ++s)
       change.local_element(std::size_t(s) * NC) = delta[s];
     change.update_ghost_values();
     const unsigned int n_leaves = tables_.n_owned + tables_.n_mpi_ghosts;
-    auto               moved    = [&](const int t) { return int(std::lround(change.local_element(std::size_t(t) * NC))); };
+    auto moved     = [&](const int t) { return int(std::lround(change.local_element(std::size_t(t) * NC))); };
     using Position = typename Lattice<dim>::Position;
-    const Lattice<dim> lattice = make_lattice();
+    const Lattice<dim>                    lattice = make_lattice();
     const std::vector<std::array<int, 3>> pos(tables_.positions.begin(),
                                               tables_.positions.begin() + n_leaves);
     const std::vector<unsigned char>      lev(tables_.levels.begin(), tables_.levels.begin() + n_leaves);
@@ -231,8 +230,8 @@ namespace granhydro
             if (delta[s] > 0) // children of level L + 1: the neighbour must end at L or finer
               ok = same >= 0 ? moved(same) >= 0 : (coarser >= 0 ? moved(coarser) > 0 : finer > 0);
             else // the parent of level L - 1: the neighbour must end at L or coarser
-              ok = same >= 0 ? moved(same) <= 0
-                             : (coarser >= 0 || (finer == (1 << dim) && finer_staying == 0));
+              ok =
+                same >= 0 ? moved(same) <= 0 : (coarser >= 0 || (finer == (1 << dim) && finer_staying == 0));
           }
       }
     return Utilities::MPI::min(ok ? 1 : 0, communicator_) == 1;
@@ -258,8 +257,8 @@ namespace granhydro
               if (cell->is_locally_owned())
                 {
                   // this cell's leaf key; refine unless it is a target leaf or contains none
-                  const unsigned int k = cell->level() - geometry_.base_level;
-                  long long          key = 0;
+                  const unsigned int k      = cell->level() - geometry_.base_level;
+                  long long          key    = 0;
                   bool               refine = false;
                   for (int d = dim - 1; d >= 0; --d)
                     key = key * ((long long)(geometry_.cells[d]) << max_level_) +
@@ -289,10 +288,10 @@ namespace granhydro
       }
   }
 
-#define GRANHYDRO_INSTANTIATE(d)                                                                   \
-  template bool CartesianPatch<d>::adapt(const std::vector<signed char> &, Vector &,               \
-                                         const std::function<bool(const double *)> &, int);        \
-  template void CartesianPatch<d>::refine_to(const std::vector<long long> &);                    \
+#define GRANHYDRO_INSTANTIATE(d)                                                            \
+  template bool CartesianPatch<d>::adapt(const std::vector<signed char> &, Vector &,        \
+                                         const std::function<bool(const double *)> &, int); \
+  template void CartesianPatch<d>::refine_to(const std::vector<long long> &);               \
   template std::pair<unsigned int, unsigned int> CartesianPatch<d>::balance_counts() const;
   GRANHYDRO_INSTANTIATE(1)
   GRANHYDRO_INSTANTIATE(2)

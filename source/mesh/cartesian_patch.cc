@@ -1,15 +1,15 @@
 #include <granhydro/mesh/cartesian_patch.h>
 
+#include <deal.II/distributed/tria.h>
+#include <deal.II/dofs/dof_renumbering.h>
+#include <deal.II/fe/fe_dgq.h>
+
 #include "forest.h"
 #include "ghost_layer.h"
 #include "lattice.h"
 #include "stencil_tables.h"
 #include "triangulation_builder.h"
 #include "virtual_cells.h"
-
-#include <deal.II/distributed/tria.h>
-#include <deal.II/dofs/dof_renumbering.h>
-#include <deal.II/fe/fe_dgq.h>
 
 #include <algorithm>
 #include <memory>
@@ -51,8 +51,7 @@ namespace granhydro
 
 
   template <int dim>
-  bool CartesianPatch<dim>::wall_face(const unsigned int l, const unsigned int r,
-                                      const unsigned int d) const
+  bool CartesianPatch<dim>::wall_face(const unsigned int l, const unsigned int r, const unsigned int d) const
   {
     if (is_cell(l) == is_cell(r))
       return false;
@@ -68,13 +67,14 @@ namespace granhydro
     walls_.type          = settings.boundary;
     walls_.velocity      = settings.wall_velocity;
     walls_.velocity_unit = settings.velocity_unit;
-    subset_        = !settings.mesh_file.empty();
-    max_level_     = subset_ ? 0 : settings.max_level;
+    subset_              = !settings.mesh_file.empty();
+    max_level_           = subset_ ? 0 : settings.max_level;
     forest_.reset();
     dof_handler_.reset();
     triangulation_  = make_triangulation<dim>(communicator_);
     finite_element_ = std::make_unique<FESystem<dim>>(FE_DGQ<dim>(0), n_components);
-    geometry_ = subset_ ? make_file_mesh(*triangulation_, settings) : make_box_mesh(*triangulation_, settings);
+    geometry_ =
+      subset_ ? make_file_mesh(*triangulation_, settings) : make_box_mesh(*triangulation_, settings);
     if (max_level_ > 0)
       make_forest();
     dealii_mesh_current_ = true;
@@ -87,8 +87,8 @@ namespace granhydro
     forest_.reset();
     if constexpr (dim > 1)
       forest_ = std::make_unique<Forest<dim>>(
-        dynamic_cast<const parallel::distributed::Triangulation<dim> &>(*triangulation_), geometry_.base_level,
-        geometry_.lower, geometry_.cell_size, n_components);
+        dynamic_cast<const parallel::distributed::Triangulation<dim> &>(*triangulation_),
+        geometry_.base_level, geometry_.lower, geometry_.cell_size, n_components);
     dealii_mesh_current_ = true;
   }
 
@@ -112,7 +112,7 @@ namespace granhydro
     dof_handler_->distribute_dofs(*finite_element_);
     DoFRenumbering::hierarchical(*dof_handler_);
     // deal.II's owned cells in DoF order must be the slots (same partition and order)
-    Lattice<dim> lattice = make_lattice();
+    Lattice<dim>                 lattice = make_lattice();
     const std::vector<OwnedCell> owned =
       lattice.owned_cells(*dof_handler_, geometry_.lower, geometry_.cell_size, geometry_.base_level);
     bool same = owned.size() == tables_.n_owned &&
@@ -129,7 +129,8 @@ namespace granhydro
   template <int dim>
   Lattice<dim> CartesianPatch<dim>::make_lattice() const
   {
-    return Lattice<dim>(geometry_.cells, geometry_.periodic, max_level_, tables_.ghost_width, walls_, subset_);
+    return Lattice<dim>(geometry_.cells, geometry_.periodic, max_level_, tables_.ghost_width, walls_,
+                        subset_);
   }
 
   template <int dim>
@@ -138,7 +139,7 @@ namespace granhydro
     AssertThrow(max_level_ <= 7, ExcMessage("at most 7 refinement levels"));
     for (unsigned int c = 0; c < n_components; ++c)
       AssertThrow(finite_element_->system_to_component_index(c).first == c, ExcInternalError());
-    Lattice<dim> lattice = make_lattice();
+    Lattice<dim>           lattice = make_lattice();
     std::vector<OwnedCell> owned;
     IndexSet               owned_dofs;
     if (forest_)
@@ -148,10 +149,10 @@ namespace granhydro
         // restart that rebuilds the mesh gets the same numbering, hence the same block-ILU
         // preconditioner and bitwise the same run. deal.II's DoFs are numbered alike
         // (DoFRenumbering::hierarchical) when output asks for them.
-        n_global_                      = forest_->n_global();
-        const unsigned long long first = forest_->first_global();
+        n_global_                       = forest_->n_global();
+        const unsigned long long first  = forest_->first_global();
         const auto               leaves = forest_->leaves();
-        owned_dofs = IndexSet(n_global_ * n_components);
+        owned_dofs                      = IndexSet(n_global_ * n_components);
         owned_dofs.add_range(first * n_components, (first + leaves.size()) * n_components);
         owned.reserve(leaves.size());
         for (std::size_t i = 0; i < leaves.size(); ++i)
@@ -160,8 +161,8 @@ namespace granhydro
             typename Lattice<dim>::Position corner{{0, 0, 0}};
             for (unsigned int d = 0; d < dim; ++d)
               corner[d] = (long long)(l.ijk[d]) << (max_level_ - l.level);
-            owned.push_back({types::global_dof_index((first + i) * n_components), lattice.fine_key(corner) * 8 + l.level, 0, l.level,
-                             l.ijk, 0});
+            owned.push_back({types::global_dof_index((first + i) * n_components),
+                             lattice.fine_key(corner) * 8 + l.level, 0, l.level, l.ijk, 0});
           }
         dealii_dofs_current_ = false;
       }
@@ -173,29 +174,29 @@ namespace granhydro
         owned_dofs = dof_handler_->locally_owned_dofs();
         AssertThrow(owned_dofs.is_contiguous(), ExcMessage("owned DoFs must be contiguous"));
         n_global_ = triangulation_->n_global_active_cells();
-        owned = lattice.owned_cells(*dof_handler_, geometry_.lower, geometry_.cell_size, geometry_.base_level);
+        owned =
+          lattice.owned_cells(*dof_handler_, geometry_.lower, geometry_.cell_size, geometry_.base_level);
       }
     tables_.n_owned = owned.size();
     lattice.distribute(owned, n_global_, communicator_);
 
     // the positions needed besides the owned cells, then the slots and tables
-    const auto face_keys = face_neighbour_keys(owned, lattice);
-    VirtualCells<dim>                  virtuals(lattice);
-    std::unique_ptr<DilatedMask<dim>>  mask;
-    std::vector<long long>             needed;
-    std::vector<char>                  full_box; // per owned cell (the stencil closure)
+    const auto                        face_keys = face_neighbour_keys(owned, lattice);
+    VirtualCells<dim>                 virtuals(lattice);
+    std::unique_ptr<DilatedMask<dim>> mask;
+    std::vector<long long>            needed;
+    std::vector<char>                 full_box; // per owned cell (the stencil closure)
     if (subset_)
       {
         mask   = std::make_unique<DilatedMask<dim>>(owned, tables_.ghost_width);
         needed = mask->keys(lattice);
       }
     else
-      needed = stencil_closure(owned, face_keys, lattice, virtuals, int(tables_.ghost_width) - 1,
-                               full_box);
+      needed = stencil_closure(owned, face_keys, lattice, virtuals, int(tables_.ghost_width) - 1, full_box);
     add_wall_sources(needed, lattice);
     SlotIndex index;
-    partitioner_ =
-      assign_slots(owned, needed, lattice, virtuals, owned_dofs, communicator_, tables_, active_index_, index);
+    partitioner_ = assign_slots(owned, needed, lattice, virtuals, owned_dofs, communicator_, tables_,
+                                active_index_, index);
     make_face_ids(lattice, tables_);
     const SlotGrid<dim> grid(lattice, tables_.positions, tables_.levels);
     make_neighbor_table(lattice, virtuals, index, grid, mask.get(), full_box, geometry_, tables_);
@@ -227,7 +228,7 @@ namespace granhydro
 
   template <int dim>
   void CartesianPatch<dim>::gather(const LinearAlgebra::distributed::Vector<double> &U,
-                                   std::vector<double>                             &W) const
+                                   std::vector<double>                              &W) const
   {
     constexpr unsigned int NC = n_components;
     U.update_ghost_values();
@@ -237,7 +238,7 @@ namespace granhydro
     W.resize(std::size_t(n_slots()) * NC);
     if (nloc > 0)
       std::copy(U.begin(), U.begin() + nloc, W.begin()); // ghosts follow the owned entries
-    for (const auto &v : tables_.virtual_cells) // restriction / prolongation next to level changes
+    for (const auto &v : tables_.virtual_cells)          // restriction / prolongation next to level changes
       for (unsigned int c = 0; c < NC; ++c)
         {
           double sum = 0;
@@ -252,7 +253,7 @@ namespace granhydro
         if (g.no_slip)
           {
             // compose the wall reflections; n and the internal energy are copied
-            const double n = in[0];
+            const double n    = in[0];
             double       u[3] = {0, 0, 0}, ke = 0, keg = 0;
             for (unsigned int k = 0; k < dim; ++k)
               {

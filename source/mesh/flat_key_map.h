@@ -52,7 +52,7 @@ namespace granhydro
             return nullptr;
         }
     }
-    bool count(const long long key) const { return find(key) != nullptr; }
+    bool     count(const long long key) const { return find(key) != nullptr; }
     const V &at(const long long key) const
     {
       const V *v = find(key);

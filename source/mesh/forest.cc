@@ -151,11 +151,11 @@ namespace granhydro
   }
 
   template <int dim>
-  std::vector<double> Forest<dim>::adapt(const std::vector<signed char>                       &flags,
-                                         const std::function<void(const Source &, double *)> &fill,
-                                         unsigned long long &refined, unsigned long long &coarsened,
-                                         const int leaf_weight,
-                                         const std::function<bool(const std::vector<signed char> &)> &balanced)
+  std::vector<double>
+  Forest<dim>::adapt(const std::vector<signed char>                      &flags,
+                     const std::function<void(const Source &, double *)> &fill, unsigned long long &refined,
+                     unsigned long long &coarsened, const int leaf_weight,
+                     const std::function<bool(const std::vector<signed char> &)> &balanced)
   {
     const unsigned int n_values = user.n_values;
     AssertThrow(leaf_weight >= 0, ExcMessage("leaf weights are positive (0: unweighted partition)"));
@@ -219,7 +219,7 @@ namespace granhydro
     // refinement, coarsening and balance are local): the same, a child of one, or the
     // parent of a family
     refined = coarsened = 0;
-    std::size_t j = 0;
+    std::size_t j       = 0;
     for_each_local<dim>(forest, [&](const topidx_t<dim> t, quadrant_t<dim> *q) {
       skip_to(j, t, q);
       const quadrant_t<dim> &o = old[j].second;
@@ -236,7 +236,8 @@ namespace granhydro
         {
           src.kind = Source::from_children;
           for (unsigned int c = 0; c < (1u << dim); ++c)
-            AssertThrow(j + c < old.size() && old[j + c].first == t && old[j + c].second.level == q->level + 1 &&
+            AssertThrow(j + c < old.size() && old[j + c].first == t &&
+                          old[j + c].second.level == q->level + 1 &&
                           p4<dim>::quadrant_is_ancestor(q, &old[j + c].second),
                         ExcMessage("adaptation changed a leaf by more than one level"));
           j += 1u << dim;

@@ -66,9 +66,9 @@ namespace granhydro
     {
       enum Kind
       {
-        same,          ///< the leaf was there before: leaf `first`
-        from_parent,   ///< child `child` (z-order) of the former leaf `first`
-        from_children  ///< parent of the former leaves first .. first + 2^dim - 1 (z-order)
+        same,         ///< the leaf was there before: leaf `first`
+        from_parent,  ///< child `child` (z-order) of the former leaf `first`
+        from_children ///< parent of the former leaves first .. first + 2^dim - 1 (z-order)
       } kind;
       unsigned int first, child;
     };
@@ -106,18 +106,17 @@ namespace granhydro
      * every rank). p4est's balance is then skipped: it would change nothing, and it
      * costs as much on 2 ranks as on 1. The answer may err only toward false.
      */
-    std::vector<double> adapt(const std::vector<signed char>                          &flags,
-                              const std::function<void(const Source &, double *)>    &fill,
-                              unsigned long long &refined, unsigned long long &coarsened,
-                              int leaf_weight = 0,
+    std::vector<double> adapt(const std::vector<signed char>                      &flags,
+                              const std::function<void(const Source &, double *)> &fill,
+                              unsigned long long &refined, unsigned long long &coarsened, int leaf_weight = 0,
                               const std::function<bool(const std::vector<signed char> &)> &balanced = {});
     /// adaptations in which p4est's balance ran, and in which it was skipped (balanced)
     unsigned int balances_run() const { return n_balance_run; }
     unsigned int balances_skipped() const { return n_balance_skipped; }
 
   private:
-    forest_t *forest = nullptr;
-    unsigned int base_level;
+    forest_t      *forest = nullptr;
+    unsigned int   base_level;
     ForestUserData user{0, 1};
     unsigned int   n_balance_run = 0, n_balance_skipped = 0;
     /// lattice index of each tree's lower corner in units of base-level cells

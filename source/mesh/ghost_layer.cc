@@ -120,8 +120,8 @@ namespace granhydro
                           const unsigned int k, const int r, Lattice<dim> &lattice,
                           VirtualCells<dim> &virtuals, Need &need)
     {
-      using Position       = typename Lattice<dim>::Position;
-      const long long vol = L.bn[0] * L.bn[1] * L.bn[2];
+      using Position        = typename Lattice<dim>::Position;
+      const long long   vol = L.bn[0] * L.bn[1] * L.bn[2];
       std::vector<char> in(vol, 0);
       for (const auto &p : P)
         in[L.idx(p)] = 1;
@@ -157,7 +157,8 @@ namespace granhydro
       std::vector<std::size_t> order(keys.size());
       for (std::size_t c = 0; c < order.size(); ++c)
         order[c] = c;
-      std::sort(order.begin(), order.end(), [&](const std::size_t a, const std::size_t b) { return keys[a] < keys[b]; });
+      std::sort(order.begin(), order.end(),
+                [&](const std::size_t a, const std::size_t b) { return keys[a] < keys[b]; });
       std::vector<long long> sorted_keys(keys.size());
       L.full.assign(keys.size(), 1);
       for (std::size_t c = 0; c < order.size(); ++c)
@@ -184,10 +185,9 @@ namespace granhydro
   } // namespace
 
   template <int dim>
-  std::vector<long long> stencil_closure(const std::vector<OwnedCell>              &owned,
-                                         const FaceKeys                            &face_keys,
-                                         Lattice<dim> &lattice, VirtualCells<dim> &virtuals,
-                                         const int r, std::vector<char> &uniform)
+  std::vector<long long> stencil_closure(const std::vector<OwnedCell> &owned, const FaceKeys &face_keys,
+                                         Lattice<dim> &lattice, VirtualCells<dim> &virtuals, const int r,
+                                         std::vector<char> &uniform)
   {
     using Position = typename Lattice<dim>::Position;
     // the keys found, each once: the face cells (owned cells and their face neighbours,
@@ -242,7 +242,7 @@ namespace granhydro
     for (unsigned int d = 0; d < dim; ++d)
       box_volume *= 2 * r + 1;
     std::vector<BoxLevel<dim>> levels(m + 1);
-    std::vector<Position> P;
+    std::vector<Position>      P;
     for (unsigned int k = 0; k <= m; ++k)
       {
         auto &keys = keys_at[k];
@@ -279,7 +279,7 @@ namespace granhydro
     for (std::size_t i = 0; i < owned.size(); ++i)
       {
         const BoxLevel<dim> &L = levels[owned[i].level];
-        const Position p{{owned[i].ijk[0], owned[i].ijk[1], owned[i].ijk[2]}};
+        const Position       p{{owned[i].ijk[0], owned[i].ijk[1], owned[i].ijk[2]}};
         if (L.dense)
           uniform[i] = !L.bad[L.idx(p)];
         else
@@ -315,8 +315,8 @@ namespace granhydro
     mask.assign(nbox, 0);
     for (const auto &o : owned)
       mask[std::size_t(o.ijk[0] - box_lower[0]) +
-           std::size_t(box_size[0]) *
-             (std::size_t(o.ijk[1] - box_lower[1]) + std::size_t(box_size[1]) * (o.ijk[2] - box_lower[2]))] = 1;
+           std::size_t(box_size[0]) * (std::size_t(o.ijk[1] - box_lower[1]) +
+                                       std::size_t(box_size[1]) * (o.ijk[2] - box_lower[2]))] = 1;
     dilate_box(mask, {{box_size[0], box_size[1], box_size[2]}}, dim, int(G));
   }
 
@@ -365,13 +365,12 @@ namespace granhydro
     make_unique();
   }
 
-#define GRANHYDRO_INSTANTIATE(d)                                                                   \
-  template FaceKeys face_neighbour_keys(const std::vector<OwnedCell> &, Lattice<d> &);             \
-  template std::vector<long long> stencil_closure(const std::vector<OwnedCell> &,                  \
-                                                  const FaceKeys &,                                \
-                                                  Lattice<d> &, VirtualCells<d> &, const int,      \
-                                                  std::vector<char> &);                            \
-  template class DilatedMask<d>;                                                                   \
+#define GRANHYDRO_INSTANTIATE(d)                                                                     \
+  template FaceKeys               face_neighbour_keys(const std::vector<OwnedCell> &, Lattice<d> &); \
+  template std::vector<long long> stencil_closure(const std::vector<OwnedCell> &, const FaceKeys &,  \
+                                                  Lattice<d> &, VirtualCells<d> &, const int,        \
+                                                  std::vector<char> &);                              \
+  template class DilatedMask<d>;                                                                     \
   template void add_wall_sources(std::vector<long long> &, const Lattice<d> &);
   GRANHYDRO_INSTANTIATE(1)
   GRANHYDRO_INSTANTIATE(2)

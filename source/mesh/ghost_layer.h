@@ -38,10 +38,9 @@ namespace granhydro
   /// creating the virtual cells;
   /// uniform[i]: owned cell i's box of radius r holds leaves and wall ghosts of its level only
   template <int dim>
-  std::vector<long long> stencil_closure(const std::vector<OwnedCell>              &owned,
-                                         const FaceKeys                            &face_keys,
-                                         Lattice<dim> &lattice, VirtualCells<dim> &virtuals,
-                                         const int r, std::vector<char> &uniform);
+  std::vector<long long> stencil_closure(const std::vector<OwnedCell> &owned, const FaceKeys &face_keys,
+                                         Lattice<dim> &lattice, VirtualCells<dim> &virtuals, const int r,
+                                         std::vector<char> &uniform);
 
   /// the positions within Chebyshev distance G of the owned cells (level 0), in the
   /// rank's box: the owned bounding box widened by G

@@ -1,6 +1,6 @@
-#include <granhydro/mesh/mesh_file.h>
-
 #include "lattice.h"
+
+#include <granhydro/mesh/mesh_file.h>
 
 #include <deal.II/base/mpi.h>
 
@@ -13,8 +13,8 @@ namespace granhydro
 
   template <int dim>
   Lattice<dim>::Lattice(const std::array<unsigned int, 3> &N, const std::array<bool, 3> &periodic,
-                        const unsigned int max_level, const unsigned int ghost_width,
-                        const WallTable &walls, const bool subset)
+                        const unsigned int max_level, const unsigned int ghost_width, const WallTable &walls,
+                        const bool subset)
     : cells_(N)
     , periodic(periodic)
     , max_level_(max_level)
@@ -28,13 +28,12 @@ namespace granhydro
   }
 
   template <int dim>
-  std::vector<OwnedCell> Lattice<dim>::owned_cells(const DoFHandler<dim> &dofh,
-                                                   const std::array<double, 3> &lo,
-                                                   const std::array<double, 3> &h,
-                                                   const unsigned int base_level) const
+  std::vector<OwnedCell>
+  Lattice<dim>::owned_cells(const DoFHandler<dim> &dofh, const std::array<double, 3> &lo,
+                            const std::array<double, 3> &h, const unsigned int base_level) const
   {
-    const unsigned int nc = dofh.get_fe().n_components();
-    std::vector<OwnedCell> owned;
+    const unsigned int                   nc = dofh.get_fe().n_components();
+    std::vector<OwnedCell>               owned;
     std::vector<types::global_dof_index> dofs(nc);
     for (const auto &cell : dofh.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -52,13 +51,13 @@ namespace granhydro
               ijk[d]    = static_cast<int>(std::floor((x[d] - lo[d]) / (h[d] / double(1u << k))));
               corner[d] = (long long)(ijk[d]) << (max_level_ - k);
             }
-          const long long fk = fine_key(corner);
+          const long long fk    = fine_key(corner);
           int             faces = 0;
           if (subset_)
             for (const unsigned int f : cell->face_indices())
               if (cell->face(f)->at_boundary() && !cell->has_periodic_neighbor(f))
                 {
-                  const auto [d, upper]        = face_direction(cell, f);
+                  const auto [d, upper]       = face_direction(cell, f);
                   const types::boundary_id id = cell->face(f)->boundary_id();
                   AssertThrow(id < 2 * dim, ExcMessage("boundary id out of range"));
                   faces |= int(id + 1) << (3 * (2 * d + upper));
@@ -88,7 +87,8 @@ namespace granhydro
   template <int dim>
   long long Lattice<dim>::window_index(const Position &c) const
   {
-    return (c[0] - window_lo[0]) + window_n[0] * ((c[1] - window_lo[1]) + window_n[1] * (c[2] - window_lo[2]));
+    return (c[0] - window_lo[0]) +
+           window_n[0] * ((c[1] - window_lo[1]) + window_n[1] * (c[2] - window_lo[2]));
   }
 
   template <int dim>
@@ -160,7 +160,8 @@ namespace granhydro
   const typename Lattice<dim>::Leaf &Lattice<dim>::leaf(const long long key) const
   {
     const Leaf *l = key >= 0 ? leaves.find(key) : nullptr;
-    AssertThrow(l != nullptr && l->first >= 0, ExcMessage("internal error: a leaf beyond the part of the mesh this rank fetched"));
+    AssertThrow(l != nullptr && l->first >= 0,
+                ExcMessage("internal error: a leaf beyond the part of the mesh this rank fetched"));
     return *l;
   }
 
@@ -218,7 +219,7 @@ namespace granhydro
     // a lattice subset (level 0): smallest squared lattice distance; ties: fewest
     // nonzero offset components, then smallest key. Any position looked at has fluid
     // within R.
-    const int R = int(std::ceil(std::sqrt(double(dim)) * ghost_width_));
+    const int R       = int(std::ceil(std::sqrt(double(dim)) * ghost_width_));
     long long best_d2 = -1, best_key = 0;
     int       best_nnz = 0;
     Position  lo{{0, 0, 0}}, hi{{0, 0, 0}};
@@ -308,7 +309,8 @@ namespace granhydro
     // outside the lattice or a solid point: a wall (or outflow) ghost, the mirror (copy)
     // of the same-level cell inside
     const long long pk = position_key(k, p);
-    AssertThrow(pk >= 0, ExcMessage("internal error: a wall ghost farther outside than the lattice keys reach"));
+    AssertThrow(pk >= 0,
+                ExcMessage("internal error: a wall ghost farther outside than the lattice keys reach"));
     const long long key = -1 - pk;
     if (ghosts.count(key))
       return key;

@@ -19,9 +19,9 @@
 #include <granhydro/boundary/wall_mirror.h>
 #include <granhydro/mesh/boundary_ghost.h>
 
-#include "flat_key_map.h"
-
 #include <deal.II/dofs/dof_handler.h>
+
+#include "flat_key_map.h"
 
 #include <array>
 #include <limits>
@@ -36,10 +36,10 @@ namespace granhydro
   /// a locally owned cell
   struct OwnedCell
   {
-    dealii::types::global_dof_index first; ///< its first DoF
-    long long          key;                ///< fine corner key * 8 + level
-    unsigned int       active, level;      ///< active cell index, level above Domain/Cells
-    std::array<int, 3> ijk;                ///< lattice coordinates at its level
+    dealii::types::global_dof_index first;         ///< its first DoF
+    long long                       key;           ///< fine corner key * 8 + level
+    unsigned int                    active, level; ///< active cell index, level above Domain/Cells
+    std::array<int, 3>              ijk;           ///< lattice coordinates at its level
     int faces = 0; ///< a mesh file's boundary ids: 3 bits per lattice face 2 d + upper, id + 1 (0: none)
   };
 
@@ -68,9 +68,8 @@ namespace granhydro
      * The owned cells of dofh in DoF order (the cells of level k lie base_level + k
      * levels below deal.II's coarse cells), with a mesh file's boundary ids (faces).
      */
-    std::vector<OwnedCell> owned_cells(const dealii::DoFHandler<dim> &dofh,
-                                       const std::array<double, 3> &lo, const std::array<double, 3> &h,
-                                       const unsigned int base_level) const;
+    std::vector<OwnedCell> owned_cells(const dealii::DoFHandler<dim> &dofh, const std::array<double, 3> &lo,
+                                       const std::array<double, 3> &h, const unsigned int base_level) const;
     /**
      * Learn the leaves near the owned ones. The level-0 blocks are dealt to the ranks in
      * contiguous ranges of their key (the directory); every rank sends its leaves to
@@ -164,7 +163,7 @@ namespace granhydro
     int level_from(const long long fk, const unsigned int k, bool *missing = nullptr) const;
     /// the window's entry of fine key fk (throws outside the fetched blocks; with
     /// `missing`: sets it and returns -2)
-    int       window_at(const long long fk, bool *missing = nullptr) const;
+    int window_at(const long long fk, bool *missing = nullptr) const;
     /// the same for fine lattice coordinates c
     int       window_at_point(const Position &c, bool *missing = nullptr) const;
     long long window_index(const Position &c) const;
@@ -186,8 +185,9 @@ namespace granhydro
                                                             const MPI_Comm                comm);
     /// the directory's answers to the requests: (key, first DoF, faces) of every leaf of
     /// the requested blocks (dir and requests are released)
-    std::vector<long long> fetch_records(std::vector<long long> &dir, std::vector<std::vector<long long>> &requests,
-                                         const MPI_Comm comm) const;
+    std::vector<long long> fetch_records(std::vector<long long>              &dir,
+                                         std::vector<std::vector<long long>> &requests,
+                                         const MPI_Comm                       comm) const;
     /// the fetched leaves and the refined positions above them (first DoF -1)
     void insert_leaves(const std::vector<long long> &got);
     /// the dense window of levels over the fetched blocks, when it is small
@@ -199,13 +199,13 @@ namespace granhydro
     WallTable                   walls;
     bool                        subset_;
     std::array<long long, 3>    fine_cells_{{1, 1, 1}}; ///< fine-lattice points per direction, N << m
-    long long                   margin_; ///< E = 2 G + 2: how far outside positions have keys
+    long long                   margin_;                ///< E = 2 G + 2: how far outside positions have keys
     FlatKeyMap<Leaf> leaves; ///< the leaves of the fetched blocks by key, and their ancestors (first -1)
     FlatKeyMap<char> blocks; ///< the fetched level-0 blocks
     /// the leaf level per fine point over the bounding box of the fetched blocks (-1:
     /// solid, -2: not fetched), if that box is at most 8 x the leaves; empty otherwise
-    std::vector<signed char> window_level;
-    Position                 window_lo{{0, 0, 0}}, window_n{{1, 1, 1}};
+    std::vector<signed char>       window_level;
+    Position                       window_lo{{0, 0, 0}}, window_n{{1, 1, 1}};
     std::map<long long, WallGhost> ghosts;
   };
 } // namespace granhydro

@@ -4,9 +4,9 @@
  * distributed over the ranks by level-0 block (the directory, the blocks within reach,
  * the answers, the leaves and their ancestors, the dense window of levels).
  */
-#include "lattice.h"
-
 #include <deal.II/base/mpi.h>
+
+#include "lattice.h"
 
 #include <algorithm>
 
@@ -17,7 +17,8 @@ namespace granhydro
   namespace
   {
     /// all-to-all of long long records of `width` entries, bucketed by destination rank
-    std::vector<long long> alltoall_records(const std::vector<std::vector<long long>> &out, const MPI_Comm comm)
+    std::vector<long long> alltoall_records(const std::vector<std::vector<long long>> &out,
+                                            const MPI_Comm                             comm)
     {
       const int        P = out.size();
       std::vector<int> scount(P), rcount(P), sdisp(P), rdisp(P);
@@ -69,7 +70,7 @@ namespace granhydro
   {
     const int       P       = Utilities::MPI::n_mpi_processes(comm);
     const long long nblocks = (long long)(cells_[0]) * cells_[1] * cells_[2];
-    auto home = [&](const long long b) { return directory_rank(b, P); };
+    auto            home    = [&](const long long b) { return directory_rank(b, P); };
     // 1. the leaves to the directory: (block, key, first DoF, faces)
     std::vector<std::vector<long long>> out(P);
     for (const auto &o : owned)
@@ -80,8 +81,8 @@ namespace granhydro
       }
     std::vector<long long> dir = alltoall_records(out, comm);
     // the directory's records sorted by (block, key)
-    const std::size_t             nrec = dir.size() / 4;
-    std::vector<std::size_t>      order(nrec);
+    const std::size_t        nrec = dir.size() / 4;
+    std::vector<std::size_t> order(nrec);
     for (std::size_t i = 0; i < nrec; ++i)
       order[i] = i;
     std::sort(order.begin(), order.end(), [&](const std::size_t a, const std::size_t b) {
@@ -96,25 +97,26 @@ namespace granhydro
     }
     // checks: the leaves of a block tile it (a box) or are one level-0 cell (a mesh file)
     {
-      const long long full = 1ll << (max_level_ * dim);
+      const long long full          = 1ll << (max_level_ * dim);
       long long       n_blocks_seen = 0;
       for (std::size_t i = 0; i < nrec;)
         {
-          std::size_t j = i;
+          std::size_t j   = i;
           long long   vol = 0;
           for (; j < nrec && dir[4 * j] == dir[4 * i]; ++j)
             {
-              AssertThrow(j == i || dir[4 * j + 1] != dir[4 * j - 3], ExcMessage("two cells on one lattice point"));
+              AssertThrow(j == i || dir[4 * j + 1] != dir[4 * j - 3],
+                          ExcMessage("two cells on one lattice point"));
               vol += 1ll << ((max_level_ - (dir[4 * j + 1] & 7)) * dim);
             }
-          AssertThrow(vol == full, ExcMessage(subset_ ? "mesh is not the expected lattice"
-                                                      : "mesh is not the expected octree"));
+          AssertThrow(vol == full, ExcMessage(subset_ ? "mesh is not the expected lattice" :
+                                                        "mesh is not the expected octree"));
           ++n_blocks_seen;
           i = j;
         }
       const unsigned long long n_leaves = Utilities::MPI::sum((unsigned long long)(nrec), comm);
-      AssertThrow(n_leaves == n_global, ExcMessage(subset_ ? "mesh is not the expected lattice"
-                                                           : "mesh is not the expected octree"));
+      AssertThrow(n_leaves == n_global, ExcMessage(subset_ ? "mesh is not the expected lattice" :
+                                                             "mesh is not the expected octree"));
       if (!subset_)
         AssertThrow(Utilities::MPI::sum((unsigned long long)(n_blocks_seen), comm) ==
                       (unsigned long long)(nblocks),
@@ -125,14 +127,14 @@ namespace granhydro
 
   template <int dim>
   std::vector<std::vector<long long>> Lattice<dim>::blocks_within_reach(const std::vector<OwnedCell> &owned,
-                                                                       const MPI_Comm comm)
+                                                                        const MPI_Comm                comm)
   {
     const int P    = Utilities::MPI::n_mpi_processes(comm);
     auto      home = [&](const long long b) { return directory_rank(b, P); };
     // 2. the blocks within reach of the owned leaves: a sparse separable dilation, each
     // block carrying the largest radius (blocks) of its leaves
     FlatKeyMap<int> radius;
-    const int R = reach();
+    const int       R = reach();
     for (const auto &o : owned)
       {
         const int r = (R + (1 << o.level) - 1) >> o.level;
@@ -144,20 +146,20 @@ namespace granhydro
         FlatKeyMap<int> grown;
         grown.reserve(radius.size() * 2);
         radius.for_each([&](const long long b, const int r) {
-            Position c{{b % cells_[0], (b / cells_[0]) % cells_[1], b / ((long long)(cells_[0]) * cells_[1])}};
-            const long long c0 = c[d];
-            for (int o = -r; o <= r; ++o)
-              {
-                long long x = c0 + o;
-                if (periodic[d])
-                  x = ((x % cells_[d]) + cells_[d]) % cells_[d];
-                else if (x < 0 || x >= cells_[d])
-                  continue;
-                c[d]      = x;
-                int &e    = grown[c[0] + (long long)(cells_[0]) * (c[1] + (long long)(cells_[1]) * c[2])];
-                e         = std::max(e, r);
-              }
-          });
+          Position c{{b % cells_[0], (b / cells_[0]) % cells_[1], b / ((long long)(cells_[0]) * cells_[1])}};
+          const long long c0 = c[d];
+          for (int o = -r; o <= r; ++o)
+            {
+              long long x = c0 + o;
+              if (periodic[d])
+                x = ((x % cells_[d]) + cells_[d]) % cells_[d];
+              else if (x < 0 || x >= cells_[d])
+                continue;
+              c[d]   = x;
+              int &e = grown[c[0] + (long long)(cells_[0]) * (c[1] + (long long)(cells_[1]) * c[2])];
+              e      = std::max(e, r);
+            }
+        });
         std::swap(radius, grown);
       }
     std::vector<std::vector<long long>> requests(P);
@@ -222,7 +224,7 @@ namespace granhydro
     for (std::size_t i = 0; i < got.size(); i += 3)
       {
         const long long fk = got[i] >> 3;
-        const Position  c = fine_position(fk);
+        const Position  c  = fine_position(fk);
         for (int a = int(got[i] & 7) - 1; a >= 0; --a)
           {
             Position an = c;
@@ -247,8 +249,8 @@ namespace granhydro
       Position blo{{0, 0, 0}}, bhi{{0, 0, 0}};
       bool     first = true;
       blocks.for_each([&](const long long b, const char) {
-        const Position c{{b % cells_[0], (b / cells_[0]) % cells_[1],
-                          b / ((long long)(cells_[0]) * cells_[1])}};
+        const Position c{
+          {b % cells_[0], (b / cells_[0]) % cells_[1], b / ((long long)(cells_[0]) * cells_[1])}};
         for (unsigned int d = 0; d < 3; ++d)
           {
             blo[d] = first ? c[d] : std::min(blo[d], c[d]);
@@ -268,20 +270,21 @@ namespace granhydro
           window_level.assign(vol, -2);
           const long long span0 = 1ll << max_level_;
           blocks.for_each([&](const long long b, const char) {
-            const Position c{{b % cells_[0], (b / cells_[0]) % cells_[1],
-                              b / ((long long)(cells_[0]) * cells_[1])}};
+            const Position c{
+              {b % cells_[0], (b / cells_[0]) % cells_[1], b / ((long long)(cells_[0]) * cells_[1])}};
             for (long long z = 0; z < (dim > 2 ? span0 : 1); ++z)
               for (long long y = 0; y < (dim > 1 ? span0 : 1); ++y)
                 for (long long x = 0; x < span0; ++x)
-                  window_level[window_index({{(c[0] << max_level_) + x, dim > 1 ? (c[1] << max_level_) + y : 0,
-                                              dim > 2 ? (c[2] << max_level_) + z : 0}})] = -1;
+                  window_level[window_index(
+                    {{(c[0] << max_level_) + x, dim > 1 ? (c[1] << max_level_) + y : 0,
+                      dim > 2 ? (c[2] << max_level_) + z : 0}})] = -1;
           });
           for (std::size_t i = 0; i < got.size(); i += 3)
             {
               const long long    fk   = got[i] >> 3;
               const unsigned int k    = got[i] & 7;
               const long long    span = 1ll << (max_level_ - k);
-              const Position     c = fine_position(fk);
+              const Position     c    = fine_position(fk);
               for (long long z = 0; z < (dim > 2 ? span : 1); ++z)
                 for (long long y = 0; y < (dim > 1 ? span : 1); ++y)
                   for (long long x = 0; x < span; ++x)

@@ -1,6 +1,7 @@
+#include "stencil_tables.h"
+
 #include "flat_key_map.h"
 #include "ghost_layer.h"
-#include "stencil_tables.h"
 
 #include <map>
 
@@ -39,7 +40,7 @@ namespace granhydro
     for (const auto &[first, key] : mpi_ghosts)
       {
         index.slot_of[key] = tables.positions.size();
-        unsigned int                      k;
+        unsigned int                    k;
         typename Lattice<dim>::Position p;
         lattice.decode(key, k, p);
         tables.positions.push_back({{int(p[0]), int(p[1]), int(p[2])}});
@@ -49,12 +50,13 @@ namespace granhydro
       }
     tables.n_mpi_ghosts = mpi_ghosts.size();
     ghost_dofs.compress();
-    const auto partitioner = std::make_shared<const Utilities::MPI::Partitioner>(owned_dofs, ghost_dofs, comm);
+    const auto partitioner =
+      std::make_shared<const Utilities::MPI::Partitioner>(owned_dofs, ghost_dofs, comm);
     tables.boundary_ghosts.clear();
     for (const long long t : needed)
       if (t < 0)
         {
-          const auto &gi     = lattice.ghost(t);
+          const auto &gi   = lattice.ghost(t);
           index.slot_of[t] = tables.positions.size();
           tables.positions.push_back(gi.pos);
           tables.levels.push_back(gi.level);
@@ -102,9 +104,8 @@ namespace granhydro
     tables.face_boundary_ids.assign(std::size_t(tables.n_owned + tables.n_mpi_ghosts) * 2 * dim, -1);
     for (unsigned int s = 0; s < tables.n_owned + tables.n_mpi_ghosts; ++s)
       for (unsigned int lf = 0; lf < 2 * dim; ++lf)
-        tables.face_boundary_ids[std::size_t(s) * 2 * dim + lf] =
-          lattice.face_id(tables.levels[s], {{tables.positions[s][0], tables.positions[s][1], tables.positions[s][2]}},
-                          lf);
+        tables.face_boundary_ids[std::size_t(s) * 2 * dim + lf] = lattice.face_id(
+          tables.levels[s], {{tables.positions[s][0], tables.positions[s][1], tables.positions[s][2]}}, lf);
   }
 
   template <int dim>
@@ -113,8 +114,8 @@ namespace granhydro
                            const std::vector<char> &full_box, const LatticeGeometry &geometry,
                            SlotTables &tables)
   {
-    const unsigned int G = tables.ghost_width;
-    using Position = typename Lattice<dim>::Position;
+    const unsigned int G  = tables.ghost_width;
+    using Position        = typename Lattice<dim>::Position;
     const unsigned int ns = tables.positions.size();
     // the slot at position q of level k: a leaf or wall ghost of that level, or a virtual
     // cell. Every slot gets a row, also the far ones (the sources of virtual cells, MPI
@@ -138,8 +139,8 @@ namespace granhydro
         }
       return grid(k, q);
     };
-    const int          r  = int(G) - 1;
-    const unsigned int W  = 2 * G + 1;
+    const int          r = int(G) - 1;
+    const unsigned int W = 2 * G + 1;
     if (mask)
       tables.neighbors.assign(std::size_t(ns) * dim * W, -1);
     else
@@ -160,7 +161,7 @@ namespace granhydro
               {
                 // the whole row inside the grid and nothing to wrap: a strided copy
                 const long long stride = d == 0 ? 1 : d == 1 ? g.extent[0] : g.extent[0] * g.extent[1];
-                const int *in = &g.dense[g.idx(p0) - std::size_t(G * stride)];
+                const int      *in     = &g.dense[g.idx(p0) - std::size_t(G * stride)];
                 for (unsigned int o = 0; o < W; ++o)
                   out[o] = in[o * stride];
                 continue;
@@ -258,7 +259,8 @@ namespace granhydro
           {
             tables.cell_face_start[d][s] = tables.cell_faces[d].size();
             for (unsigned int side = 0; side < 2; ++side)
-              for (unsigned int e = (std::size_t(s) * dim + d) * 2 + side, i = start[e]; i < start[e + 1]; ++i)
+              for (unsigned int e = (std::size_t(s) * dim + d) * 2 + side, i = start[e]; i < start[e + 1];
+                   ++i)
                 {
                   const unsigned int t = slots[i];
                   const unsigned int l = side ? s : t, r = side ? t : s;
@@ -268,12 +270,13 @@ namespace granhydro
                       unsigned int       j  = start[e2];
                       while (j < start[e2 + 1] && slots[j] != s)
                         ++j;
-                      AssertThrow(j < start[e2 + 1], ExcMessage("internal error: face neighbours not mutual"));
+                      AssertThrow(j < start[e2 + 1],
+                                  ExcMessage("internal error: face neighbours not mutual"));
                       face_of[i] = face_of[j];
                     }
                   else
                     {
-                      face_of[i] = tables.faces[d].size();
+                      face_of[i]      = tables.faces[d].size();
                       const double fl = tables.levels[l] < tables.levels[r] ? sub : 1.;
                       const double fr = tables.levels[r] < tables.levels[l] ? sub : 1.;
                       // a hanging face: the fine cell's quadrant of the coarse face, which
@@ -295,19 +298,19 @@ namespace granhydro
       }
   }
 
-#define GRANHYDRO_INSTANTIATE(d)                                                                         \
-  template std::shared_ptr<const Utilities::MPI::Partitioner> assign_slots(                              \
-    const std::vector<OwnedCell> &, const std::vector<long long> &, const Lattice<d> &,                  \
-    const VirtualCells<d> &, const IndexSet &, const MPI_Comm, SlotTables &, std::vector<unsigned int> &, \
-    SlotIndex &);                                                                                        \
-  template void make_face_ids(const Lattice<d> &, SlotTables &);                                         \
-  template void make_neighbor_table(Lattice<d> &, const VirtualCells<d> &, const SlotIndex &,            \
+#define GRANHYDRO_INSTANTIATE(d)                                                                            \
+  template std::shared_ptr<const Utilities::MPI::Partitioner> assign_slots(                                 \
+    const std::vector<OwnedCell> &, const std::vector<long long> &, const Lattice<d> &,                     \
+    const VirtualCells<d> &, const IndexSet &, const MPI_Comm, SlotTables &, std::vector<unsigned int> &,   \
+    SlotIndex &);                                                                                           \
+  template void make_face_ids(const Lattice<d> &, SlotTables &);                                            \
+  template void make_neighbor_table(Lattice<d> &, const VirtualCells<d> &, const SlotIndex &,               \
                                     const SlotGrid<d> &, const DilatedMask<d> *, const std::vector<char> &, \
-                                    const LatticeGeometry &, SlotTables &);                              \
-  template void make_gradient_table(Lattice<d> &, const SlotIndex &, const SlotGrid<d> &,                \
-                                    const DilatedMask<d> *, const std::vector<char> &,                   \
-                                    const LatticeGeometry &, SlotTables &, std::vector<char> &);          \
-  template void make_faces<d>(const std::vector<unsigned int> &, const std::vector<unsigned int> &,      \
+                                    const LatticeGeometry &, SlotTables &);                                 \
+  template void make_gradient_table(Lattice<d> &, const SlotIndex &, const SlotGrid<d> &,                   \
+                                    const DilatedMask<d> *, const std::vector<char> &,                      \
+                                    const LatticeGeometry &, SlotTables &, std::vector<char> &);            \
+  template void make_faces<d>(const std::vector<unsigned int> &, const std::vector<unsigned int> &,         \
                               SlotTables &);
   GRANHYDRO_INSTANTIATE(1)
   GRANHYDRO_INSTANTIATE(2)

@@ -8,11 +8,11 @@
  */
 #include <granhydro/mesh/patch_tables.h>
 
-#include "ghost_layer.h"
-#include "lattice.h"
-
 #include <deal.II/base/index_set.h>
 #include <deal.II/base/partitioner.h>
+
+#include "ghost_layer.h"
+#include "lattice.h"
 
 #include <algorithm>
 #include <memory>
@@ -55,9 +55,10 @@ namespace granhydro
       std::size_t              count = 0;
       std::vector<int>         dense;
       FlatKeyMap<unsigned int> sparse;
-      std::size_t idx(const Position &q) const
+      std::size_t              idx(const Position &q) const
       {
-        return std::size_t((q[0] - lower[0]) + extent[0] * ((q[1] - lower[1]) + extent[1] * (q[2] - lower[2])));
+        return std::size_t((q[0] - lower[0]) +
+                           extent[0] * ((q[1] - lower[1]) + extent[1] * (q[2] - lower[2])));
       }
       bool inside(const Position &q) const
       {
@@ -82,7 +83,7 @@ namespace granhydro
           Level &g = levels[level[s]];
           for (unsigned int d = 0; d < dim; ++d)
             {
-              g.lower[d]            = g.count ? std::min<long long>(g.lower[d], pos[s][d]) : pos[s][d];
+              g.lower[d]      = g.count ? std::min<long long>(g.lower[d], pos[s][d]) : pos[s][d];
               hi[level[s]][d] = g.count ? std::max<long long>(hi[level[s]][d], pos[s][d]) : pos[s][d];
             }
           ++g.count;
@@ -153,7 +154,8 @@ namespace granhydro
   template <int dim>
   void make_gradient_table(Lattice<dim> &lattice, const SlotIndex &index, const SlotGrid<dim> &grid,
                            const DilatedMask<dim> *mask, const std::vector<char> &rows,
-                           const LatticeGeometry &geometry, SlotTables &tables, std::vector<char> &incomplete);
+                           const LatticeGeometry &geometry, SlotTables &tables,
+                           std::vector<char> &incomplete);
   /// faces from each owned cell's face-neighbour lists per direction and side (start,
   /// slots: FaceKeys with the keys' slots)
   template <int dim>

@@ -1,6 +1,6 @@
-#include <granhydro/mesh/mesh_file.h>
-
 #include "triangulation_builder.h"
+
+#include <granhydro/mesh/mesh_file.h>
 
 #include <deal.II/distributed/shared_tria.h>
 #include <deal.II/distributed/tria.h>
@@ -55,7 +55,9 @@ namespace granhydro
     if constexpr (dim > 1)
       {
         auto &ptria = dynamic_cast<parallel::distributed::Triangulation<dim> &>(tria);
-        std::vector<GridTools::PeriodicFacePair<typename parallel::distributed::Triangulation<dim>::cell_iterator>> pairs;
+        std::vector<
+          GridTools::PeriodicFacePair<typename parallel::distributed::Triangulation<dim>::cell_iterator>>
+          pairs;
         for (unsigned int d = 0; d < dim; ++d)
           if (geometry.periodic[d])
             GridTools::collect_periodic_faces(ptria, 2 * d, 2 * d + 1, d, pairs);
@@ -98,9 +100,9 @@ namespace granhydro
     return geometry;
   }
 
-#define GRANHYDRO_INSTANTIATE(d)                                                                   \
-  template std::unique_ptr<parallel::TriangulationBase<d>> make_triangulation(const MPI_Comm);     \
-  template LatticeGeometry make_box_mesh(parallel::TriangulationBase<d> &, const MeshSettings &);   \
+#define GRANHYDRO_INSTANTIATE(d)                                                                  \
+  template std::unique_ptr<parallel::TriangulationBase<d>> make_triangulation(const MPI_Comm);    \
+  template LatticeGeometry make_box_mesh(parallel::TriangulationBase<d> &, const MeshSettings &); \
   template LatticeGeometry make_file_mesh(parallel::TriangulationBase<d> &, const MeshSettings &);
   GRANHYDRO_INSTANTIATE(1)
   GRANHYDRO_INSTANTIATE(2)

@@ -25,5 +25,6 @@ namespace granhydro
   /// a mesh file's coarse mesh refined settings.mesh_refinements times; the lattice is its
   /// bounding box at the fine cell size (2 and 3 dimensions)
   template <int dim>
-  LatticeGeometry make_file_mesh(dealii::parallel::TriangulationBase<dim> &tria, const MeshSettings &settings);
+  LatticeGeometry make_file_mesh(dealii::parallel::TriangulationBase<dim> &tria,
+                                 const MeshSettings                       &settings);
 } // namespace granhydro

@@ -24,7 +24,8 @@ namespace granhydro
   } // namespace
 
   template <int dim>
-  long long VirtualCells<dim>::key_of(const unsigned int k, const Position &q, bool &inside, Position &w) const
+  long long VirtualCells<dim>::key_of(const unsigned int k, const Position &q, bool &inside,
+                                      Position &w) const
   {
     // periodic directions wrapped also when q lies outside a wall: the same position
     // reached across a periodic side and from inside must have one key
@@ -51,7 +52,8 @@ namespace granhydro
     bool            inside;
     Position        w;
     const long long key = key_of(k, q, inside, w);
-    AssertThrow(key >= 0, ExcMessage("internal error: a virtual cell farther outside than the lattice keys reach"));
+    AssertThrow(key >= 0,
+                ExcMessage("internal error: a virtual cell farther outside than the lattice keys reach"));
     if (const unsigned int *i = index.find(key))
       return *i;
     Virtual v;
@@ -117,10 +119,10 @@ namespace granhydro
         for (long long z = 0; z < (dim > 2 ? span : 1); ++z)
           for (long long y = 0; y < (dim > 1 ? span : 1); ++y)
             for (long long x = 0; x < span; ++x)
-              add_weight(src,
-                         lattice.covering(m, {{(q[0] << (m - k)) + x, (q[1] << (m - k)) + y,
-                                               (q[2] << (m - k)) + z}}),
-                         w);
+              add_weight(
+                src,
+                lattice.covering(m, {{(q[0] << (m - k)) + x, (q[1] << (m - k)) + y, (q[2] << (m - k)) + z}}),
+                w);
       }
     std::sort(src.begin(), src.end(), [](const auto &a, const auto &b) { return a.first < b.first; });
     return src;

@@ -42,7 +42,7 @@ namespace granhydro
     int find(const unsigned int k, const Position &q) const;
     /// the virtual cells in the order of creation
     const std::vector<Virtual> &cells() const { return virtuals; }
-    void reserve(const std::size_t n)
+    void                        reserve(const std::size_t n)
     {
       index.reserve(n);
       virtuals.reserve(n);
@@ -55,8 +55,8 @@ namespace granhydro
     /// the index key of q of level k (periodic directions wrapped; Lattice::position_key)
     long long key_of(const unsigned int k, const Position &q, bool &inside, Position &w) const;
 
-    Lattice<dim>                &lattice;
-    std::vector<Virtual>         virtuals;
-    FlatKeyMap<unsigned int>     index;
+    Lattice<dim>            &lattice;
+    std::vector<Virtual>     virtuals;
+    FlatKeyMap<unsigned int> index;
   };
 } // namespace granhydro

@@ -22,7 +22,7 @@ namespace granhydro
     /// velocity about the wall velocity u -> 2 u_w - u (scaled units); n and the
     /// internal energy are copied (doc/physics.md 5.1). wall_dir is the geometric normal
     /// direction, wall_id the boundary id (index of the scene's Boundary entry)
-    unsigned int n_walls = 0;
+    unsigned int                         n_walls = 0;
     std::array<unsigned int, 3>          wall_dir{{0, 0, 0}};
     std::array<unsigned int, 3>          wall_id{{0, 0, 0}};
     std::array<bool, 3>                  wall_no_slip{{false, false, false}};

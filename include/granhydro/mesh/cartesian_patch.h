@@ -109,8 +109,7 @@ namespace granhydro
     const std::vector<Face> &faces(const unsigned int d) const { return tables_.faces[d]; }
     /// faces of owned slot s normal to d: lower ones first, then upper ones, each in
     /// a fixed geometric order
-    std::pair<const CellFace *, const CellFace *> cell_faces(const unsigned int d,
-                                                            const unsigned int s) const
+    std::pair<const CellFace *, const CellFace *> cell_faces(const unsigned int d, const unsigned int s) const
     {
       const auto &start = tables_.cell_face_start[d];
       return {tables_.cell_faces[d].data() + start[s], tables_.cell_faces[d].data() + start[s + 1]};
@@ -125,8 +124,8 @@ namespace granhydro
     /// d, each times its share of the cell's face, summed per side in the fixed order of
     /// cell_faces(d, s) (partition independent); lower and upper start at 0
     template <unsigned int NC>
-    void sum_face_fluxes(const unsigned int d, const unsigned int s, const double *F,
-                         double (&lower)[NC], double (&upper)[NC]) const
+    void sum_face_fluxes(const unsigned int d, const unsigned int s, const double *F, double (&lower)[NC],
+                         double (&upper)[NC]) const
     {
       const auto [b, e] = cell_faces(d, s);
       for (auto cf = b; cf != e; ++cf)
@@ -163,7 +162,7 @@ namespace granhydro
     double cell_volume(const unsigned int s) const;
     /// first fine-lattice index along d covered by slot s and how many it covers
     /// (the fine lattice has cells(d) << max_level() points along d)
-    int          fine_begin(const unsigned int s, const unsigned int d) const
+    int fine_begin(const unsigned int s, const unsigned int d) const
     {
       return tables_.positions[s][d] << (max_level_ - tables_.levels[s]);
     }
@@ -180,8 +179,7 @@ namespace granhydro
      * equal numbers of cells per rank; > 0 (on every rank) = the weight of each of this
      * rank's cells in the partition (Forest::adapt()). The results do not depend on it.
      */
-    bool adapt(const std::vector<signed char> &flags,
-               dealii::LinearAlgebra::distributed::Vector<double> &U,
+    bool adapt(const std::vector<signed char> &flags, dealii::LinearAlgebra::distributed::Vector<double> &U,
                const std::function<bool(const double *)> &admissible = {}, int leaf_weight = 0);
     /// cells refined and coarsened (global) by the last adapt(), after 2:1 balance
     unsigned long long last_refined() const { return last_refined_; }
@@ -212,12 +210,12 @@ namespace granhydro
       return *dof_handler_;
     }
     std::shared_ptr<const dealii::Utilities::MPI::Partitioner> partitioner() const { return partitioner_; }
-    MPI_Comm communicator() const { return communicator_; }
+    MPI_Comm                                                   communicator() const { return communicator_; }
 
-    unsigned int n_owned() const { return tables_.n_owned; }
-    unsigned int n_mpi_ghosts() const { return tables_.n_mpi_ghosts; }
-    unsigned int n_slots() const { return tables_.positions.size(); }
-    unsigned int ghost_width() const { return tables_.ghost_width; }
+    unsigned int       n_owned() const { return tables_.n_owned; }
+    unsigned int       n_mpi_ghosts() const { return tables_.n_mpi_ghosts; }
+    unsigned int       n_slots() const { return tables_.positions.size(); }
+    unsigned int       ghost_width() const { return tables_.ghost_width; }
     unsigned long long n_global_cells() const { return n_global_; }
 
     /// neighbour slot of s at offset o (|o| <= ghost_width) along d, or -1
@@ -245,21 +243,20 @@ namespace granhydro
     bool wall_face(const unsigned int l, const unsigned int r, const unsigned int d) const;
 
     /// extended lattice coordinates of a slot (may lie outside [0,N) for boundary ghosts)
-    const std::array<int, 3> &lattice(const unsigned int s) const { return tables_.positions[s]; }
+    const std::array<int, 3>         &lattice(const unsigned int s) const { return tables_.positions[s]; }
     const std::vector<BoundaryGhost> &boundary_ghosts() const { return tables_.boundary_ghosts; }
 
     /// edge of a level-0 cell along d [m] (the scene's Domain/Cells)
     double cell_size(const unsigned int d) const { return geometry_.cell_size[d]; }
     /// lattice points per direction (the box, or the bounding box of a mesh file; a mesh
     /// file may leave some of them without a cell)
-    unsigned int cells(const unsigned int d) const { return geometry_.cells[d]; }
-    double lower(const unsigned int d) const { return geometry_.lower[d]; }
+    unsigned int       cells(const unsigned int d) const { return geometry_.cells[d]; }
+    double             lower(const unsigned int d) const { return geometry_.lower[d]; }
     dealii::Point<dim> center(const unsigned int s) const;
 
     /// slot array from a state vector on partitioner(): update ghosts, copy owned and
     /// MPI-ghost values, fill boundary ghosts (mirror or copy)
-    void gather(const dealii::LinearAlgebra::distributed::Vector<double> &U,
-                std::vector<double>                                        &W) const;
+    void gather(const dealii::LinearAlgebra::distributed::Vector<double> &U, std::vector<double> &W) const;
 
     /// active_cell_index of each owned slot (for output only)
     const std::vector<unsigned int> &owned_active_cell_index() const
@@ -283,26 +280,26 @@ namespace granhydro
     /// level by delta (+1, 0, -1) and the MPI ghosts as their owners say (collective)
     bool stays_balanced(const std::vector<signed char> &delta) const;
 
-    MPI_Comm                                                  communicator_;
-    std::unique_ptr<dealii::parallel::TriangulationBase<dim>> triangulation_;
-    std::unique_ptr<dealii::FESystem<dim>>                    finite_element_;
-    mutable std::unique_ptr<dealii::DoFHandler<dim>>          dof_handler_;
+    MPI_Comm                                                   communicator_;
+    std::unique_ptr<dealii::parallel::TriangulationBase<dim>>  triangulation_;
+    std::unique_ptr<dealii::FESystem<dim>>                     finite_element_;
+    mutable std::unique_ptr<dealii::DoFHandler<dim>>           dof_handler_;
     std::shared_ptr<const dealii::Utilities::MPI::Partitioner> partitioner_;
 
     /// the lattice as the mesh was built (source/mesh/triangulation_builder.cc)
     LatticeGeometry geometry_;
-    bool subset_ = false; ///< a mesh file's lattice (solid points, boundary ids from the file)
-    unsigned int max_level_ = 0;
+    bool            subset_    = false; ///< a mesh file's lattice (solid points, boundary ids from the file)
+    unsigned int    max_level_ = 0;
     /// the boundary kinds and wall velocities per boundary id (velocities in [m/s])
-    WallTable walls_;
+    WallTable          walls_;
     unsigned long long n_global_ = 0;
     /// the slots' tables, held here so that the inline accessors index them directly
-    SlotTables tables_;
+    SlotTables                        tables_;
     mutable std::vector<unsigned int> active_index_;
     /// adaptive boxes: the octree, adapted by p4est alone (source/mesh/forest.h); deal.II's
     /// mesh and DoFs follow it only when asked for
     std::unique_ptr<Forest<dim>> forest_;
-    mutable bool dealii_mesh_current_ = true, dealii_dofs_current_ = true;
-    unsigned long long last_refined_ = 0, last_coarsened_ = 0;
+    mutable bool                 dealii_mesh_current_ = true, dealii_dofs_current_ = true;
+    unsigned long long           last_refined_ = 0, last_coarsened_ = 0;
   };
 } // namespace granhydro

@@ -50,7 +50,7 @@ namespace granhydro
   /// a virtual cell: weighted sum of real slots (restriction or prolongation)
   struct VirtualSlot
   {
-    unsigned int                                  slot;
+    unsigned int                                 slot;
     std::vector<std::pair<unsigned int, double>> sources;
   };
 
@@ -69,8 +69,8 @@ namespace granhydro
     std::vector<int> neighbors;
     /// gradient neighbour of s along j on side (0 lower, 1 upper): entry (s dim + j) 2 +
     /// side, or -1; and its offset from s's centre [m]
-    std::vector<int>    gradient_neighbors;
-    std::vector<double> gradient_offsets;
+    std::vector<int>           gradient_neighbors;
+    std::vector<double>        gradient_offsets;
     std::vector<BoundaryGhost> boundary_ghosts;
     /// boundary id of face 2 d + upper of each real-cell slot (2 dim per slot), -1 interior
     std::vector<signed char> face_boundary_ids;
