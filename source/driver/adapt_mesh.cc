@@ -55,7 +55,7 @@ namespace granhydro
     for (unsigned int s = 0; s < n_owned; ++s)
       {
         for (unsigned int d = 0; d < dim; ++d)
-          if (scene.adapt_indicator == "second differences")
+          if (scene.adapt_indicator == RefinementIndicator::second_differences)
             eta[s] = std::max({eta[s], loehner(n, s, d), loehner(p, s, d)});
           else
             {

@@ -88,7 +88,7 @@ namespace granhydro
     const diffusion::IntegratorStatistics none;
     const auto &d = integrator ? integrator->statistics() : none;
     row.emplace_back(N(earlier_.rejected_steps + L.sum.rejected_steps));
-    row.emplace_back(integrator ? scene.integrator : std::string("none"));
+    row.emplace_back(integrator ? to_string(scene.integrator) : std::string("none"));
     row.emplace_back(N(earlier_.convective_steps + convective_pieces));
     row.emplace_back(N(e.steps + d.steps));
     row.emplace_back(N(e.rkl2_steps + d.rkl2_steps));

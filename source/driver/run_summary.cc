@@ -272,7 +272,7 @@ namespace granhydro
       pcout << "  partition: " << sum.min_rank_cells << " to " << sum.max_rank_cells
             << " cells per rank at the end, "
             << (scene.balance_by_measured_cost(scene.diffusion_active()) ? "cells weighted by each rank's measured cost per cell" : "equal numbers of cells")
-            << " (Adaptivity/Load balance = " << scene.load_balance << ")\n";
+            << " (Adaptivity/Load balance = " << to_string(scene.load_balance) << ")\n";
     if (sum.continuation_cells > 0)
       pcout << "  close packing: " << sum.continuation_cells
             << " cell updates ended beyond phi_c - delta, in the linear continuations of chi and of the contact "

@@ -42,11 +42,10 @@ namespace granhydro
                                                    scene.phi_close_packing, scene.guard_delta));
         if (scene.friction > 0) // mu = 0 leaves the smooth model untouched
           desc.model.set_friction(scene.friction);
-        if (scene.dense_closure != "none") // scaled units: pressure p0, time t0
+        if (scene.dense_closure != DenseClosure::none) // scaled units: pressure p0, time t0
           {
             physics::FrictionalStress friction;
-            friction.law     = scene.frictional_stress == "newtonian" ? physics::FrictionalLaw::newtonian :
-                                                                         physics::FrictionalLaw::srivastava_sundaresan;
+            friction.law     = scene.frictional_stress;
             friction.sin_phi = std::sin(scene.closure_angle * M_PI / 180.);
             friction.t_f     = scene.closure_time / units_.time();
             desc.contact     = physics::ContactPressure(scene.closure_F / units_.pressure(), scene.closure_phi_min,
@@ -71,7 +70,7 @@ namespace granhydro
     for (unsigned int d = 0; d < dim; ++d)
       pcout << (d ? " x " : "") << patch_->cells(d);
     pcout << "), " << Utilities::MPI::n_mpi_processes(comm) << " MPI rank(s)\n"
-          << "  model: " << scene.model;
+          << "  model: " << to_string(scene.model);
     if constexpr (std::is_same_v<Description, physics::IdealGas<dim>>)
       pcout << " (gamma_a = " << desc.gamma << "; no transport, cooling or body force)\n";
     else
@@ -94,7 +93,7 @@ namespace granhydro
     if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
       pcout << "  diffusion step: "
             << (scene.diffusion_active() ?
-                  scene.integrator + ", " + (scene.diagonal_flux ? "diagonal" : "full") +
+                  to_string(scene.integrator) + ", " + (scene.diagonal_flux ? "diagonal" : "full") +
                     " flux" +
                     (scene.convection ? std::string(", Strang splitting C(dt/2) V(dt) C(dt/2)") +
                                           (scene.merge_strang ? " with adjacent C halves merged" : "") :
@@ -159,20 +158,14 @@ namespace granhydro
           diff = std::make_unique<diffusion::DiffusionOperator<dim>>(*patch_, desc, ds, units_.length);
           diff->setup();
           diffusion::IntegratorSettings is;
-          is.method = scene.integrator == "implicit midpoint" ? diffusion::ImplicitMethod::implicit_midpoint :
-                      scene.integrator == "sdirk2"            ? diffusion::ImplicitMethod::sdirk2 :
-                      scene.integrator == "rkl2"              ? diffusion::ImplicitMethod::rkl2 :
-                      scene.integrator == "cost-based"        ? diffusion::ImplicitMethod::cost_based :
-                      scene.integrator == "automatic"         ? diffusion::ImplicitMethod::automatic :
-                      scene.integrator == "explicit euler"    ? diffusion::ImplicitMethod::explicit_euler :
-                                                                diffusion::ImplicitMethod::gauss_legendre;
+          is.method                = scene.integrator;
           is.newton_tolerance      = scene.newton_tolerance;
           is.newton_max_iterations = scene.newton_max_iterations;
           is.linear_tolerance      = scene.linear_tolerance;
           is.inexact_newton        = scene.inexact_newton;
           is.reuse_matrix          = scene.reuse_matrix;
-          is.amg                   = scene.preconditioner == "amg";
-          is.block_ilu             = scene.preconditioner == "block ilu";
+          is.amg                   = scene.preconditioner == Preconditioner::amg;
+          is.block_ilu             = scene.preconditioner == Preconditioner::block_ilu;
           is.full_jacobian         = scene.full_jacobian;
           integrator = std::make_unique<diffusion::ImplicitIntegrator<dim>>(*diff, desc, is);
         }
@@ -339,7 +332,7 @@ namespace granhydro
     int run_any(const Scene &scene, const MPI_Comm comm, std::ostream &log,
                 const std::function<void()> &started)
     {
-      const bool granular = scene.model == "granular";
+      const bool granular = scene.model == Model::granular;
       switch (scene.dimension)
         {
           case 1:

@@ -50,7 +50,7 @@ namespace granhydro
     h.step            = step;
     h.convection_owed = owed_;
     h.outputs         = output ? output->count() : 0;
-    std::snprintf(h.model, sizeof(h.model), "%s", scene.model.c_str());
+    std::snprintf(h.model, sizeof(h.model), "%s", to_string(scene.model).c_str());
     try
       {
         io::set_run_record(h, record_);
@@ -109,7 +109,7 @@ namespace granhydro
     if (!same_mesh)
       throw SceneError(what + "was written for another mesh (dimension, Domain/Cells, corners or "
                               "Adaptivity/Maximum level differ)");
-    if (std::string(h.model) != scene.model)
+    if (std::string(h.model) != to_string(scene.model))
       throw SceneError(what + "was written with 'Material/Model = " + std::string(h.model) + "'");
     const bool same_units = io::same_units(h, units_);
     std::vector<std::int64_t> keys(patch_->n_owned());
