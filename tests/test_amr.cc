@@ -376,7 +376,7 @@ end
     const unsigned int me    = dealii::Utilities::MPI::this_mpi_process(world);
     const unsigned int P     = dealii::Utilities::MPI::n_mpi_processes(world);
     if (rank0_cost > 0)
-      s.load_balance = "measured cost";
+      s.load_balance = LoadBalance::measured_cost;
     Simulation<dim, Description> par(s, world, std::cout);
     par.setup();
     if (rank0_cost > 0)

@@ -267,7 +267,7 @@ int main(int argc, char **argv)
                                     "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
                                     "  set Write checkpoint = false\n  set Write summary = false\n  set Verbose = false\nend\n",
                                   argv[1]);
-  AssertThrow(scene.model == "granular", ExcMessage("the hard cases are granular scenes"));
+  AssertThrow(scene.model == Model::granular, ExcMessage("the hard cases are granular scenes"));
   switch (scene.dimension)
     {
       case 1:

@@ -65,17 +65,17 @@ namespace granhydro
     p.overrides          = scene.overrides;
     p.expanded_text      = scene.expanded_text;
     p.verbose            = scene.verbose;
-    p.integrator         = scene.integrator;
+    p.integrator         = to_string(scene.integrator);
     p.musta              = scene.flux == FluxType::musta;
     p.adaptive           = scene.max_level > 0;
-    p.load_balance       = scene.load_balance;
+    p.load_balance       = to_string(scene.load_balance);
     p.balance_by_cost    = scene.balance_by_measured_cost(scene.diffusion_active());
 
     CheckpointIdentity &c = r.identity;
     c.cells               = scene.cells;
     c.lower               = scene.lower;
     c.upper               = scene.upper;
-    c.model               = scene.model;
+    c.model               = to_string(scene.model);
     c.source              = scene.source;
     c.adaptive            = scene.max_level > 0;
 
@@ -83,7 +83,7 @@ namespace granhydro
     a.refine_threshold    = scene.refine_threshold;
     a.coarsen_threshold   = scene.coarsen_threshold;
     a.buffer              = scene.adapt_buffer;
-    a.second_differences  = scene.adapt_indicator == "second differences";
+    a.second_differences  = scene.adapt_indicator == RefinementIndicator::second_differences;
     a.balance_by_cost     = p.balance_by_cost;
     return r;
   }
@@ -110,12 +110,10 @@ namespace granhydro
                                                    scene.phi_close_packing, scene.guard_delta));
         if (scene.friction > 0) // mu = 0 leaves the smooth model untouched
           desc.model.set_friction(scene.friction);
-        if (scene.dense_closure != "none") // scaled units: pressure p0, time t0
+        if (scene.dense_closure != DenseClosure::none) // scaled units: pressure p0, time t0
           {
             physics::FrictionalStress friction;
-            friction.law     = scene.frictional_stress == "newtonian" ?
-                                 physics::FrictionalLaw::newtonian :
-                                 physics::FrictionalLaw::srivastava_sundaresan;
+            friction.law     = scene.frictional_stress;
             friction.sin_phi = std::sin(scene.closure_angle * M_PI / 180.);
             friction.t_f     = scene.closure_time / units_.time();
             desc.contact     = physics::ContactPressure(
@@ -140,7 +138,7 @@ namespace granhydro
     for (unsigned int d = 0; d < dim; ++d)
       pcout << (d ? " x " : "") << patch_->cells(d);
     pcout << "), " << Utilities::MPI::n_mpi_processes(comm) << " MPI rank(s)\n"
-          << "  model: " << scene.model;
+          << "  model: " << to_string(scene.model);
     if constexpr (std::is_same_v<Description, physics::IdealGas<dim>>)
       pcout << " (gamma_a = " << desc.gamma << "; no transport, cooling or body force)\n";
     else
@@ -161,7 +159,8 @@ namespace granhydro
     if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
       pcout << "  diffusion step: "
             << (scene.diffusion_active() ?
-                  scene.integrator + ", " + (scene.diagonal_flux ? "diagonal" : "full") + " flux" +
+                  to_string(scene.integrator) + ", " + (scene.diagonal_flux ? "diagonal" : "full") +
+                    " flux" +
                     (scene.convection ? std::string(", Strang splitting C(dt/2) V(dt) C(dt/2)") +
                                           (scene.merge_strang ? " with adjacent C halves merged" : "") :
                                         std::string()) :
@@ -223,20 +222,14 @@ namespace granhydro
           diff = std::make_unique<diffusion::DiffusionOperator<dim>>(*patch_, desc, ds, units_.length);
           diff->setup();
           diffusion::IntegratorSettings is;
-          is.method = scene.integrator == "implicit midpoint" ? diffusion::ImplicitMethod::implicit_midpoint :
-                      scene.integrator == "sdirk2"            ? diffusion::ImplicitMethod::sdirk2 :
-                      scene.integrator == "rkl2"              ? diffusion::ImplicitMethod::rkl2 :
-                      scene.integrator == "cost-based"        ? diffusion::ImplicitMethod::cost_based :
-                      scene.integrator == "automatic"         ? diffusion::ImplicitMethod::automatic :
-                      scene.integrator == "explicit euler"    ? diffusion::ImplicitMethod::explicit_euler :
-                                                                diffusion::ImplicitMethod::gauss_legendre;
+          is.method                = scene.integrator;
           is.newton_tolerance      = scene.newton_tolerance;
           is.newton_max_iterations = scene.newton_max_iterations;
           is.linear_tolerance      = scene.linear_tolerance;
           is.inexact_newton        = scene.inexact_newton;
           is.reuse_matrix          = scene.reuse_matrix;
-          is.amg                   = scene.preconditioner == "amg";
-          is.block_ilu             = scene.preconditioner == "block ilu";
+          is.amg                   = scene.preconditioner == Preconditioner::amg;
+          is.block_ilu             = scene.preconditioner == Preconditioner::block_ilu;
           is.full_jacobian         = scene.full_jacobian;
           integrator               = std::make_unique<diffusion::ImplicitIntegrator<dim>>(*diff, desc, is);
         }
@@ -407,7 +400,7 @@ namespace granhydro
     int run_any(const Scene &scene, const MPI_Comm comm, std::ostream &log,
                 const std::function<void()> &started)
     {
-      const bool granular = scene.model == "granular";
+      const bool granular = scene.model == Model::granular;
       switch (scene.dimension)
         {
           case 1:

@@ -5,6 +5,7 @@
  */
 #include <granhydro/io/checkpoint.h>
 #include <granhydro/io/checkpoint_bytes.h>
+#include <granhydro/physics/material_model.h>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -170,14 +171,14 @@ namespace granhydro::io
         throw CheckpointError("has a corrupted header (material model name)");
       // the models granhydro writes (Material/Model): a re-sealed header with another name
       // was reported valid by --checkpoint-info
-      if (std::strcmp(h.model, "granular") != 0 && std::strcmp(h.model, "ideal gas") != 0)
+      if (Model m; !enum_from_name(std::string(h.model), m))
         {
           std::string name(h.model);
           for (char &ch : name)
             if (ch < 32 || ch > 126)
               ch = '?';
           throw CheckpointError("has a corrupted header (unknown material model '" + name +
-                                "'; granhydro writes 'granular' or 'ideal gas')");
+                                "'; granhydro writes " + enum_alternatives<Model>() + ")");
         }
       const auto &hs = h.history;
       if (hs.rkl2_blocked < 0 || hs.rkl2_blocked > 1000 || hs.matrix_age < 0 ||

@@ -22,7 +22,7 @@ namespace granhydro
     if (s.max_level > 0)
       e.emplace_back("adaptive mesh refinement", "Adaptivity/Maximum level = " + std::to_string(s.max_level) +
                                                    ", every " + std::to_string(s.adapt_interval) + " steps");
-    if (s.model != "granular")
+    if (s.model != Model::granular)
       return e;
     if (s.viscosity)
       e.emplace_back("viscous stress", "granular model, Effects/Viscosity = true");
@@ -36,10 +36,10 @@ namespace granhydro
                        num(s.friction) + ": effective restitution " +
                        num(physics::GarzoDufty1999::effective_restitution(s.restitution, s.friction)) +
                        " in the cooling rate");
-    if (s.dense_closure != "none")
+    if (s.dense_closure != DenseClosure::none)
       e.emplace_back("dense closure: contact pressure" +
                        std::string(s.closure_time > 0 && s.viscosity ? " and frictional viscosity" : ""),
-                     "Dense closure/Model = " + s.dense_closure + ", F = " + num(s.closure_F) +
+                     "Dense closure/Model = " + to_string(s.dense_closure) + ", F = " + num(s.closure_F) +
                        " Pa, phi_min = " + num(s.closure_phi_min));
     double g2 = 0;
     for (unsigned int d = 0; d < s.dimension; ++d)
@@ -63,7 +63,7 @@ namespace granhydro
 
   bool Scene::diffusion_active() const
   {
-    if (model != "granular")
+    if (model != Model::granular)
       return false;
     bool g = false;
     for (unsigned int d = 0; d < dimension; ++d)

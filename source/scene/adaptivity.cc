@@ -13,29 +13,34 @@ namespace granhydro
 
   void AdaptivityParameters::declare_parameters(ParameterHandler &prm)
   {
+    const AdaptivityParameters defaults;
     prm.enter_subsection("Adaptivity");
     {
-      prm.declare_entry("Maximum level", "0", Patterns::Integer(0, 7),
+      prm.declare_entry("Maximum level", default_text(defaults.max_level), Patterns::Integer(0, 7),
                         "Adaptive octree refinement (p4est): cells may be refined this many "
                         "levels above Domain/Cells; 0 = uniform mesh. Box domains in 2D and 3D.");
-      prm.declare_entry("Indicator", "jumps", Patterns::Selection("jumps|second differences"),
+      prm.declare_entry("Indicator", to_string(defaults.adapt_indicator),
+                        selection_of<RefinementIndicator>(),
                         "Refinement indicator, from the number density n and the pressure p: "
                         "'jumps' = the largest normalised jump across the cell's faces, "
                         "|a_L - a_R| / min(a_L, a_R); 'second differences' = Loehner's "
                         "indicator |a_R - 2 a + a_L| / (|a_R - a| + |a - a_L| + 0.05 (|a_R| + "
                         "2 |a| + |a_L|)) per direction, in [0, 1]: high at shocks, contacts and "
                         "kinks, low in smooth regions (a rarefaction fan stays coarse).");
-      prm.declare_entry("Refine threshold", "0.05", Patterns::Double(0, Patterns::Double::max_double_value),
+      prm.declare_entry("Refine threshold", default_text(defaults.refine_threshold),
+                        Patterns::Double(0, Patterns::Double::max_double_value),
                         "Refine a cell where the indicator exceeds this.");
-      prm.declare_entry("Coarsen threshold", "0.01", Patterns::Double(0, Patterns::Double::max_double_value),
+      prm.declare_entry("Coarsen threshold", default_text(defaults.coarsen_threshold),
+                        Patterns::Double(0, Patterns::Double::max_double_value),
                         "Coarsen a family of cells where the indicator of all of them stays below "
                         "this (must be below the refine threshold).");
-      prm.declare_entry("Interval", "5", Patterns::Integer(1),
+      prm.declare_entry("Interval", default_text(defaults.adapt_interval), Patterns::Integer(1),
                         "Time steps between adaptations.");
-      prm.declare_entry("Buffer", "2", Patterns::Integer(0, 8),
+      prm.declare_entry("Buffer", default_text(defaults.adapt_buffer), Patterns::Integer(0, 8),
                         "Layers of cells around a cell flagged for refinement that are refined too, "
                         "so that a shock stays in the fine region until the next adaptation.");
-      prm.declare_entry("Load balance", "auto", Patterns::Selection("auto|cells|measured cost"),
+      prm.declare_entry("Load balance", to_string(defaults.load_balance),
+                        selection_of<LoadBalance>(),
                         "How the cells are split among the MPI ranks at each adaptation (the "
                         "results do not depend on it): 'cells' = equal numbers of cells per rank "
                         "(p4est's partition along the octree order); 'measured cost' = each "
@@ -55,12 +60,12 @@ namespace granhydro
   {
     prm.enter_subsection("Adaptivity");
     max_level         = prm.get_integer("Maximum level");
-    adapt_indicator   = prm.get("Indicator");
+    adapt_indicator   = get_enum<RefinementIndicator>(prm, "Adaptivity", "Indicator");
     refine_threshold  = prm.get_double("Refine threshold");
     coarsen_threshold = prm.get_double("Coarsen threshold");
     adapt_interval    = prm.get_integer("Interval");
     adapt_buffer      = prm.get_integer("Buffer");
-    load_balance      = prm.get("Load balance");
+    load_balance      = get_enum<LoadBalance>(prm, "Adaptivity", "Load balance");
     prm.leave_subsection();
   }
 

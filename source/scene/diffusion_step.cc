@@ -11,10 +11,11 @@ namespace granhydro
 
   void DiffusionStepParameters::declare_parameters(ParameterHandler &prm)
   {
+    const DiffusionStepParameters defaults;
     prm.enter_subsection("Diffusion step");
     {
-      prm.declare_entry("Integrator", "cost-based",
-                        Patterns::Selection("gauss-legendre|implicit midpoint|sdirk2|rkl2|cost-based|automatic|explicit euler"),
+      prm.declare_entry("Integrator", to_string(defaults.integrator),
+                        selection_of<diffusion::ImplicitMethod>(),
                         "Time integrator of the diffusion/source step V: 2-stage Gauss-Legendre "
                         "(order 4, A-stable), implicit midpoint (order 2, A-stable), sdirk2 "
                         "(Alexander's 2-stage SDIRK, order 2, L-stable: damps stiff modes; stages "
@@ -24,15 +25,18 @@ namespace granhydro
                         "cost model), automatic (Gauss-Legendre, "
                         "implicit midpoint when its Newton iteration fails), or the sub-cycled "
                         "explicit Euler baseline.");
-      prm.declare_entry("Newton tolerance", "1e-10", Patterns::Double(0, 1),
+      prm.declare_entry("Newton tolerance", default_text(defaults.newton_tolerance),
+                        Patterns::Double(0, 1),
                         "Modified Newton stops when dt * |change of stage slopes| is below "
                         "this times the cell's own scale in every cell: its density, "
                         "sqrt(2 n E) for momenta, its energy density (at least 1e-3 of that "
                         "component's largest value in the domain).");
-      prm.declare_entry("Newton maximum iterations", "25", Patterns::Integer(1, 200),
+      prm.declare_entry("Newton maximum iterations", default_text(defaults.newton_max_iterations),
+                        Patterns::Integer(1, 200),
                         "Cap on modified Newton iterations; a step that does not converge is "
                         "retried with half the time step.");
-      prm.declare_entry("Linear solver tolerance", "1e-12", Patterns::Double(0, 1),
+      prm.declare_entry("Linear solver tolerance", default_text(defaults.linear_tolerance),
+                        Patterns::Double(0, 1),
                         "Relative residual of Trilinos GMRES (with Linear forcing = "
                         "eisenstat-walker: the smallest one it may ask for).");
       prm.declare_entry("Linear forcing", "eisenstat-walker", Patterns::Selection("eisenstat-walker|fixed"),
@@ -40,12 +44,14 @@ namespace granhydro
                         "Eisenstat & Walker 1996 choice 2: 0.9 (|r_k|/|r_k-1|)^2 in [Linear solver "
                         "tolerance, 0.1]; the Newton tolerance stays the accuracy control) or "
                         "fixed (always Linear solver tolerance).");
-      prm.declare_entry("Reuse Newton matrix", "true", Patterns::Bool(),
+      prm.declare_entry("Reuse Newton matrix", default_text(defaults.reuse_matrix),
+                        Patterns::Bool(),
                         "Keep the Newton matrix and its preconditioner for up to 8 further steps "
                         "while the previous step converged in <= 7 Newton iterations per stage "
                         "and dt changed by <= 10 %; a step whose iteration then fails is redone "
                         "with a fresh matrix (counted in the summary).");
-      prm.declare_entry("Preconditioner", "block ilu", Patterns::Selection("block ilu|ilu|amg"),
+      prm.declare_entry("Preconditioner", to_string(defaults.preconditioner),
+                        selection_of<Preconditioner>(),
                         "Newton matrix and preconditioner of GMRES: block ilu (granhydro's "
                         "block-sparse matrix, one dense block per pair of neighbouring cells, "
                         "with block ILU(0): the leanest and fastest), ilu (Trilinos Epetra "
@@ -61,13 +67,13 @@ namespace granhydro
   void DiffusionStepParameters::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Diffusion step");
-    integrator            = prm.get("Integrator");
+    integrator            = get_enum<diffusion::ImplicitMethod>(prm, "Diffusion step", "Integrator");
     newton_tolerance      = prm.get_double("Newton tolerance");
     newton_max_iterations = prm.get_integer("Newton maximum iterations");
     linear_tolerance      = prm.get_double("Linear solver tolerance");
     inexact_newton        = prm.get("Linear forcing") == "eisenstat-walker";
     reuse_matrix          = prm.get_bool("Reuse Newton matrix");
-    preconditioner        = prm.get("Preconditioner");
+    preconditioner        = get_enum<Preconditioner>(prm, "Diffusion step", "Preconditioner");
     full_jacobian         = prm.get("Jacobian") == "full";
     prm.leave_subsection();
   }

@@ -16,9 +16,10 @@ namespace granhydro
 
   void DomainParameters::declare_parameters(ParameterHandler &prm)
   {
+    const DomainParameters defaults;
     prm.enter_subsection("Domain");
     {
-      prm.declare_entry("Mesh file", "", Patterns::Anything(),
+      prm.declare_entry("Mesh file", default_text(defaults.mesh_file), Patterns::Anything(),
                         "Coarse mesh read with deal.II's GridIn instead of the box: gmsh "
                         "(.msh, e.g. format 2.2 ASCII) or ucd (.inp); 2D and 3D only. A relative "
                         "name is taken relative to the directory of the scene file. All cells "
@@ -36,30 +37,34 @@ namespace granhydro
                         "vertices lie within +-1e6 m, its cells (after 'Mesh refinements') are at "
                         "least 1e-3 grain diameters, and it spans at least 2 cells per direction "
                         "(1 with first-order reconstruction).");
-      prm.declare_entry("Mesh refinements", "0", Patterns::Integer(0, 8),
+      prm.declare_entry("Mesh refinements", default_text(defaults.mesh_refinements),
+                        Patterns::Integer(0, 8),
                         "Global refinements of the mesh file's coarse cells (each halves the "
                         "cell size).");
-      prm.declare_entry("Lower corner", "0, 0, 0", Patterns::Anything(),
+      prm.declare_entry("Lower corner", default_text(defaults.lower), Patterns::Anything(),
                         "Lower corner of the box [m], one value per dimension (extra ignored; "
                         "ignored with a 'Mesh file').");
-      prm.declare_entry("Upper corner", "0.1, 0.1, 0.1", Patterns::Anything(),
+      prm.declare_entry("Upper corner", default_text(defaults.upper), Patterns::Anything(),
                         "Upper corner of the box [m] (ignored with a 'Mesh file').");
-      prm.declare_entry("Cells", "100, 100, 1", Patterns::Anything(),
+      prm.declare_entry("Cells", default_text(defaults.cells), Patterns::Anything(),
                         "Number of cells per direction (uniform Cartesian mesh; ignored with "
                         "a 'Mesh file').");
-      for (const char *s : side_names)
+      for (unsigned int i = 0; i < 6; ++i)
         {
-          prm.declare_entry(std::string("Boundary ") + s, "slip wall",
-                            Patterns::Selection("periodic|slip wall|no-slip wall|outflow"),
+          const char *const s = side_names[i];
+          prm.declare_entry(std::string("Boundary ") + s, to_string(defaults.boundary[i]),
+                            selection_of<BoundaryType>(),
                             std::string("Boundary condition on the ") + s +
                               " side: periodic (both sides of a direction), slip wall "
                               "(reflecting, no tangential stress), no-slip wall (velocity "
                               "of the wall imposed, wall shear stress kept: doc/physics.md 5.1, "
                               "P10), outflow (transmissive, zero-gradient ghost state).");
-          prm.declare_entry(std::string("Wall velocity ") + s, "0, 0, 0", Patterns::Anything(),
+          prm.declare_entry(std::string("Wall velocity ") + s, default_text(defaults.wall_velocity[i]),
+                            Patterns::Anything(),
                             std::string("Velocity of the ") + s +
                               " wall [m/s] (no-slip walls; tangential only).");
-          prm.declare_entry(std::string("Wall restitution ") + s, "1", Patterns::Double(0, 1),
+          prm.declare_entry(std::string("Wall restitution ") + s, default_text(defaults.wall_restitution[i]),
+                            Patterns::Double(0, 1),
                             std::string("Grain-wall restitution eps_w of the ") + s +
                               " wall: 1 = elastic (adiabatic), < 1 = dissipative wall with "
                               "the heat flux q_w = (1 - eps_w) p_w sqrt(2T/(pi m)) "
@@ -89,11 +94,7 @@ namespace granhydro
     }
     for (unsigned int i = 0; i < 6; ++i)
       {
-        const std::string v = prm.get(std::string("Boundary ") + side_names[i]);
-        boundary[i] = v == "periodic"     ? BoundaryType::periodic :
-                      v == "slip wall"    ? BoundaryType::slip_wall :
-                      v == "no-slip wall" ? BoundaryType::no_slip_wall :
-                                            BoundaryType::outflow;
+        boundary[i] = get_enum<BoundaryType>(prm, "Domain", std::string("Boundary ") + side_names[i]);
         wall_velocity[i] = parse_list<double, 3>(prm.get(std::string("Wall velocity ") + side_names[i]),
                                                  std::string("Domain/Wall velocity ") + side_names[i], dim, 0.);
         wall_restitution[i] = prm.get_double(std::string("Wall restitution ") + side_names[i]);
@@ -237,7 +238,7 @@ namespace granhydro
             (s.boundary[i] == BoundaryType::periodic || s.boundary[i] == BoundaryType::outflow))
           fail(s, "Domain/Wall restitution " + side, "only walls dissipate (the boundary is " +
                                                        to_string(s.boundary[i]) + ")");
-        if (s.wall_restitution[i] < 1 && s.model != "granular")
+        if (s.wall_restitution[i] < 1 && s.model != Model::granular)
           fail(s, "Domain/Wall restitution " + side, "dissipative walls need 'Material/Model = granular'");
       }
   }

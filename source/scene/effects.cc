@@ -14,29 +14,32 @@ namespace granhydro
 
   void EffectsParameters::declare_parameters(ParameterHandler &prm)
   {
+    const EffectsParameters defaults;
     prm.enter_subsection("Effects");
     {
-      prm.declare_entry("Convection", "true", Patterns::Bool(),
+      prm.declare_entry("Convection", default_text(defaults.convection), Patterns::Bool(),
                         "Run the convective step C (Euler part, paper section 4).");
-      prm.declare_entry("Viscosity", "true", Patterns::Bool(),
+      prm.declare_entry("Viscosity", default_text(defaults.viscosity), Patterns::Bool(),
                         "Viscous stress (shear and bulk viscosity; granular model).");
-      prm.declare_entry("Heat conduction", "true", Patterns::Bool(),
+      prm.declare_entry("Heat conduction", default_text(defaults.heat_conduction), Patterns::Bool(),
                         "Heat flux q = -kappa grad T - mu grad n (granular model).");
-      prm.declare_entry("Cooling", "true", Patterns::Bool(),
+      prm.declare_entry("Cooling", default_text(defaults.cooling), Patterns::Bool(),
                         "Inelastic cooling -(3/2) n T zeta0 (granular model, eps < 1).");
       prm.declare_entry("Diffusive flux", "full", Patterns::Selection("full|diagonal"),
                         "full: all cross-derivative terms (doc/physics.md 4.3); diagonal: only "
                         "D_ii d_i U as in the paper's eq. 5.6.");
-      prm.declare_entry("Gravity", "0, 0, 0", Patterns::Anything(),
+      prm.declare_entry("Gravity", default_text(defaults.gravity), Patterns::Anything(),
                         "Body force per unit mass g [m/s^2], one value per dimension "
                         "(e.g. 0, -9.81 in 2D), |g| up to 1e5 m/s^2. Granular model only.");
-      prm.declare_entry("Vibration amplitude", "0", Patterns::Double(0, Patterns::Double::max_double_value),
+      prm.declare_entry("Vibration amplitude", default_text(defaults.vibration_amplitude),
+                        Patterns::Double(0, Patterns::Double::max_double_value),
                         "Amplitude A [m] of the container motion s(t) = A sin(2 pi f t) e_s. "
                         "The equations are solved in the container frame (all walls at rest) "
                         "with the inertial body force g + A (2 pi f)^2 sin(2 pi f t) e_s "
                         "(doc/physics.md 5.3); output velocities and kinetic energy densities are in "
                         "the lab frame (container velocity ds/dt added).");
-      prm.declare_entry("Vibration frequency", "0", Patterns::Double(0, Patterns::Double::max_double_value),
+      prm.declare_entry("Vibration frequency", default_text(defaults.vibration_frequency),
+                        Patterns::Double(0, Patterns::Double::max_double_value),
                         "Frequency f [Hz] of the container motion.");
       prm.declare_entry("Vibration direction", "y", Patterns::Selection("x|y|z"),
                         "Direction e_s of the container motion.");
@@ -89,7 +92,7 @@ namespace granhydro
     if (s.vibration_amplitude > 0 && s.vibration_direction >= dim)
       fail(s, "Effects/Vibration direction", "names a direction the " + std::to_string(dim) +
                                                "D scene does not resolve");
-    if (s.vibration_amplitude > 0 && s.model != "granular")
+    if (s.vibration_amplitude > 0 && s.model != Model::granular)
       fail(s, "Effects/Vibration amplitude", "a vibrated container needs 'Material/Model = granular'");
   }
 } // namespace granhydro

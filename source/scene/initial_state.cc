@@ -26,25 +26,30 @@ namespace granhydro
 
   void InitialStateParameters::declare_parameters(ParameterHandler &prm)
   {
+    const InitialStateParameters defaults;
     prm.enter_subsection("Initial state");
     {
-      prm.declare_entry("Packing fraction", "0.01", Patterns::Anything(),
+      prm.declare_entry("Packing fraction", default_text(defaults.initial_packing_fraction),
+                        Patterns::Anything(),
                         "Expression in x, y, z [m] (and t = 0, pi, constants) for the "
                         "packing fraction phi = n pi sigma^3 / 6 (> 0).");
-      prm.declare_entry("Velocity", "0; 0; 0", Patterns::Anything(),
+      prm.declare_entry("Velocity", default_text(defaults.initial_velocity), Patterns::Anything(),
                         "Expressions for the velocity components [m/s], separated by ';' "
                         "(one per dimension or 3).");
-      prm.declare_entry("Temperature", "1e-8", Patterns::Anything(),
+      prm.declare_entry("Temperature", default_text(defaults.initial_temperature),
+                        Patterns::Anything(),
                         "Expression for the granular temperature T [J] (energy units, > 0): at "
                         "least 1e-12 m V0^2 (V0 the velocity unit), and it must survive the "
                         "conversion to the conserved energy beside the kinetic energy.");
-      prm.declare_entry("Constants", "", Patterns::Anything(),
+      prm.declare_entry("Constants", default_text(defaults.initial_constants), Patterns::Anything(),
                         "Constants for the expressions, 'name=value, name=value' (names other "
                         "than x, y, z, t, pi and the expressions' functions such as sin).");
-      prm.declare_entry("Quadrature points", "3", Patterns::Integer(1, 8),
+      prm.declare_entry("Quadrature points", default_text(defaults.initial_quadrature),
+                        Patterns::Integer(1, 8),
                         "Gauss points per direction used to average the initial state "
                         "over each cell (finite-volume cell averages).");
-      prm.declare_entry("Checkpoint", "", Patterns::Anything(),
+      prm.declare_entry("Checkpoint", default_text(defaults.initial_checkpoint),
+                        Patterns::Anything(),
                         "A checkpoint file written by an earlier run of the same mesh "
                         "(Output/Write checkpoint): the state, time and step are read from "
                         "it and the run continues to 'Time/End time' (any number of MPI "
@@ -137,7 +142,7 @@ namespace granhydro
         total *= (m[d] = std::min(s.cells[d], 64u));
       if (!mesh_centres.empty()) // a mesh file: its coarse cell centres
         total = mesh_centres.size();
-      const bool   granular = s.model == "granular";
+      const bool   granular = s.model == Model::granular;
       const double phi_max  = s.phi_close_packing - s.guard_delta;
       // transport without the Knudsen cap in a nearly empty granular cell: the mean free
       // path (and the diffusivities) diverge as phi -> 0 and the implicit step's Newton
@@ -322,7 +327,7 @@ namespace granhydro
       if (h.dim != int(s.dimension))
         fail(s, "Initial state/Checkpoint", cp + "holds a " + std::to_string(h.dim) +
                                               "D state; the scene is " + std::to_string(s.dimension) + "D");
-      if (std::string(h.model) != s.model)
+      if (std::string(h.model) != to_string(s.model))
         fail(s, "Initial state/Checkpoint",
                 cp + "was written with 'Material/Model = " + std::string(h.model) + "'");
       // the mesh, as the run matches it (Simulation::read_checkpoint): a checkpoint of another

@@ -18,29 +18,36 @@ namespace granhydro
 
   void MaterialParameters::declare_parameters(ParameterHandler &prm)
   {
+    const MaterialParameters defaults;
     prm.enter_subsection("Material");
     {
-      prm.declare_entry("Model", "ideal gas", Patterns::Selection("ideal gas|granular"),
+      prm.declare_entry("Model", to_string(defaults.model), selection_of<Model>(),
                         "Constitutive model. 'ideal gas': verification model (p = n T, "
                         "no transport), the dilute elastic limit of granular gases. "
                         "'granular': hard spheres, p = n T Z(phi) with Torquato's pair "
                         "correlation and Garzo-Dufty (1999) transport (doc/physics.md 2, 3).");
-      prm.declare_entry("Restitution coefficient", "1", Patterns::Double(0, 1),
+      prm.declare_entry("Restitution coefficient", default_text(defaults.restitution),
+                        Patterns::Double(0, 1),
                         "Normal coefficient of restitution eps of grain-grain collisions "
                         "(granular model; 0.5 <= eps <= 1).");
-      prm.declare_entry("Friction coefficient", "0", Patterns::Double(0, 1),
+      prm.declare_entry("Friction coefficient", default_text(defaults.friction),
+                        Patterns::Double(0, 1),
                         "Coulomb friction coefficient mu between grains (granular model; 0 = "
                         "smooth spheres). The cooling rate uses Chialvo & Sundaresan's (2013) "
                         "effective restitution e_eff = eps - (3/2) mu exp(-3 mu); pressure and "
                         "transport keep eps (doc/user-guide.md, 'Frictional grains').");
-      prm.declare_entry("Freezing packing fraction", "0.49", Patterns::Double(0, 1),
+      prm.declare_entry("Freezing packing fraction", default_text(defaults.phi_freezing),
+                        Patterns::Double(0, 1),
                         "phi_f of Torquato's pair correlation (granular model).");
-      prm.declare_entry("Close packing fraction", "0.64", Patterns::Double(0, 1),
+      prm.declare_entry("Close packing fraction", default_text(defaults.phi_close_packing),
+                        Patterns::Double(0, 1),
                         "phi_c, random close packing: chi has its pole here (granular model).");
-      prm.declare_entry("Close packing guard", "1e-3", Patterns::Double(0, 0.1),
+      prm.declare_entry("Close packing guard", default_text(defaults.guard_delta),
+                        Patterns::Double(0, 0.1),
                         "delta: chi is continued linearly (C1) beyond phi_c - delta, so "
                         "coefficients stay finite (doc/physics.md 2, guard).");
-      prm.declare_entry("Maximum mean free path", "0", Patterns::Double(0, Patterns::Double::max_double_value),
+      prm.declare_entry("Maximum mean free path", default_text(defaults.max_free_path),
+                        Patterns::Double(0, Patterns::Double::max_double_value),
                         "Knudsen cap L [m] (granular model; 0 = off, the paper's model): where "
                         "the mean free path l = 1/(sqrt(2) pi n sigma^2) exceeds L, the "
                         "transport coefficients eta, gamma, kappa, mu are scaled by L/l, so the "
@@ -48,7 +55,7 @@ namespace granhydro
                         "(doc/physics.md P14). Hydrodynamics has no meaning there anyway; use a few "
                         "cell sizes for scenes with near-vacuum. Required (> 0) where the initial "
                         "packing fraction falls below 1e-6 and viscosity or heat conduction is on.");
-      prm.declare_entry("Cohesionless", "true", Patterns::Bool(),
+      prm.declare_entry("Cohesionless", default_text(defaults.cohesionless), Patterns::Bool(),
                         "Granular model: grains cannot pull. At every face of the diffusion "
                         "step the tensile viscous normal stress (kinetic and frictional) is "
                         "bounded by the pressure there, so the total normal stress stays "
@@ -57,11 +64,14 @@ namespace granhydro
                         "run summary. false: the paper's literal Navier-Stokes stress, which "
                         "lets a wall or a tearing layer pull on the grains "
                         "(doc/physics.md 4.7).");
-      prm.declare_entry("Grain diameter", "1e-3", Patterns::Double(0, Patterns::Double::max_double_value),
+      prm.declare_entry("Grain diameter", default_text(defaults.grain_diameter),
+                        Patterns::Double(0, Patterns::Double::max_double_value),
                         "Grain diameter sigma [m].");
-      prm.declare_entry("Material density", "2600", Patterns::Double(0, Patterns::Double::max_double_value),
+      prm.declare_entry("Material density", default_text(defaults.material_density),
+                        Patterns::Double(0, Patterns::Double::max_double_value),
                         "Material density rho_s [kg/m^3], 1e-3 .. 1e6; grain mass m = rho_s pi sigma^3 / 6.");
-      prm.declare_entry("Adiabatic index", "1.6666666666666667", Patterns::Double(1, 3),
+      prm.declare_entry("Adiabatic index", default_text(defaults.adiabatic_index),
+                        Patterns::Double(1, 3),
                         "Adiabatic index gamma_a of the ideal-gas model (5/3 = dilute "
                         "elastic grains, internal energy 3T/2 per grain).");
     }
@@ -71,7 +81,7 @@ namespace granhydro
   void MaterialParameters::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Material");
-    model            = prm.get("Model");
+    model            = get_enum<Model>(prm, "Material", "Model");
     grain_diameter   = prm.get_double("Grain diameter");
     material_density = prm.get_double("Material density");
     adiabatic_index  = prm.get_double("Adiabatic index");
@@ -98,7 +108,7 @@ namespace granhydro
                                            "kg/m^3 (the grain mass is the internal mass unit)");
     if (s.adiabatic_index <= 1)
       fail(s, "Material/Adiabatic index", "must exceed 1");
-    if (s.model == "granular")
+    if (s.model == Model::granular)
       {
         if (s.restitution < 0.5 || s.restitution > 1)
           fail(s, "Material/Restitution coefficient",

@@ -14,14 +14,16 @@ namespace granhydro
 
   void NumericsParameters::declare_parameters(ParameterHandler &prm)
   {
+    const NumericsParameters defaults;
     prm.enter_subsection("Numerics");
     {
-      prm.declare_entry("Reconstruction", "weno5",
-                        Patterns::Selection("first order|muscl|weno3|weno5"),
+      prm.declare_entry("Reconstruction", to_string(defaults.reconstruction),
+                        selection_of<ReconstructionType>(),
                         "Reconstruction of the conservative variables to face points: "
                         "weno5 (paper section 4, Jiang-Shu weights), weno3, muscl (MC "
                         "limiter), first order.");
-      prm.declare_entry("Face quadrature", "gauss", Patterns::Selection("gauss|midpoint"),
+      prm.declare_entry("Face quadrature", to_string(defaults.face_quadrature),
+                        selection_of<FaceQuadrature>(),
                         "gauss: 2 Gauss points per face direction (paper eq. 4.6, "
                         "Titarev-Toro), midpoint: one point per face (face average used "
                         "as point value, second order on nonlinear fluxes).");
@@ -34,12 +36,14 @@ namespace granhydro
                         "only the wall pressure (the normal momentum of the same flux) - no "
                         "tangential momentum; the wall shear stress then comes from the "
                         "diffusion step alone.");
-      prm.declare_entry("Flux", "musta", Patterns::Selection("musta|rusanov|hll"),
+      prm.declare_entry("Flux", to_string(defaults.flux), selection_of<FluxType>(),
                         "Numerical flux: musta (multi-stage FORCE, paper eqs. 4.7-4.9 with "
                         "dx/dt in the dissipation term, doc/physics.md P12), rusanov, hll.");
-      prm.declare_entry("MUSTA maximum stages", "4", Patterns::Integer(1, 20),
+      prm.declare_entry("MUSTA maximum stages", default_text(defaults.musta_max_stages),
+                        Patterns::Integer(1, 20),
                         "Cap on the number of FORCE stages of the MUSTA flux (1 = FORCE).");
-      prm.declare_entry("MUSTA minimum stages", "2", Patterns::Integer(1, 2),
+      prm.declare_entry("MUSTA minimum stages", default_text(defaults.musta_min_stages),
+                        Patterns::Integer(1, 2),
                         "2: the stopping rule compares the fluxes of consecutive stages, so "
                         "every face takes at least 2 stages. 1: after the first stage a face "
                         "keeps the FORCE flux where the change of a further stage, estimated "
@@ -47,18 +51,22 @@ namespace granhydro
                         "tolerance (smooth regions): 35-40 % less convective time, larger "
                         "errors (doc/performance.md, 'Cost of the diffusion step and of the "
                         "convective kernel').");
-      prm.declare_entry("MUSTA tolerance", "0.01", Patterns::Double(0, 1),
+      prm.declare_entry("MUSTA tolerance", default_text(defaults.musta_tolerance),
+                        Patterns::Double(0, 1),
                         "Stopping rule: stop when the FORCE flux changes between stages by "
                         "less than this in mass, momentum (as a vector) and energy, each "
                         "relative to max(|F|, S_max (|U_L| + |U_R|)/2) (paper: 1 %).");
-      prm.declare_entry("MUSTA local CFL", "0.9", Patterns::Double(0, 1),
+      prm.declare_entry("MUSTA local CFL", default_text(defaults.musta_local_cfl),
+                        Patterns::Double(0, 1),
                         "Local Courant number of the MUSTA predictor stages (Titarev-Toro).");
-      prm.declare_entry("CFL number", "0.4", Patterns::Double(0, 1),
+      prm.declare_entry("CFL number", default_text(defaults.cfl), Patterns::Double(0, 1),
                         "Courant number: dt = CFL / max_cells sum_d (|u_d| + c)/dx_d.");
-      prm.declare_entry("Fixed time step", "0", Patterns::Double(0, Patterns::Double::max_double_value),
+      prm.declare_entry("Fixed time step", default_text(defaults.fixed_time_step),
+                        Patterns::Double(0, Patterns::Double::max_double_value),
                         "Fixed time step [s]; 0 = from the CFL number. A fixed step is "
                         "still reduced if it would exceed the CFL limit.");
-      prm.declare_entry("Reference velocity", "0", Patterns::Double(0, Patterns::Double::max_double_value),
+      prm.declare_entry("Reference velocity", default_text(defaults.reference_velocity),
+                        Patterns::Double(0, Patterns::Double::max_double_value),
                         "Velocity unit of the internal scaled units [m/s]; 0 = sqrt(g sigma), "
                         "g = 9.81 m/s^2.");
       prm.declare_entry("Strang splitting", "merged", Patterns::Selection("merged|symmetric"),
@@ -67,7 +75,8 @@ namespace granhydro
                         "same scheme with adjacent convective halves taken as one step, "
                         "C(dt0/2) V(dt0) C((dt0 + dt1)/2) V(dt1) ... C(dtn/2), synchronised at "
                         "every output time: half the convective work, second order as well.");
-      prm.declare_entry("Maximum step retries", "6", Patterns::Integer(0, 30),
+      prm.declare_entry("Maximum step retries", default_text(defaults.max_step_retries),
+                        Patterns::Integer(0, 30),
                         "A step whose result is inadmissible (n <= 0 or T <= 0) is retried "
                         "with half the time step at most this many times, then the run stops. "
                         "The first step of a run, sized only by the initial state's CFL "
@@ -80,16 +89,10 @@ namespace granhydro
   {
     prm.enter_subsection("Numerics");
     {
-      const std::string r = prm.get("Reconstruction");
-      reconstruction      = r == "first order" ? ReconstructionType::first_order :
-                            r == "muscl"       ? ReconstructionType::muscl :
-                            r == "weno3"       ? ReconstructionType::weno3 :
-                                                 ReconstructionType::weno5;
-      face_quadrature =
-        prm.get("Face quadrature") == "gauss" ? FaceQuadrature::gauss : FaceQuadrature::midpoint;
+      reconstruction  = get_enum<ReconstructionType>(prm, "Numerics", "Reconstruction");
+      face_quadrature = get_enum<FaceQuadrature>(prm, "Numerics", "Face quadrature");
       no_slip_pressure_flux = prm.get("No-slip wall flux") == "pressure";
-      const std::string f = prm.get("Flux");
-      flux = f == "musta" ? FluxType::musta : (f == "rusanov" ? FluxType::rusanov : FluxType::hll);
+      flux            = get_enum<FluxType>(prm, "Numerics", "Flux");
       musta_max_stages   = prm.get_integer("MUSTA maximum stages");
       musta_tolerance    = prm.get_double("MUSTA tolerance");
       musta_min_stages   = prm.get_integer("MUSTA minimum stages");

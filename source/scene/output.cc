@@ -47,27 +47,32 @@ namespace granhydro
 
   void OutputParameters::declare_parameters(ParameterHandler &prm)
   {
+    const OutputParameters defaults;
     prm.enter_subsection("Output");
     {
-      prm.declare_entry("Directory", "output", Patterns::Anything(),
+      prm.declare_entry("Directory", default_text(defaults.output_directory), Patterns::Anything(),
                         "Directory for VTU/PVTU/PVD and CSV files (created if missing).");
-      prm.declare_entry("Base name", "solution", Patterns::FileName(),
+      prm.declare_entry("Base name", default_text(defaults.base_name), Patterns::FileName(),
                         "Base name of the output files: <Base name>.pvd, <Base name>_summary.csv, ...");
-      prm.declare_entry("Interval", "0", Patterns::Double(0, Patterns::Double::max_double_value),
+      prm.declare_entry("Interval", default_text(defaults.output_interval),
+                        Patterns::Double(0, Patterns::Double::max_double_value),
                         "Simulated time between outputs [s]; 0 = initial and final state only.");
-      prm.declare_entry("Write VTU", "true", Patterns::Bool(),
+      prm.declare_entry("Write VTU", default_text(defaults.write_vtu), Patterns::Bool(),
                         "Write <Base name>_NNNN.pvtu with its .vtu files at every output time, "
                         "and <Base name>.pvd, the time series for ParaView.");
-      prm.declare_entry("VTU files per output", "16", Patterns::Anything(),
+      prm.declare_entry("VTU files per output", default_text(defaults.vtu_files_per_output),
+                        Patterns::Anything(),
                         "Bound on the .vtu files of one output time: 0 = one file per MPI "
                         "rank; K = one file per rank on up to K ranks, and on more ranks K "
                         "files, file k holding the pieces of ranks k, k+K, k+2K, ... "
                         "(written collectively with MPI-IO). A whole number 0..1000000.");
-      prm.declare_entry("Write checkpoint", "true", Patterns::Bool(),
+      prm.declare_entry("Write checkpoint", default_text(defaults.write_checkpoint),
+                        Patterns::Bool(),
                         "Write <Directory>/<Base name>.checkpoint at every output time and at "
                         "the end (replaced atomically), for 'granhydro --resume' and 'Initial "
                         "state/Checkpoint'.");
-      prm.declare_entry("Keep checkpoints", "1", Patterns::Anything(),
+      prm.declare_entry("Keep checkpoints", default_text(defaults.keep_checkpoints),
+                        Patterns::Anything(),
                         "How many checkpoints to keep, a whole number 1..1000. 1: only the latest, "
                         "<Base name>.checkpoint (and the one before it as <Base name>.checkpoint.bak). "
                         "N > 1: also the N most recent as <Base name>_checkpoint_<step>.checkpoint "
@@ -82,7 +87,7 @@ namespace granhydro
                         "past each multiple of T seconds of simulated time (T > 0; the steps are "
                         "not shortened to land on it); 'off' or 0 = no history file. There is "
                         "always a row of the initial state and one of the final state.");
-      prm.declare_entry("Write summary", "true", Patterns::Bool(),
+      prm.declare_entry("Write summary", default_text(defaults.write_summary), Patterns::Bool(),
                         "Write <Base name>_summary.csv at the end of the run: one 'key,value' "
                         "line per figure of the run summary (cells, steps, wall times, smallest "
                         "and largest time step, the explicit diffusive limit, Newton/GMRES "
@@ -91,7 +96,7 @@ namespace granhydro
                         "and at the start the run records <Base name>_parameters.prm (the "
                         "scene as it runs, every parameter: a scene file that runs it again) "
                         "and <Base name>.log (what the run prints, with Verbose).");
-      prm.declare_entry("Write profiles", "true", Patterns::Bool(),
+      prm.declare_entry("Write profiles", default_text(defaults.write_profiles), Patterns::Bool(),
                         "Write <Base name>_profiles.csv: averages over the directions other "
                         "than the profile direction.");
       prm.declare_entry("Profile direction", "auto", Patterns::Selection("auto|x|y|z"),
@@ -100,9 +105,10 @@ namespace granhydro
                         "3D scenes: also write <Base name>_cross_section.csv, the averages "
                         "along this direction as a map over the other two (e.g. x for the "
                         "chute: the velocity field across the channel, paper fig. 8).");
-      prm.declare_entry("Progress interval", "5", Patterns::Double(0, Patterns::Double::max_double_value),
+      prm.declare_entry("Progress interval", default_text(defaults.progress_interval),
+                        Patterns::Double(0, Patterns::Double::max_double_value),
                         "Wall-clock seconds between progress lines (0 = every step).");
-      prm.declare_entry("Verbose", "true", Patterns::Bool(),
+      prm.declare_entry("Verbose", default_text(defaults.verbose), Patterns::Bool(),
                         "Print the run log (with 'Write summary' also into <Base name>.log).");
     }
     prm.leave_subsection();

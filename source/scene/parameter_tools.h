@@ -1,17 +1,22 @@
 #pragma once
 /**
  * @file parameter_tools.h
- * What the subsections of a scene share when they parse and check their entries: the
- * side names, number lists, number formatting for messages, and the error of a bad entry.
+ * What the subsections of a scene share when they declare, parse and check their entries:
+ * the side names, number lists, number formatting for messages, the declared defaults from
+ * the structs' initialisers, the enum parameters by their name tables (base/enum_names.h),
+ * and the error of a bad entry.
  * Private to scene/.
  */
+#include <granhydro/base/enum_names.h>
 #include <granhydro/scene/scene.h>
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/utilities.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -68,6 +73,79 @@ namespace granhydro::scene_detail
         a[i] = v;
       }
     return a;
+  }
+
+  /// a decimal as the shortest text that reads back exactly: fixed (2600, 0.05,
+  /// 1.6666666666666667) or, where shorter, scientific without padding (1e-3, 1e-10)
+  inline std::string shortest_decimal(const double v)
+  {
+    const auto reads_back = [v](const std::string &t) { return std::strtod(t.c_str(), nullptr) == v; };
+    std::string fixed, scientific;
+    for (int p = 0; p <= 17 && fixed.empty(); ++p)
+      {
+        std::ostringstream os;
+        os << std::fixed << std::setprecision(p) << v;
+        if (reads_back(os.str()))
+          fixed = os.str();
+      }
+    for (int p = 0; p <= 17 && scientific.empty(); ++p)
+      {
+        std::ostringstream os;
+        os << std::scientific << std::setprecision(p) << v;
+        std::string t = os.str(); // 1.5e-03 -> 1.5e-3, 2.6e+03 -> 2.6e3
+        const auto  e = t.find('e');
+        std::string exponent = t.substr(e + 1), sign;
+        if (exponent[0] == '-' || exponent[0] == '+')
+          {
+            sign     = exponent[0] == '-' ? "-" : "";
+            exponent = exponent.substr(1);
+          }
+        exponent = exponent.substr(std::min(exponent.find_first_not_of('0'), exponent.size() - 1));
+        t        = t.substr(0, e) + "e" + sign + exponent;
+        if (reads_back(t))
+          scientific = t;
+      }
+    return fixed.empty() || (!scientific.empty() && scientific.size() < fixed.size()) ? scientific : fixed;
+  }
+
+  /// the declared default of a parameter, from the struct member's initialiser (so the two
+  /// cannot disagree): a decimal by shortest_decimal(), whole numbers, true/false, the name
+  /// of an enum value, a text as it is, a list as "a, b, c"
+  template <typename T>
+  std::string default_text(const T &v)
+  {
+    if constexpr (std::is_same_v<T, bool>)
+      return v ? "true" : "false";
+    else if constexpr (std::is_integral_v<T>)
+      return std::to_string(v);
+    else if constexpr (std::is_floating_point_v<T>)
+      return shortest_decimal(v);
+    else if constexpr (std::is_enum_v<T>)
+      return to_string(v);
+    else if constexpr (std::is_same_v<T, std::string>)
+      return v;
+    else
+      {
+        std::string out;
+        for (const auto &x : v)
+          out += (out.empty() ? "" : ", ") + default_text(x);
+        return out;
+      }
+  }
+
+  /// the Selection of an enum parameter: the names of its table (base/enum_names.h)
+  template <typename Enum>
+  dealii::Patterns::Selection selection_of()
+  {
+    return dealii::Patterns::Selection(enum_pattern<Enum>());
+  }
+
+  /// the value of the enum parameter `name` of the current subsection of prm, `section`/`name`
+  /// named in the SceneError of a name the table does not hold
+  template <typename Enum>
+  Enum get_enum(dealii::ParameterHandler &prm, const std::string &section, const std::string &name)
+  {
+    return parse_enum<Enum>(prm.get(name), section + "/" + name);
   }
 
   /// a bad entry: throws SceneError "in <scene>: parameter '<param>': <msg>"

@@ -23,7 +23,7 @@ namespace granhydro
     c.musta_tolerance       = musta_tolerance;
     c.musta_local_cfl       = musta_local_cfl;
     c.no_slip_pressure_flux = no_slip_pressure_flux;
-    c.no_wall_tension       = model == "granular" && cohesionless;
+    c.no_wall_tension       = model == Model::granular && cohesionless;
     c.boundary              = boundary;
     c.length_unit           = units().length;
     return c;
@@ -73,7 +73,7 @@ namespace granhydro
 
   void declare_scene_parameters(ParameterHandler &prm)
   {
-    prm.declare_entry("Dimension", "2", Patterns::Integer(1, 3),
+    prm.declare_entry("Dimension", default_text(Scene().dimension), Patterns::Integer(1, 3),
                       "Number of resolved space dimensions (1, 2 or 3). Unresolved "
                       "directions are homogeneous.");
     // the order of the subsections is the order of --print-parameters
@@ -132,7 +132,7 @@ namespace granhydro
     /// what the effects need from the material and from each other
     void check_effect_combinations(const Scene &s)
     {
-      if (s.dense_closure != "none" && s.model != "granular")
+      if (s.dense_closure != DenseClosure::none && s.model != Model::granular)
         fail(s, "Dense closure/Model", "a dense closure needs 'Material/Model = granular'");
       if (!s.convection && s.fixed_time_step <= 0)
         fail(s, "Numerics/Fixed time step", "must be positive when 'Effects/Convection' is off (the "

@@ -11,17 +11,21 @@ namespace granhydro
 
   void TimeParameters::declare_parameters(ParameterHandler &prm)
   {
+    const TimeParameters defaults;
     prm.enter_subsection("Time");
     {
-      prm.declare_entry("End time", "0.2", Patterns::Double(0, Patterns::Double::max_double_value),
+      prm.declare_entry("End time", default_text(defaults.end_time),
+                        Patterns::Double(0, Patterns::Double::max_double_value),
                         "Simulated end time [s].");
-      prm.declare_entry("Maximum wall time", "0", Patterns::Double(0, Patterns::Double::max_double_value),
+      prm.declare_entry("Maximum wall time", default_text(defaults.max_wall_seconds),
+                        Patterns::Double(0, Patterns::Double::max_double_value),
                         "Stop cleanly (final output, checkpoint, <Base name>_summary.csv with status "
                         "'wall time limit') after this many wall-clock seconds; 0 = no limit. "
                         "Restart from the checkpoint to go on.");
-      prm.declare_entry("Maximum steps", "0", Patterns::Integer(0),
+      prm.declare_entry("Maximum steps", default_text(defaults.max_steps), Patterns::Integer(0),
                         "Stop after this many steps (0 = no limit).");
-      prm.declare_entry("Steady state tolerance", "0", Patterns::Double(0, 1),
+      prm.declare_entry("Steady state tolerance", default_text(defaults.steady_tolerance),
+                        Patterns::Double(0, 1),
                         "Stop before the end time once a steady state is reached: the total "
                         "kinetic energy and the mean height (centre of mass) change by less "
                         "than this fraction between two output times (needs Output/Interval "

@@ -4,6 +4,9 @@
  * The kinds of domain boundary. The ground floor of the boundary layer: mesh,
  * convection and the scene name them, none of them owns them.
  */
+#include <granhydro/base/enum_names.h>
+
+#include <array>
 
 namespace granhydro
 {
@@ -14,4 +17,13 @@ namespace granhydro
     no_slip_wall,
     outflow
   };
+  /// Domain/Boundary x- ... z+
+  constexpr auto enum_names(BoundaryType)
+  {
+    return enum_table(EnumName{BoundaryType::periodic, "periodic"},
+                      EnumName{BoundaryType::slip_wall, "slip wall"},
+                      EnumName{BoundaryType::no_slip_wall, "no-slip wall"},
+                      EnumName{BoundaryType::outflow, "outflow"});
+  }
+  static_assert(check_enum_names(enum_names(BoundaryType{})));
 } // namespace granhydro

@@ -6,6 +6,7 @@
  * kinds. scene/ fills it (Scene::convection_settings()); the convection kernel never
  * sees the scene.
  */
+#include <granhydro/base/enum_names.h>
 #include <granhydro/boundary/boundary_conditions.h>
 
 #include <array>
@@ -19,12 +20,28 @@ namespace granhydro
     weno3,
     weno5
   };
+  /// Numerics/Reconstruction
+  constexpr auto enum_names(ReconstructionType)
+  {
+    return enum_table(EnumName{ReconstructionType::first_order, "first order"},
+                      EnumName{ReconstructionType::muscl, "muscl"},
+                      EnumName{ReconstructionType::weno3, "weno3"},
+                      EnumName{ReconstructionType::weno5, "weno5"});
+  }
+  static_assert(check_enum_names(enum_names(ReconstructionType{})));
 
   enum class FaceQuadrature
   {
     gauss,
     midpoint
   };
+  /// Numerics/Face quadrature
+  constexpr auto enum_names(FaceQuadrature)
+  {
+    return enum_table(EnumName{FaceQuadrature::gauss, "gauss"},
+                      EnumName{FaceQuadrature::midpoint, "midpoint"});
+  }
+  static_assert(check_enum_names(enum_names(FaceQuadrature{})));
 
   enum class FluxType
   {
@@ -32,6 +49,13 @@ namespace granhydro
     rusanov,
     hll
   };
+  /// Numerics/Flux
+  constexpr auto enum_names(FluxType)
+  {
+    return enum_table(EnumName{FluxType::musta, "musta"}, EnumName{FluxType::rusanov, "rusanov"},
+                      EnumName{FluxType::hll, "hll"});
+  }
+  static_assert(check_enum_names(enum_names(FluxType{})));
 } // namespace granhydro
 
 namespace granhydro::convection

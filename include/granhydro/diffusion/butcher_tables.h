@@ -12,6 +12,9 @@
  *     c = (g, 1), A = [[g, 0], [1 - g, g]], b = (1 - g, g): order 2, L-stable and
  *     stiffly accurate (U1 is the last stage value)
  */
+#include <granhydro/base/enum_names.h>
+
+#include <array>
 #include <vector>
 
 namespace granhydro::diffusion
@@ -26,6 +29,18 @@ namespace granhydro::diffusion
     automatic,
     explicit_euler
   };
+  /// Diffusion step/Integrator
+  constexpr auto enum_names(ImplicitMethod)
+  {
+    return enum_table(EnumName{ImplicitMethod::gauss_legendre, "gauss-legendre"},
+                      EnumName{ImplicitMethod::implicit_midpoint, "implicit midpoint"},
+                      EnumName{ImplicitMethod::sdirk2, "sdirk2"},
+                      EnumName{ImplicitMethod::rkl2, "rkl2"},
+                      EnumName{ImplicitMethod::cost_based, "cost-based"},
+                      EnumName{ImplicitMethod::automatic, "automatic"},
+                      EnumName{ImplicitMethod::explicit_euler, "explicit euler"});
+  }
+  static_assert(check_enum_names(enum_names(ImplicitMethod{})));
 
   /// Butcher table (A, b, c = row sums of A) of the implicit Runge-Kutta methods above
   struct ButcherTableau

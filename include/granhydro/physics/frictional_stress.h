@@ -35,6 +35,8 @@
  * Units: any consistent set (the solver's scaled units: m = 1, d = sigma = 1, so
  * Theta / d^2 = T).
  */
+#include <granhydro/base/enum_names.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -47,6 +49,13 @@ namespace granhydro::physics
     newtonian,
     srivastava_sundaresan
   };
+  /// Dense closure/Frictional stress
+  constexpr auto enum_names(FrictionalLaw)
+  {
+    return enum_table(EnumName{FrictionalLaw::newtonian, "newtonian"},
+                      EnumName{FrictionalLaw::srivastava_sundaresan, "srivastava-sundaresan"});
+  }
+  static_assert(check_enum_names(enum_names(FrictionalLaw{})));
 
   /// div u and S:S (S the deviatoric strain rate) from grad_u[j][l] = d u_l / d x_j over the
   /// resolved directions (unresolved components and derivatives are zero)

@@ -4,22 +4,39 @@
  * The 'Dense closure' subsection of a scene: the optional contact/frictional stresses of
  * the dense regime (off by default; physics/contact_pressure.h).
  */
+#include <granhydro/base/enum_names.h>
+#include <granhydro/physics/frictional_stress.h>
+
 #include <deal.II/base/parameter_handler.h>
 
+#include <array>
 #include <string>
 
 namespace granhydro
 {
+  /// Dense closure/Model
+  enum class DenseClosure
+  {
+    none,
+    johnson_jackson
+  };
+  constexpr auto enum_names(DenseClosure)
+  {
+    return enum_table(EnumName{DenseClosure::none, "none"},
+                      EnumName{DenseClosure::johnson_jackson, "johnson-jackson"});
+  }
+  static_assert(check_enum_names(enum_names(DenseClosure{})));
+
   struct Scene;
 
   struct DenseClosureParameters
   {
-    std::string dense_closure = "none"; // none | johnson-jackson
+    DenseClosure dense_closure  = DenseClosure::none;
     double      closure_F       = 0.05; // [Pa]
-    double      closure_phi_min = 0.5;
+    double      closure_phi_min = 0.62;
     double      closure_r       = 2;
     double      closure_s       = 5;
-    std::string frictional_stress = "newtonian"; // | srivastava-sundaresan
+    physics::FrictionalLaw frictional_stress = physics::FrictionalLaw::newtonian;
     double      closure_time    = 0.5;  // t_f [s]: mu_f = t_f sin(theta_f) p_f, or its bound
     double      closure_angle   = 28.5; // theta_f [degrees]
 

@@ -22,11 +22,13 @@ namespace granhydro
     /// a relative name resolved against the scene file's directory (mesh/mesh_file.h)
     std::string  mesh_file;
     unsigned int mesh_refinements = 0; ///< global refinements of the file's coarse mesh
-    std::array<double, 3>       lower{{0, 0, 0}}, upper{{1, 1, 1}};
-    std::array<unsigned int, 3> cells{{1, 1, 1}};
+    std::array<double, 3>       lower{{0, 0, 0}}, upper{{0.1, 0.1, 0.1}};
+    std::array<unsigned int, 3> cells{{100, 100, 1}};
     /// boundary[2*d] lower side, boundary[2*d+1] upper side of direction d; with a mesh
     /// file, boundary[i] applies to the faces with boundary id i (whatever their direction)
-    std::array<BoundaryType, 6> boundary{};
+    std::array<BoundaryType, 6> boundary{{BoundaryType::slip_wall, BoundaryType::slip_wall,
+                                          BoundaryType::slip_wall, BoundaryType::slip_wall,
+                                          BoundaryType::slip_wall, BoundaryType::slip_wall}};
     /// tangential velocity of each wall [m/s] (no-slip walls), 3 components
     std::array<std::array<double, 3>, 6> wall_velocity{};
     /// grain-wall restitution eps_w of each wall (1 = elastic/adiabatic, doc/physics.md 5.2)

@@ -3,6 +3,8 @@
  * @file material.h
  * The 'Material' subsection of a scene: the constitutive model and the grains.
  */
+#include <granhydro/physics/material_model.h>
+
 #include <deal.II/base/parameter_handler.h>
 
 #include <string>
@@ -13,7 +15,7 @@ namespace granhydro
 
   struct MaterialParameters
   {
-    std::string model = "ideal gas";
+    Model  model = Model::ideal_gas;
     double grain_diameter   = 1e-3;
     double material_density = 2600;
     double adiabatic_index  = 5. / 3.;

@@ -51,7 +51,7 @@ namespace granhydro
                  OutputParameters
   {
     std::string source = "<default scene>";
-    unsigned int dimension = 1;
+    unsigned int dimension = 2;
     /// how the scene was read, for the run records: the -p overrides as given, and the
     /// scene they gave as a scene file of its own (expanded_scene_text())
     std::vector<std::string> overrides;
@@ -107,9 +107,4 @@ namespace granhydro
 
   /// check every impossible combination; throws SceneError
   void validate(const Scene &scene);
-
-  std::string to_string(ReconstructionType);
-  std::string to_string(FluxType);
-  std::string to_string(FaceQuadrature);
-  std::string to_string(BoundaryType);
 } // namespace granhydro

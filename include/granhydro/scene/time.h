@@ -11,7 +11,7 @@ namespace granhydro
 
   struct TimeParameters
   {
-    double       end_time  = 1;
+    double       end_time  = 0.2;
     unsigned int max_steps = 0;
     double       max_wall_seconds = 0; ///< 0 = no limit
     double       steady_tolerance = 0; // stop when KE and centre of mass change less per output interval
