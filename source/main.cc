@@ -82,12 +82,13 @@ namespace
     const double ranks = dealii::Utilities::MPI::n_mpi_processes(comm);
     const double share = std::ceil(cells / ranks);
     // the halo: ghost width (WENO5 3, MUSCL/WENO3 2, first order 1) plus the gradient's layer
-    const double layers   = s.reconstruction == granhydro::ReconstructionType::weno5       ? 4 :
-                            s.reconstruction == granhydro::ReconstructionType::first_order ? 2 :
-                                                                                              3;
-    const double halo     = ranks > 1 ? std::min(cells - share, 2. * s.dimension * layers *
-                                                                 std::pow(share, (s.dimension - 1.) / s.dimension)) :
-                                        0.;
+    const double layers = s.reconstruction == granhydro::ReconstructionType::weno5       ? 4 :
+                          s.reconstruction == granhydro::ReconstructionType::first_order ? 2 :
+                                                                                           3;
+    const double halo   = ranks > 1 ?
+                            std::min(cells - share, 2. * s.dimension * layers *
+                                                      std::pow(share, (s.dimension - 1.) / s.dimension)) :
+                            0.;
     using granhydro::diffusion::ImplicitMethod;
     const double per_cell = !s.diffusion_active()                          ? 2.3 * 1024 :
                             s.integrator == ImplicitMethod::gauss_legendre ? 13.1 * 1024 :

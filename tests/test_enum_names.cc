@@ -11,9 +11,9 @@
 #include <granhydro/base/enum_names.h>
 #include <granhydro/scene/scene.h>
 
-#include "common/test_common.h"
-
 #include <deal.II/base/parameter_handler.h>
+
+#include "common/test_common.h"
 
 #include <string>
 #include <vector>
@@ -102,9 +102,9 @@ namespace
       }
     for (unsigned int d = 0; d < depth; ++d)
       prm.leave_subsection();
-    chk.check(has_name && accepted && refused,
-              parameter + ": declared with the table's Selection (default '" +
-                (has_name ? to_string(deflt) : std::string("?")) + "')");
+    chk.check(has_name && accepted && refused, parameter +
+                                                 ": declared with the table's Selection (default '" +
+                                                 (has_name ? to_string(deflt) : std::string("?")) + "')");
 
     // a wrong name: SceneError naming the parameter and every allowed name
     std::string message;

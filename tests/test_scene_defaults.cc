@@ -7,9 +7,9 @@
 // fields).
 #include <granhydro/scene/scene.h>
 
-#include "common/test_common.h"
-
 #include <deal.II/base/parameter_handler.h>
+
+#include "common/test_common.h"
 
 #include <array>
 #include <sstream>
@@ -45,8 +45,8 @@ namespace
 
   /// the fields of `a` and `b` (tuples of references) compared one by one, named by `names`
   template <typename Tuple, std::size_t N>
-  void compare(const std::string &section, const Tuple &a, const Tuple &b,
-               const char *const (&names)[N], Checker &chk)
+  void compare(const std::string &section, const Tuple &a, const Tuple &b, const char *const (&names)[N],
+               Checker &chk)
   {
     static_assert(std::tuple_size_v<Tuple> == N, "one name per field");
     std::apply(
@@ -115,8 +115,8 @@ namespace
   }
 
   template <typename Parameters, std::size_t N>
-  void check_section(const std::string &section, const Scene &declared,
-                     const char *const (&names)[N], Checker &chk)
+  void check_section(const std::string &section, const Scene &declared, const char *const (&names)[N],
+                     Checker &chk)
   {
     const Parameters defaults{};
     compare(section, fields(defaults), fields(static_cast<const Parameters &>(declared)), names, chk);
@@ -125,7 +125,7 @@ namespace
 
 int main()
 {
-  Checker chk;
+  Checker                  chk;
   dealii::ParameterHandler prm;
   declare_scene_parameters(prm);
   // as scene_from() parses, without the validation (the declared defaults alone are not
@@ -146,57 +146,50 @@ int main()
   chk.check(Scene().dimension == s.dimension, "Dimension: struct " + std::to_string(Scene().dimension) +
                                                 ", declared " + std::to_string(s.dimension));
   check_section<DomainParameters>("Domain", s,
-                                  {"mesh_file", "mesh_refinements", "lower", "upper", "cells",
-                                             "boundary", "wall_velocity", "wall_restitution"},
+                                  {"mesh_file", "mesh_refinements", "lower", "upper", "cells", "boundary",
+                                   "wall_velocity", "wall_restitution"},
                                   chk);
   check_section<MaterialParameters>("Material", s,
-                                    {"model", "grain_diameter", "material_density",
-                                               "adiabatic_index", "restitution", "friction",
-                                               "phi_freezing", "phi_close_packing", "guard_delta",
-                                               "max_free_path", "cohesionless"},
+                                    {"model", "grain_diameter", "material_density", "adiabatic_index",
+                                     "restitution", "friction", "phi_freezing", "phi_close_packing",
+                                     "guard_delta", "max_free_path", "cohesionless"},
                                     chk);
   check_section<DenseClosureParameters>("Dense closure", s,
-                                        {"dense_closure", "closure_F", "closure_phi_min",
-                                                   "closure_r", "closure_s", "frictional_stress",
-                                                   "closure_time", "closure_angle"},
+                                        {"dense_closure", "closure_F", "closure_phi_min", "closure_r",
+                                         "closure_s", "frictional_stress", "closure_time", "closure_angle"},
                                         chk);
   check_section<InitialStateParameters>("Initial state", s,
                                         {"initial_packing_fraction", "initial_velocity",
-                                                   "initial_temperature", "initial_constants",
-                                                   "initial_quadrature", "initial_checkpoint"},
+                                         "initial_temperature", "initial_constants", "initial_quadrature",
+                                         "initial_checkpoint"},
                                         chk);
   check_section<NumericsParameters>("Numerics", s,
-                                    {"reconstruction", "face_quadrature", "no_slip_pressure_flux",
-                                               "flux", "musta_max_stages", "musta_min_stages",
-                                               "musta_tolerance", "musta_local_cfl", "cfl",
-                                               "fixed_time_step", "reference_velocity",
-                                               "max_step_retries", "merge_strang"},
+                                    {"reconstruction", "face_quadrature", "no_slip_pressure_flux", "flux",
+                                     "musta_max_stages", "musta_min_stages", "musta_tolerance",
+                                     "musta_local_cfl", "cfl", "fixed_time_step", "reference_velocity",
+                                     "max_step_retries", "merge_strang"},
                                     chk);
   check_section<EffectsParameters>("Effects", s,
-                                   {"convection", "viscosity", "heat_conduction", "cooling",
-                                              "diagonal_flux", "gravity", "vibration_amplitude",
-                                              "vibration_frequency", "vibration_direction"},
+                                   {"convection", "viscosity", "heat_conduction", "cooling", "diagonal_flux",
+                                    "gravity", "vibration_amplitude", "vibration_frequency",
+                                    "vibration_direction"},
                                    chk);
   check_section<DiffusionStepParameters>("Diffusion step", s,
-                                         {"integrator", "newton_tolerance",
-                                                    "newton_max_iterations", "linear_tolerance",
-                                                    "inexact_newton", "reuse_matrix", "preconditioner",
-                                                    "full_jacobian"},
+                                         {"integrator", "newton_tolerance", "newton_max_iterations",
+                                          "linear_tolerance", "inexact_newton", "reuse_matrix",
+                                          "preconditioner", "full_jacobian"},
                                          chk);
   check_section<AdaptivityParameters>("Adaptivity", s,
                                       {"max_level", "adapt_indicator", "refine_threshold",
-                                                 "coarsen_threshold", "adapt_interval", "adapt_buffer",
-                                                 "load_balance"},
+                                       "coarsen_threshold", "adapt_interval", "adapt_buffer", "load_balance"},
                                       chk);
-  check_section<TimeParameters>("Time", s,
-                                {"end_time", "max_steps", "max_wall_seconds", "steady_tolerance"},
+  check_section<TimeParameters>("Time", s, {"end_time", "max_steps", "max_wall_seconds", "steady_tolerance"},
                                 chk);
   check_section<OutputParameters>("Output", s,
                                   {"output_directory", "base_name", "output_interval", "write_vtu",
-                                             "write_profiles", "write_checkpoint", "write_summary",
-                                             "profile_direction", "section_direction",
-                                             "vtu_files_per_output", "history_steps", "history_seconds",
-                                             "keep_checkpoints", "progress_interval", "verbose"},
+                                   "write_profiles", "write_checkpoint", "write_summary", "profile_direction",
+                                   "section_direction", "vtu_files_per_output", "history_steps",
+                                   "history_seconds", "keep_checkpoints", "progress_interval", "verbose"},
                                   chk);
   return chk.failed != 0;
 }

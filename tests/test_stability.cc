@@ -44,15 +44,15 @@ namespace
       for (unsigned int c = 0; c < sim.patch().n_owned(); ++c)
         {
           const double phi = cell(sim, c)[0] * M_PI / 6;
-          mx = std::max(mx, phi);
+          mx               = std::max(mx, phi);
           v[0] += phi;
           v[1] += phi * phi;
           v[2] += 1;
         }
       Utilities::MPI::sum(ArrayView<const double>(v, 3), MPI_COMM_WORLD, ArrayView<double>(v, 3));
       const double mean = v[0] / v[2];
-      return {{Utilities::MPI::max(mx, MPI_COMM_WORLD), mean,
-               std::sqrt(std::max(0., v[1] / v[2] - mean * mean))}};
+      return {
+        {Utilities::MPI::max(mx, MPI_COMM_WORLD), mean, std::sqrt(std::max(0., v[1] / v[2] - mean * mean))}};
     }
 
     /// strict admissibility of every owned cell (n > 0, T > 0, phi < phi_c, finite)
@@ -73,8 +73,8 @@ namespace
     {
       Sim sim(scene, MPI_COMM_WORLD, std::cout);
       sim.setup();
-      const auto   M0 = sim.totals();
-      const auto   p0 = packing(sim);
+      const auto   M0     = sim.totals();
+      const auto   p0     = packing(sim);
       const double floor0 = dim > 1 ? layer_phi(sim, scene, 0) : 0;
       RunSummary   sum;
       std::string  error;
@@ -86,8 +86,8 @@ namespace
         {
           error = e.what();
         }
-      const auto p1 = packing(sim);
-      const auto M1 = sim.totals();
+      const auto   p1    = packing(sim);
+      const auto   M1    = sim.totals();
       const double drift = std::abs(M1[0] - M0[0]) / M0[0];
       if (check.root)
         std::cout << kind << ": max phi " << p0[0] << " -> " << p1[0] << ", std(phi)/mean " << p0[2] / p0[1]
@@ -95,10 +95,12 @@ namespace
                   << ", rejected " << sum.rejected_steps << ", dt " << sum.min_dt_si << " .. "
                   << sum.max_dt_si << " s, min CFL dt " << sum.min_cfl_dt_si << " s, explicit limit "
                   << sum.diffusion.min_explicit_dt * sim.units().time() << " s, largest dt / explicit limit "
-                  << sum.diffusion.max_dt_over_explicit << ", temperature repairs " << sum.temperature_repairs << "\n";
+                  << sum.diffusion.max_dt_over_explicit << ", temperature repairs " << sum.temperature_repairs
+                  << "\n";
       std::string what;
       check.check(sim.convection().admissible(sim.state(), &what), "admissible final state " + what);
-      check.check(strictly_admissible(sim), "T > 0 strictly (after the temperature repair), no NaN, phi < phi_c");
+      check.check(strictly_admissible(sim),
+                  "T > 0 strictly (after the temperature repair), no NaN, phi < phi_c");
       check.check(p1[0] < sim.description().phi_c, "phi < phi_c everywhere");
       if (kind != "shock_into_bed") // the only open scene (inflow on the left)
         check.check(drift <= 1e-12, "mass conserved to 1e-12 relative");
@@ -171,7 +173,8 @@ namespace
           Utilities::MPI::sum(ArrayView<const double>(v, 2), MPI_COMM_WORLD, ArrayView<double>(v, 2));
           if (check.root)
             std::cout << "share of the grains in the right half " << v[1] / v[0] << "\n";
-          check.check(v[1] / v[0] > 0.02 && v[1] / v[0] < 0.2, "the bed expands into the vacuum (2 % .. 20 % of the grains in the right half)");
+          check.check(v[1] / v[0] > 0.02 && v[1] / v[0] < 0.2,
+                      "the bed expands into the vacuum (2 % .. 20 % of the grains in the right half)");
           check.check(sum.rejected_steps == 0, "no rejected step with the Knudsen cap");
         }
       else if (kind == "harsh_vibration")
@@ -190,7 +193,8 @@ namespace
           // the homogeneous cooling state of a gas with eps = 0.8 in a box of ~54 mean free
           // paths is unstable (clustering, Goldhirsch & Zanetti 1993): the density
           // fluctuations, seeded at 2 %, grow instead of decaying (measured growth: see note)
-          check.check(p1[2] / p1[1] > 3 * p0[2] / p0[1], "density fluctuations grow more than 3x (clustering)");
+          check.check(p1[2] / p1[1] > 3 * p0[2] / p0[1],
+                      "density fluctuations grow more than 3x (clustering)");
         }
       else if (kind == "chute_from_rest")
         {
@@ -260,13 +264,15 @@ int main(int argc, char **argv)
   std::string       variant;
   if (kind.rfind("frictional_layer", 0) == 0)
     variant = std::string("\nsubsection Effects\n  set Gravity = ") +
-              (kind.find("_rest") != std::string::npos ? "3.3552, -9.2184" : "3.9901, -8.9619") +
-              "\nend\n" +
-              (kind.find("_nofriction") != std::string::npos ? "subsection Dense closure\n  set Viscosity time = 0\nend\n" : "");
-  const Scene scene = parse_scene(read_text_file(argv[1]) + variant +
-                                    "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
-                                    "  set Write checkpoint = false\n  set Write summary = false\n  set Verbose = false\nend\n",
-                                  argv[1]);
+              (kind.find("_rest") != std::string::npos ? "3.3552, -9.2184" : "3.9901, -8.9619") + "\nend\n" +
+              (kind.find("_nofriction") != std::string::npos ?
+                 "subsection Dense closure\n  set Viscosity time = 0\nend\n" :
+                 "");
+  const Scene scene =
+    parse_scene(read_text_file(argv[1]) + variant +
+                  "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
+                  "  set Write checkpoint = false\n  set Write summary = false\n  set Verbose = false\nend\n",
+                argv[1]);
   AssertThrow(scene.model == Model::granular, ExcMessage("the hard cases are granular scenes"));
   switch (scene.dimension)
     {

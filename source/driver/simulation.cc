@@ -159,8 +159,7 @@ namespace granhydro
     if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
       pcout << "  diffusion step: "
             << (scene.diffusion_active() ?
-                  to_string(scene.integrator) + ", " + (scene.diagonal_flux ? "diagonal" : "full") +
-                    " flux" +
+                  to_string(scene.integrator) + ", " + (scene.diagonal_flux ? "diagonal" : "full") + " flux" +
                     (scene.convection ? std::string(", Strang splitting C(dt/2) V(dt) C(dt/2)") +
                                           (scene.merge_strang ? " with adjacent C halves merged" : "") :
                                         std::string()) :

@@ -49,7 +49,7 @@ namespace granhydro::io
           throw CheckpointError("cannot be read: " + std::string(std::strerror(errno)));
       }
       ~File() { ::close(fd); }
-      File(const File &) = delete;
+      File(const File &)            = delete;
       File &operator=(const File &) = delete;
     };
 
@@ -60,8 +60,14 @@ namespace granhydro::io
     public:
       PartCursor(const int fd, const CheckpointHeader &h, const CheckpointPart &part, const std::size_t p,
                  const std::size_t buffer_bytes)
-        : fd_(fd), part_(part), p_(p), nc_(h.n_components), nv_(h.n_values), row_(row_bytes(h.n_values)),
-          buf_(std::size_t(std::max<std::uint64_t>(1, buffer_bytes / row_)) * row_), values_(nv_)
+        : fd_(fd)
+        , part_(part)
+        , p_(p)
+        , nc_(h.n_components)
+        , nv_(h.n_values)
+        , row_(row_bytes(h.n_values))
+        , buf_(std::size_t(std::max<std::uint64_t>(1, buffer_bytes / row_)) * row_)
+        , values_(nv_)
       {}
 
       /// moves to the next row; false after the last one (the part is then verified)
@@ -128,8 +134,9 @@ namespace granhydro::io
       {
         while (read_ < part_.n_rows * row_)
           {
-            const std::uint64_t rows = std::min<std::uint64_t>(part_.n_rows * row_ - read_, buf_.size()) / row_;
-            end_                     = std::size_t(rows * row_);
+            const std::uint64_t rows =
+              std::min<std::uint64_t>(part_.n_rows * row_ - read_, buf_.size()) / row_;
+            end_ = std::size_t(rows * row_);
             if (!pread_all(fd_, buf_.data(), end_, part_.offset + read_))
               break;
             read_ += end_;
@@ -193,8 +200,8 @@ namespace granhydro::io
     }
 
     /// the part table against the header and the file size
-    void check_table(const CheckpointHeader &h, const std::vector<CheckpointPart> &parts, const std::uint64_t size,
-                     const int version)
+    void check_table(const CheckpointHeader &h, const std::vector<CheckpointPart> &parts,
+                     const std::uint64_t size, const int version)
     {
       const std::uint64_t row    = row_bytes(h.n_values);
       std::uint64_t       offset = head_bytes(parts.size(), version), rows = 0;
@@ -205,14 +212,15 @@ namespace granhydro::io
               (t.n_rows == 0 ? (t.first_key != -1 || t.last_key != -1 || t.checksum != fnv_basis) :
                                (t.first_key < 0 || t.last_key < t.first_key)))
             throw CheckpointError("is truncated or corrupted: part " + std::to_string(p) + " of " +
-                                  std::to_string(parts.size()) + " does not fit in its " + std::to_string(size) +
-                                  " bytes");
+                                  std::to_string(parts.size()) + " does not fit in its " +
+                                  std::to_string(size) + " bytes");
           offset += t.n_rows * row;
           rows += t.n_rows;
         }
       if (size != offset)
-        throw CheckpointError("is truncated or corrupted: " + std::to_string(size) + " bytes, but its part table announces " +
-                              std::to_string(rows) + " cells (" + std::to_string(offset) + " bytes)");
+        throw CheckpointError("is truncated or corrupted: " + std::to_string(size) +
+                              " bytes, but its part table announces " + std::to_string(rows) + " cells (" +
+                              std::to_string(offset) + " bytes)");
       if (rows != h.n_cells || rows == 0)
         throw CheckpointError("has a corrupted header: it announces " + std::to_string(h.n_cells) +
                               " cells, its parts hold " + std::to_string(rows));
@@ -222,7 +230,8 @@ namespace granhydro::io
     /// many (a merge of many parts stays within about 64 MiB)
     std::size_t buffer_bytes(const std::size_t n)
     {
-      return std::max<std::size_t>(4096, std::min<std::size_t>(1u << 20, (64u << 20) / std::max<std::size_t>(n, 1)));
+      return std::max<std::size_t>(
+        4096, std::min<std::size_t>(1u << 20, (64u << 20) / std::max<std::size_t>(n, 1)));
     }
   } // namespace
 
@@ -242,8 +251,8 @@ namespace granhydro::io
     std::string       first(std::size_t(std::min<std::uint64_t>(size, magic.size())), '\0');
     if (!pread_all(f.fd, first.data(), first.size(), 0))
       throw CheckpointError("cannot be read");
-    version_                = first == v5 ? 5 : 6;
-    const std::size_t hsize = header_bytes(version_);
+    version_                 = first == v5 ? 5 : 6;
+    const std::size_t hsize  = header_bytes(version_);
     const std::size_t prefix = magic.size() + hsize + 8;
     std::string       buf(std::size_t(std::min<std::uint64_t>(size, prefix)), '\0');
     if (!pread_all(f.fd, buf.data(), buf.size(), 0))
@@ -269,10 +278,11 @@ namespace granhydro::io
         !pread_all(f.fd, reinterpret_cast<char *>(&stored), 8, prefix + n_parts * sizeof(CheckpointPart)))
       throw CheckpointError("cannot be read");
     std::uint64_t sum = fnv1a(buf.data(), buf.size());
-    sum               = fnv1a(reinterpret_cast<const char *>(parts_.data()), n_parts * sizeof(CheckpointPart), sum);
+    sum = fnv1a(reinterpret_cast<const char *>(parts_.data()), n_parts * sizeof(CheckpointPart), sum);
     if (sum != stored)
-      throw CheckpointError("is corrupted (checksum mismatch in the header or part table): a bit flipped or a "
-                            "write was torn");
+      throw CheckpointError(
+        "is corrupted (checksum mismatch in the header or part table): a bit flipped or a "
+        "write was torn");
     if (h_.dim < 1 || h_.dim > 3 || h_.n_components != h_.dim + 2 ||
         (h_.n_values != h_.n_components && h_.n_values != 2 * h_.n_components))
       throw CheckpointError("has a corrupted header (dimension " + std::to_string(h_.dim) + ", components " +
@@ -301,7 +311,7 @@ namespace granhydro::io
     for (auto &c : cursors)
       if (c->next())
         heap.emplace(c->key(), c->part());
-    std::int64_t previous = -1;
+    std::int64_t previous      = -1;
     std::size_t  previous_part = 0;
     while (!heap.empty())
       {

@@ -12,7 +12,7 @@ namespace granhydro
   std::vector<std::pair<std::string, std::string>> active_effects(const Scene &s)
   {
     std::vector<std::pair<std::string, std::string>> e;
-    auto num = [](double v) {
+    auto                                             num = [](double v) {
       std::ostringstream os;
       os << v;
       return os.str();
@@ -32,8 +32,8 @@ namespace granhydro
       e.emplace_back("inelastic cooling", "restitution " + num(s.restitution) + " < 1");
     if (s.cooling && s.friction > 0)
       e.emplace_back("inelastic cooling, frictional grains",
-                     "restitution " + num(s.restitution) + ", Material/Friction coefficient = " +
-                       num(s.friction) + ": effective restitution " +
+                     "restitution " + num(s.restitution) +
+                       ", Material/Friction coefficient = " + num(s.friction) + ": effective restitution " +
                        num(physics::GarzoDufty1999::effective_restitution(s.restitution, s.friction)) +
                        " in the cooling rate");
     if (s.dense_closure != DenseClosure::none)

@@ -19,8 +19,7 @@ namespace granhydro
       prm.declare_entry("Maximum level", default_text(defaults.max_level), Patterns::Integer(0, 7),
                         "Adaptive octree refinement (p4est): cells may be refined this many "
                         "levels above Domain/Cells; 0 = uniform mesh. Box domains in 2D and 3D.");
-      prm.declare_entry("Indicator", to_string(defaults.adapt_indicator),
-                        selection_of<RefinementIndicator>(),
+      prm.declare_entry("Indicator", to_string(defaults.adapt_indicator), selection_of<RefinementIndicator>(),
                         "Refinement indicator, from the number density n and the pressure p: "
                         "'jumps' = the largest normalised jump across the cell's faces, "
                         "|a_L - a_R| / min(a_L, a_R); 'second differences' = Loehner's "
@@ -39,8 +38,7 @@ namespace granhydro
       prm.declare_entry("Buffer", default_text(defaults.adapt_buffer), Patterns::Integer(0, 8),
                         "Layers of cells around a cell flagged for refinement that are refined too, "
                         "so that a shock stays in the fine region until the next adaptation.");
-      prm.declare_entry("Load balance", to_string(defaults.load_balance),
-                        selection_of<LoadBalance>(),
+      prm.declare_entry("Load balance", to_string(defaults.load_balance), selection_of<LoadBalance>(),
                         "How the cells are split among the MPI ranks at each adaptation (the "
                         "results do not depend on it): 'cells' = equal numbers of cells per rank "
                         "(p4est's partition along the octree order); 'measured cost' = each "
@@ -76,20 +74,23 @@ namespace granhydro
     if (s.max_level > 0)
       {
         if (mesh)
-          fail(s, "Adaptivity/Maximum level", "adaptive meshes need a box domain (no 'Domain/Mesh "
-                                              "file'); set it to 0 for a mesh file");
+          fail(s, "Adaptivity/Maximum level",
+               "adaptive meshes need a box domain (no 'Domain/Mesh "
+               "file'); set it to 0 for a mesh file");
         if (dim == 1)
-          fail(s, "Adaptivity/Maximum level", "adaptive meshes need 'Dimension' 2 or 3; set it to 0 "
-                                              "in 1D");
+          fail(s, "Adaptivity/Maximum level",
+               "adaptive meshes need 'Dimension' 2 or 3; set it to 0 "
+               "in 1D");
         if (!(s.coarsen_threshold < s.refine_threshold))
-          fail(s, "Adaptivity/Coarsen threshold", "must be below 'Adaptivity/Refine threshold' (" +
-                                                    std::to_string(s.refine_threshold) + ")");
+          fail(s, "Adaptivity/Coarsen threshold",
+               "must be below 'Adaptivity/Refine threshold' (" + std::to_string(s.refine_threshold) + ")");
         double total = 1;
         for (unsigned int d = 0; d < dim; ++d)
           total *= double(s.cells[d]) * double(1u << s.max_level);
         if (total > 2e8)
-          fail(s, "Adaptivity/Maximum level", "the finest lattice (Domain/Cells times 2^level per "
-                                              "direction) would have more than 2e8 points");
+          fail(s, "Adaptivity/Maximum level",
+               "the finest lattice (Domain/Cells times 2^level per "
+               "direction) would have more than 2e8 points");
       }
   }
 } // namespace granhydro

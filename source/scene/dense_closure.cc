@@ -31,10 +31,10 @@ namespace granhydro
                         "next to random close packing, so a settled pile sits at 0.62-0.64; "
                         "0.5 is Johnson-Jackson's value for frictional grains (piles at about "
                         "0.58). doc/user-guide.md, 'Dense closure'.");
-      prm.declare_entry("Exponent r", default_text(defaults.closure_r),
-                        Patterns::Double(1, 10), "r (default 2, at least 1).");
-      prm.declare_entry("Exponent s", default_text(defaults.closure_s),
-                        Patterns::Double(1.5, 20), "s (default 5, above 1).");
+      prm.declare_entry("Exponent r", default_text(defaults.closure_r), Patterns::Double(1, 10),
+                        "r (default 2, at least 1).");
+      prm.declare_entry("Exponent s", default_text(defaults.closure_s), Patterns::Double(1.5, 20),
+                        "s (default 5, above 1).");
       prm.declare_entry("Frictional stress", to_string(defaults.frictional_stress),
                         selection_of<physics::FrictionalLaw>(),
                         "'newtonian' (default): mu_f = t_f sin(theta_f) p_f (OpenFOAM's "
@@ -52,8 +52,7 @@ namespace granhydro
                         "Srivastava-Sundaresan one (below strain rates of about 1/(sqrt(2) t_f) a "
                         "cold pile creeps; counted in the run summary); 0 switches the "
                         "frictional stress off, whichever law.");
-      prm.declare_entry("Friction angle", default_text(defaults.closure_angle),
-                        Patterns::Double(0, 90),
+      prm.declare_entry("Friction angle", default_text(defaults.closure_angle), Patterns::Double(0, 90),
                         "theta_f [degrees] of the frictional viscosity.");
     }
     prm.leave_subsection();
@@ -62,14 +61,14 @@ namespace granhydro
   void DenseClosureParameters::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Dense closure");
-    dense_closure   = get_enum<DenseClosure>(prm, "Dense closure", "Model");
-    closure_F       = prm.get_double("Coefficient");
-    closure_phi_min = prm.get_double("Minimum packing fraction");
-    closure_r       = prm.get_double("Exponent r");
-    closure_s       = prm.get_double("Exponent s");
+    dense_closure     = get_enum<DenseClosure>(prm, "Dense closure", "Model");
+    closure_F         = prm.get_double("Coefficient");
+    closure_phi_min   = prm.get_double("Minimum packing fraction");
+    closure_r         = prm.get_double("Exponent r");
+    closure_s         = prm.get_double("Exponent s");
     frictional_stress = get_enum<physics::FrictionalLaw>(prm, "Dense closure", "Frictional stress");
-    closure_time    = prm.get_double("Viscosity time");
-    closure_angle   = prm.get_double("Friction angle");
+    closure_time      = prm.get_double("Viscosity time");
+    closure_angle     = prm.get_double("Friction angle");
     prm.leave_subsection();
   }
 
@@ -82,6 +81,6 @@ namespace granhydro
       fail(s, "Dense closure/Coefficient", "must be positive");
     if (!(s.closure_phi_min < s.phi_close_packing - s.guard_delta))
       fail(s, "Dense closure/Minimum packing fraction",
-              "must be below phi_c - delta (Material/Close packing fraction minus guard)");
+           "must be below phi_c - delta (Material/Close packing fraction minus guard)");
   }
 } // namespace granhydro

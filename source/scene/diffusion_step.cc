@@ -25,8 +25,7 @@ namespace granhydro
                         "cost model), automatic (Gauss-Legendre, "
                         "implicit midpoint when its Newton iteration fails), or the sub-cycled "
                         "explicit Euler baseline.");
-      prm.declare_entry("Newton tolerance", default_text(defaults.newton_tolerance),
-                        Patterns::Double(0, 1),
+      prm.declare_entry("Newton tolerance", default_text(defaults.newton_tolerance), Patterns::Double(0, 1),
                         "Modified Newton stops when dt * |change of stage slopes| is below "
                         "this times the cell's own scale in every cell: its density, "
                         "sqrt(2 n E) for momenta, its energy density (at least 1e-3 of that "
@@ -44,14 +43,12 @@ namespace granhydro
                         "Eisenstat & Walker 1996 choice 2: 0.9 (|r_k|/|r_k-1|)^2 in [Linear solver "
                         "tolerance, 0.1]; the Newton tolerance stays the accuracy control) or "
                         "fixed (always Linear solver tolerance).");
-      prm.declare_entry("Reuse Newton matrix", default_text(defaults.reuse_matrix),
-                        Patterns::Bool(),
+      prm.declare_entry("Reuse Newton matrix", default_text(defaults.reuse_matrix), Patterns::Bool(),
                         "Keep the Newton matrix and its preconditioner for up to 8 further steps "
                         "while the previous step converged in <= 7 Newton iterations per stage "
                         "and dt changed by <= 10 %; a step whose iteration then fails is redone "
                         "with a fresh matrix (counted in the summary).");
-      prm.declare_entry("Preconditioner", to_string(defaults.preconditioner),
-                        selection_of<Preconditioner>(),
+      prm.declare_entry("Preconditioner", to_string(defaults.preconditioner), selection_of<Preconditioner>(),
                         "Newton matrix and preconditioner of GMRES: block ilu (granhydro's "
                         "block-sparse matrix, one dense block per pair of neighbouring cells, "
                         "with block ILU(0): the leanest and fastest), ilu (Trilinos Epetra "

@@ -37,8 +37,7 @@ namespace granhydro
                         "vertices lie within +-1e6 m, its cells (after 'Mesh refinements') are at "
                         "least 1e-3 grain diameters, and it spans at least 2 cells per direction "
                         "(1 with first-order reconstruction).");
-      prm.declare_entry("Mesh refinements", default_text(defaults.mesh_refinements),
-                        Patterns::Integer(0, 8),
+      prm.declare_entry("Mesh refinements", default_text(defaults.mesh_refinements), Patterns::Integer(0, 8),
                         "Global refinements of the mesh file's coarse cells (each halves the "
                         "cell size).");
       prm.declare_entry("Lower corner", default_text(defaults.lower), Patterns::Anything(),
@@ -59,10 +58,9 @@ namespace granhydro
                               "(reflecting, no tangential stress), no-slip wall (velocity "
                               "of the wall imposed, wall shear stress kept: doc/physics.md 5.1, "
                               "P10), outflow (transmissive, zero-gradient ghost state).");
-          prm.declare_entry(std::string("Wall velocity ") + s, default_text(defaults.wall_velocity[i]),
-                            Patterns::Anything(),
-                            std::string("Velocity of the ") + s +
-                              " wall [m/s] (no-slip walls; tangential only).");
+          prm.declare_entry(
+            std::string("Wall velocity ") + s, default_text(defaults.wall_velocity[i]), Patterns::Anything(),
+            std::string("Velocity of the ") + s + " wall [m/s] (no-slip walls; tangential only).");
           prm.declare_entry(std::string("Wall restitution ") + s, default_text(defaults.wall_restitution[i]),
                             Patterns::Double(0, 1),
                             std::string("Grain-wall restitution eps_w of the ") + s +
@@ -80,8 +78,8 @@ namespace granhydro
     prm.enter_subsection("Domain");
     mesh_file        = relative_to_scene(prm.get("Mesh file"), source_name);
     mesh_refinements = prm.get_integer("Mesh refinements");
-    lower = parse_list<double, 3>(prm.get("Lower corner"), "Domain/Lower corner", dim, 0.);
-    upper = parse_list<double, 3>(prm.get("Upper corner"), "Domain/Upper corner", dim, 1.);
+    lower            = parse_list<double, 3>(prm.get("Lower corner"), "Domain/Lower corner", dim, 0.);
+    upper            = parse_list<double, 3>(prm.get("Upper corner"), "Domain/Upper corner", dim, 1.);
     {
       const auto c = parse_list<double, 3>(prm.get("Cells"), "Domain/Cells", dim, 1.);
       for (unsigned int d = 0; d < 3; ++d)
@@ -95,8 +93,9 @@ namespace granhydro
     for (unsigned int i = 0; i < 6; ++i)
       {
         boundary[i] = get_enum<BoundaryType>(prm, "Domain", std::string("Boundary ") + side_names[i]);
-        wall_velocity[i] = parse_list<double, 3>(prm.get(std::string("Wall velocity ") + side_names[i]),
-                                                 std::string("Domain/Wall velocity ") + side_names[i], dim, 0.);
+        wall_velocity[i] =
+          parse_list<double, 3>(prm.get(std::string("Wall velocity ") + side_names[i]),
+                                std::string("Domain/Wall velocity ") + side_names[i], dim, 0.);
         wall_restitution[i] = prm.get_double(std::string("Wall restitution ") + side_names[i]);
       }
     prm.leave_subsection();
@@ -104,9 +103,9 @@ namespace granhydro
 
   MeshFileInfo DomainParameters::check_mesh(const Scene &s)
   {
-    const unsigned int dim = s.dimension;
-    const bool mesh = !s.mesh_file.empty();
-    MeshFileInfo mesh_info;
+    const unsigned int dim  = s.dimension;
+    const bool         mesh = !s.mesh_file.empty();
+    MeshFileInfo       mesh_info;
     if (mesh)
       {
         if (dim == 1)
@@ -121,16 +120,17 @@ namespace granhydro
           }
         for (unsigned int i = 0; i < 2 * dim; ++i)
           if (s.boundary[i] == BoundaryType::periodic)
-            fail(s, "Domain/Mesh file", std::string("periodic boundaries are not available with a "
-                                                    "mesh file ('Boundary ") + side_names[i] +
-                                          "' = periodic); use walls or outflow");
+            fail(s, "Domain/Mesh file",
+                 std::string("periodic boundaries are not available with a "
+                             "mesh file ('Boundary ") +
+                   side_names[i] + "' = periodic); use walls or outflow");
         // a wall moves only tangentially: check against the faces' geometric directions
         for (const auto &[id, d] : mesh_info.id_direction)
           if (s.wall_velocity[id][d] != 0)
             fail(s, "Domain/Wall velocity " + std::string(side_names[id]),
-                    "a wall moves only tangentially: the mesh has faces with boundary id " +
-                      std::to_string(id) + " normal to " + std::string(1, "xyz"[d]) +
-                      ", so the " + std::string(1, "xyz"[d]) + " component must be 0");
+                 "a wall moves only tangentially: the mesh has faces with boundary id " + std::to_string(id) +
+                   " normal to " + std::string(1, "xyz"[d]) + ", so the " + std::string(1, "xyz"[d]) +
+                   " component must be 0");
         double total = mesh_info.n_cells;
         for (unsigned int r = 0; r < s.mesh_refinements; ++r)
           total *= 1u << dim;
@@ -143,9 +143,11 @@ namespace granhydro
           {
             const std::string axis(1, "xyz"[d]);
             if (!(std::abs(mesh_info.lower[d]) <= 1e6 && std::abs(mesh_info.upper[d]) <= 1e6))
-              fail(s, "Domain/Mesh file", "vertex coordinates must lie within +-1e6 m (as the "
-                                          "corners of a box); along " + axis + " the mesh spans " +
-                                            fmt(mesh_info.lower[d]) + " .. " + fmt(mesh_info.upper[d]) + " m");
+              fail(s, "Domain/Mesh file",
+                   "vertex coordinates must lie within +-1e6 m (as the "
+                   "corners of a box); along " +
+                     axis + " the mesh spans " + fmt(mesh_info.lower[d]) + " .. " + fmt(mesh_info.upper[d]) +
+                     " m");
             const double h = mesh_info.cell_size[d] * refine;
             if (!(h >= 1e-3 * s.grain_diameter))
               fail(s, s.mesh_refinements > 0 ? "Domain/Mesh refinements" : "Domain/Mesh file",
@@ -158,13 +160,14 @@ namespace granhydro
             // asks 3 for WENO5, but 2 coarse cells of a mesh file run with it: the silo's
             // outlet, parameters/silo-ci.prm)
             const unsigned int need = s.reconstruction == ReconstructionType::first_order ? 1 : 2;
-            const double n = double(mesh_info.lattice[d]) / refine;
+            const double       n    = double(mesh_info.lattice[d]) / refine;
             if (n < need)
-              fail(s, "Domain/Mesh file", "the mesh spans " + fmt(n) + " cell(s) along " + axis +
-                                            " (after 'Domain/Mesh refinements'), reconstruction '" +
-                                            to_string(s.reconstruction) + "' needs at least " +
-                                            std::to_string(need) + " between walls; refine the mesh "
-                                            "or choose another 'Numerics/Reconstruction'");
+              fail(s, "Domain/Mesh file",
+                   "the mesh spans " + fmt(n) + " cell(s) along " + axis +
+                     " (after 'Domain/Mesh refinements'), reconstruction '" + to_string(s.reconstruction) +
+                     "' needs at least " + std::to_string(need) +
+                     " between walls; refine the mesh "
+                     "or choose another 'Numerics/Reconstruction'");
           }
       }
     return mesh_info;
@@ -183,25 +186,25 @@ namespace granhydro
         if (!(std::abs(s.upper[d]) <= 1e6))
           fail(s, "Domain/Upper corner", "coordinates must lie within +-1e6 m");
         if (!(s.upper[d] > s.lower[d]))
-          fail(s, "Domain/Upper corner", "must exceed 'Domain/Lower corner' in direction " +
-                                           std::string(1, "xyz"[d]));
+          fail(s, "Domain/Upper corner",
+               "must exceed 'Domain/Lower corner' in direction " + std::string(1, "xyz"[d]));
         if (!((s.upper[d] - s.lower[d]) / s.cells[d] >= 1e-3 * s.grain_diameter))
-          fail(s, "Domain/Cells", "cells along " + std::string(1, "xyz"[d]) +
-                                    " would be smaller than 1e-3 grain diameters (" +
-                                    fmt((s.upper[d] - s.lower[d]) / s.cells[d]) + " m)");
+          fail(s, "Domain/Cells",
+               "cells along " + std::string(1, "xyz"[d]) + " would be smaller than 1e-3 grain diameters (" +
+                 fmt((s.upper[d] - s.lower[d]) / s.cells[d]) + " m)");
         const bool plo = s.boundary[2 * d] == BoundaryType::periodic;
         const bool phi = s.boundary[2 * d + 1] == BoundaryType::periodic;
         if (plo != phi)
           fail(s, std::string("Domain/Boundary ") + side_names[2 * d + (plo ? 1 : 0)],
-                  "periodic boundaries come in pairs: set both '" + std::string(side_names[2 * d]) +
-                    "' and '" + side_names[2 * d + 1] + "' to periodic");
-        const unsigned int need =
-          s.reconstruction == ReconstructionType::weno5 ? 3 :
-          (s.reconstruction == ReconstructionType::first_order ? 1 : 2);
+               "periodic boundaries come in pairs: set both '" + std::string(side_names[2 * d]) + "' and '" +
+                 side_names[2 * d + 1] + "' to periodic");
+        const unsigned int need = s.reconstruction == ReconstructionType::weno5 ?
+                                    3 :
+                                    (s.reconstruction == ReconstructionType::first_order ? 1 : 2);
         if (!plo && s.cells[d] < need)
-          fail(s, "Domain/Cells", "direction " + std::string(1, "xyz"[d]) +
-                                    " has walls and needs at least " + std::to_string(need) +
-                                    " cells for reconstruction '" + to_string(s.reconstruction) + "'");
+          fail(s, "Domain/Cells",
+               "direction " + std::string(1, "xyz"[d]) + " has walls and needs at least " +
+                 std::to_string(need) + " cells for reconstruction '" + to_string(s.reconstruction) + "'");
       }
   }
 
@@ -219,25 +222,27 @@ namespace granhydro
         for (unsigned int k = 0; k < 3; ++k)
           {
             if (!(std::abs(s.wall_velocity[i][k]) <= 1e4))
-              fail(s, "Domain/Wall velocity " + side, "|v| = " + fmt(std::abs(s.wall_velocity[i][k])) +
-                                                        " m/s; allowed up to 1e4 m/s");
+              fail(s, "Domain/Wall velocity " + side,
+                   "|v| = " + fmt(std::abs(s.wall_velocity[i][k])) + " m/s; allowed up to 1e4 m/s");
             if (k >= dim && s.wall_velocity[i][k] != 0) // it would be ignored
-              fail(s, "Domain/Wall velocity " + side, "its " + std::string(1, "xyz"[k]) +
-                                                        " component names a direction the " +
-                                                        std::to_string(dim) + "D scene does not resolve");
+              fail(s, "Domain/Wall velocity " + side,
+                   "its " + std::string(1, "xyz"[k]) + " component names a direction the " +
+                     std::to_string(dim) + "D scene does not resolve");
           }
         if (vmax != 0 && s.boundary[i] != BoundaryType::no_slip_wall)
-          fail(s, "Domain/Wall velocity " + side, "only no-slip walls move (the boundary is " +
-                                                    to_string(s.boundary[i]) + ")");
+          fail(s, "Domain/Wall velocity " + side,
+               "only no-slip walls move (the boundary is " + to_string(s.boundary[i]) + ")");
         if (!(vmax <= 1e4))
           fail(s, "Domain/Wall velocity " + side, "|v| = " + fmt(vmax) + " m/s; allowed up to 1e4 m/s");
         if (!mesh && s.wall_velocity[i][d] != 0)
-          fail(s, "Domain/Wall velocity " + side, "a wall moves only tangentially: its component "
-                                                  "along " + std::string(1, "xyz"[d]) + " must be 0");
+          fail(s, "Domain/Wall velocity " + side,
+               "a wall moves only tangentially: its component "
+               "along " +
+                 std::string(1, "xyz"[d]) + " must be 0");
         if (s.wall_restitution[i] < 1 &&
             (s.boundary[i] == BoundaryType::periodic || s.boundary[i] == BoundaryType::outflow))
-          fail(s, "Domain/Wall restitution " + side, "only walls dissipate (the boundary is " +
-                                                       to_string(s.boundary[i]) + ")");
+          fail(s, "Domain/Wall restitution " + side,
+               "only walls dissipate (the boundary is " + to_string(s.boundary[i]) + ")");
         if (s.wall_restitution[i] < 1 && s.model != Model::granular)
           fail(s, "Domain/Wall restitution " + side, "dissipative walls need 'Material/Model = granular'");
       }
@@ -245,9 +250,9 @@ namespace granhydro
 
   void DomainParameters::check_cell_count(const Scene &s)
   {
-    const unsigned int dim  = s.dimension;
-    const bool         mesh = !s.mesh_file.empty();
-    double total = 1;
+    const unsigned int dim   = s.dimension;
+    const bool         mesh  = !s.mesh_file.empty();
+    double             total = 1;
     for (unsigned int d = 0; d < dim; ++d)
       total *= s.cells[d];
     if (!mesh && total > 5e7)

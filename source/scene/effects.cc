@@ -50,16 +50,16 @@ namespace granhydro
   void EffectsParameters::parse_parameters(ParameterHandler &prm, const unsigned int dim)
   {
     prm.enter_subsection("Effects");
-    convection      = prm.get_bool("Convection");
-    viscosity       = prm.get_bool("Viscosity");
-    heat_conduction = prm.get_bool("Heat conduction");
-    cooling         = prm.get_bool("Cooling");
-    diagonal_flux   = prm.get("Diffusive flux") == "diagonal";
-    gravity         = parse_list<double, 3>(prm.get("Gravity"), "Effects/Gravity", dim, 0.);
+    convection          = prm.get_bool("Convection");
+    viscosity           = prm.get_bool("Viscosity");
+    heat_conduction     = prm.get_bool("Heat conduction");
+    cooling             = prm.get_bool("Cooling");
+    diagonal_flux       = prm.get("Diffusive flux") == "diagonal";
+    gravity             = parse_list<double, 3>(prm.get("Gravity"), "Effects/Gravity", dim, 0.);
     vibration_amplitude = prm.get_double("Vibration amplitude");
     vibration_frequency = prm.get_double("Vibration frequency");
     {
-      const std::string v  = prm.get("Vibration direction");
+      const std::string v = prm.get("Vibration direction");
       vibration_direction = v == "x" ? 0 : (v == "y" ? 1 : 2);
     }
     prm.leave_subsection();
@@ -78,8 +78,8 @@ namespace granhydro
         fail(s, "Effects/Gravity", "|g| = " + fmt(std::sqrt(g2)) + " m/s^2; allowed up to 1e5 m/s^2");
       const double a = s.vibration_amplitude * std::pow(2 * M_PI * s.vibration_frequency, 2);
       if (!(a <= 1e6))
-        fail(s, "Effects/Vibration amplitude", "the container's acceleration A (2 pi f)^2 = " + fmt(a) +
-                                                 " m/s^2; allowed up to 1e6 m/s^2");
+        fail(s, "Effects/Vibration amplitude",
+             "the container's acceleration A (2 pi f)^2 = " + fmt(a) + " m/s^2; allowed up to 1e6 m/s^2");
     }
   }
 
@@ -87,11 +87,12 @@ namespace granhydro
   {
     const unsigned int dim = s.dimension;
     if ((s.vibration_amplitude > 0) != (s.vibration_frequency > 0))
-      fail(s, "Effects/Vibration frequency", "a vibrated container needs both a positive "
-                                             "'Vibration amplitude' and 'Vibration frequency'");
+      fail(s, "Effects/Vibration frequency",
+           "a vibrated container needs both a positive "
+           "'Vibration amplitude' and 'Vibration frequency'");
     if (s.vibration_amplitude > 0 && s.vibration_direction >= dim)
-      fail(s, "Effects/Vibration direction", "names a direction the " + std::to_string(dim) +
-                                               "D scene does not resolve");
+      fail(s, "Effects/Vibration direction",
+           "names a direction the " + std::to_string(dim) + "D scene does not resolve");
     if (s.vibration_amplitude > 0 && s.model != Model::granular)
       fail(s, "Effects/Vibration amplitude", "a vibrated container needs 'Material/Model = granular'");
   }

@@ -3,18 +3,18 @@
 #include <granhydro/scene/initial_state.h>
 #include <granhydro/scene/scene.h>
 
-#include "parameter_tools.h"
-
 #include <deal.II/base/function_parser.h>
 #include <deal.II/base/utilities.h>
 
+#include "parameter_tools.h"
+
 #include <cctype>
-#include <cstdlib>
-#include <set>
 #include <cmath>
+#include <cstdlib>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -36,8 +36,7 @@ namespace granhydro
       prm.declare_entry("Velocity", default_text(defaults.initial_velocity), Patterns::Anything(),
                         "Expressions for the velocity components [m/s], separated by ';' "
                         "(one per dimension or 3).");
-      prm.declare_entry("Temperature", default_text(defaults.initial_temperature),
-                        Patterns::Anything(),
+      prm.declare_entry("Temperature", default_text(defaults.initial_temperature), Patterns::Anything(),
                         "Expression for the granular temperature T [J] (energy units, > 0): at "
                         "least 1e-12 m V0^2 (V0 the velocity unit), and it must survive the "
                         "conversion to the conserved energy beside the kinetic energy.");
@@ -48,8 +47,7 @@ namespace granhydro
                         Patterns::Integer(1, 8),
                         "Gauss points per direction used to average the initial state "
                         "over each cell (finite-volume cell averages).");
-      prm.declare_entry("Checkpoint", default_text(defaults.initial_checkpoint),
-                        Patterns::Anything(),
+      prm.declare_entry("Checkpoint", default_text(defaults.initial_checkpoint), Patterns::Anything(),
                         "A checkpoint file written by an earlier run of the same mesh "
                         "(Output/Write checkpoint): the state, time and step are read from "
                         "it and the run continues to 'Time/End time' (any number of MPI "
@@ -82,8 +80,10 @@ namespace granhydro
       {
         const auto kv = dealii::Utilities::split_string_list(c, '=');
         if (kv.size() != 2)
-          throw SceneError("in " + s.source + ": parameter 'Initial state/Constants': expected "
-                           "'name=value' pairs, got '" + c + "'");
+          throw SceneError("in " + s.source +
+                           ": parameter 'Initial state/Constants': expected "
+                           "'name=value' pairs, got '" +
+                           c + "'");
         const std::string &name = kv[0];
         bool ident = !name.empty() && (std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_');
         for (const char ch : name)
@@ -97,10 +97,10 @@ namespace granhydro
         // the expressions' functions (muParser's and deal.II's): a constant 'sin' was
         // accepted and then shadowed or was shadowed by the function
         static const std::set<std::string> functions = {
-          "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "asinh", "acosh",
-          "atanh", "log2", "log10", "log", "ln", "exp", "sqrt", "sign", "rint", "abs", "min", "max",
-          "sum", "avg", "if", "int", "ceil", "floor", "cot", "csc", "sec", "pow", "erf", "erfc",
-          "rand", "rand_seed", "atan2", "fmod", "_pi", "_e"};
+          "sin",   "cos",  "tan",   "asin",      "acos",  "atan", "sinh",  "cosh", "tanh", "asinh", "acosh",
+          "atanh", "log2", "log10", "log",       "ln",    "exp",  "sqrt",  "sign", "rint", "abs",   "min",
+          "max",   "sum",  "avg",   "if",        "int",   "ceil", "floor", "cot",  "csc",  "sec",   "pow",
+          "erf",   "erfc", "rand",  "rand_seed", "atan2", "fmod", "_pi",   "_e"};
         if (functions.count(name))
           throw SceneError("in " + s.source + ": parameter 'Initial state/Constants': '" + name +
                            "' is the name of a function of the expressions; choose another name");
@@ -110,11 +110,14 @@ namespace granhydro
         double             v;
         std::istringstream is(kv[1]);
         if (constants.size() > 1000)
-          throw SceneError("in " + s.source + ": parameter 'Initial state/Constants': more than "
+          throw SceneError("in " + s.source +
+                           ": parameter 'Initial state/Constants': more than "
                            "1000 constants; an initial state needs a few");
         if (!(is >> v) || !(is >> std::ws).eof() || !usable_decimal(v))
-          throw SceneError("in " + s.source + ": parameter 'Initial state/Constants': cannot read "
-                           "the value of '" + name + "' ('" + kv[1] + "' is not a finite number)");
+          throw SceneError("in " + s.source +
+                           ": parameter 'Initial state/Constants': cannot read "
+                           "the value of '" +
+                           name + "' ('" + kv[1] + "' is not a finite number)");
         constants[name] = v;
       }
     return constants;
@@ -129,7 +132,7 @@ namespace granhydro
     std::string sample_initial_state(const Scene &s, const std::map<std::string, double> &constants,
                                      const std::vector<std::array<double, 3>> &mesh_centres)
     {
-      const std::string vars = dim == 1 ? "x" : (dim == 2 ? "x,y" : "x,y,z");
+      const std::string           vars = dim == 1 ? "x" : (dim == 2 ? "x,y" : "x,y,z");
       dealii::FunctionParser<dim> phi(1), T(1), u(dim);
       phi.initialize(vars, s.initial_packing_fraction, constants);
       T.initialize(vars, s.initial_temperature, constants);
@@ -148,8 +151,8 @@ namespace granhydro
       // path (and the diffusivities) diverge as phi -> 0 and the implicit step's Newton
       // iteration stalls (a box at phi = 1e-12 under gravity stopped at step 0; it runs with
       // the cap)
-      const bool uncapped = granular && s.diffusion_active() && (s.viscosity || s.heat_conduction) &&
-                            !(s.max_free_path > 0);
+      const bool uncapped =
+        granular && s.diffusion_active() && (s.viscosity || s.heat_conduction) && !(s.max_free_path > 0);
       for (std::size_t k = 0; k < total; ++k)
         {
           dealii::Point<dim> x;
@@ -164,37 +167,40 @@ namespace granhydro
           where << " at x = " << x;
           const double p = phi.value(x), t = T.value(x);
           if (!std::isfinite(p) || !(p > 0))
-            return "Initial state/Packing fraction|must be positive and finite everywhere: " +
-                   fmt(p) + where.str();
+            return "Initial state/Packing fraction|must be positive and finite everywhere: " + fmt(p) +
+                   where.str();
           if (!(p >= 1e-12))
             return "Initial state/Packing fraction|must be at least 1e-12 (the scaled density "
-                   "would underflow): " + fmt(p) + where.str();
+                   "would underflow): " +
+                   fmt(p) + where.str();
           if (uncapped && p < 1e-6)
             return "Material/Maximum mean free path|is 0 (off), but the packing fraction is " + fmt(p) +
-                   where.str() + ": below 1e-6 the uncapped transport coefficients diverge with the "
+                   where.str() +
+                   ": below 1e-6 the uncapped transport coefficients diverge with the "
                    "mean free path and the implicit step cannot follow; set a Knudsen cap (e.g. the "
                    "grain diameter or a few cell sizes) or raise 'Initial state/Packing fraction'";
           if (granular && !(p < phi_max))
-            return "Initial state/Packing fraction|must stay below phi_c - guard = " +
-                   fmt(phi_max) + " (Material/Close packing fraction, Close packing "
-                                             "guard): " + fmt(p) + where.str();
+            return "Initial state/Packing fraction|must stay below phi_c - guard = " + fmt(phi_max) +
+                   " (Material/Close packing fraction, Close packing "
+                   "guard): " +
+                   fmt(p) + where.str();
           if (!std::isfinite(t) || !(t > 0))
-            return "Initial state/Temperature|must be positive and finite everywhere: " +
-                   fmt(t) + where.str();
+            return "Initial state/Temperature|must be positive and finite everywhere: " + fmt(t) +
+                   where.str();
           if (!(std::sqrt(t / s.grain_mass()) <= 1e4))
             return "Initial state/Temperature|gives a thermal speed sqrt(T/m) of " +
-                   fmt(std::sqrt(t / s.grain_mass())) + " m/s; allowed up to 1e4 m/s: " + fmt(t) +
-                   " J" + where.str();
+                   fmt(std::sqrt(t / s.grain_mass())) + " m/s; allowed up to 1e4 m/s: " + fmt(t) + " J" +
+                   where.str();
           for (unsigned int d = 0; d < dim; ++d)
             if (!std::isfinite(u.value(x, d)) || !(std::abs(u.value(x, d)) <= 1e4))
               return "Initial state/Velocity|must be finite and within 1e4 m/s everywhere" + where.str();
           // the state as the run stores it (Simulation::set_initial_state: scaled number
           // density, number momentum and total energy) and T back from it: T = 1e-30 J at
           // 1e3 m/s was lost against the kinetic energy and the run stopped at step 0
-          const Units  un = s.units();
-          const double c  = granular ? 1.5 : 1. / (s.adiabatic_index - 1.);
-          const double n  = 6. * p / (M_PI * std::pow(s.grain_diameter, 3)); // [1/m^3]
-          const double ns = n / un.number_density();
+          const Units  un    = s.units();
+          const double c     = granular ? 1.5 : 1. / (s.adiabatic_index - 1.);
+          const double n     = 6. * p / (M_PI * std::pow(s.grain_diameter, 3)); // [1/m^3]
+          const double ns    = n / un.number_density();
           double       ke_si = 0, ke_s = 0;
           for (unsigned int d = 0; d < dim; ++d)
             {
@@ -206,9 +212,11 @@ namespace granhydro
           const double Ts = (Es - ke_s) / (c * ns), back = Ts * un.energy();
           if (!(std::abs(back - t) <= 1e-6 * t) || !(std::abs(Ts) >= 1e-300))
             return "Initial state/Temperature|" + fmt(t) + " J" + where.str() +
-                   " does not survive the conversion to the conserved variables (read back: " +
-                   fmt(back) + " J): the thermal energy n T is lost against the kinetic energy n m "
-                   "|u|^2 / 2 = " + fmt(ke_si / n) + " J per grain (or the scaled value underflows); "
+                   " does not survive the conversion to the conserved variables (read back: " + fmt(back) +
+                   " J): the thermal energy n T is lost against the kinetic energy n m "
+                   "|u|^2 / 2 = " +
+                   fmt(ke_si / n) +
+                   " J per grain (or the scaled value underflows); "
                    "raise the temperature or lower 'Initial state/Velocity' (T / (m |u|^2) must "
                    "stay above about 1e-9)";
           // the temperature in the internal units (grain mass times V0^2): T = 1e-30 J
@@ -218,7 +226,8 @@ namespace granhydro
                    " is below 1e-12 of the internal energy unit m V0^2 = " + fmt(un.energy()) +
                    " J (a thermal speed below 1e-6 V0, V0 = " + fmt(un.velocity) +
                    " m/s: sqrt(9.81 m/s^2 sigma) or 'Numerics/Reference velocity'): it is lost to "
-                   "round-off in the first steps; allowed down to " + fmt(1e-12 * un.energy()) + " J";
+                   "round-off in the first steps; allowed down to " +
+                   fmt(1e-12 * un.energy()) + " J";
         }
       return {};
     }
@@ -235,8 +244,10 @@ namespace granhydro
           {
             depth += ch == '(' ? 1 : (ch == ')' ? -1 : 0);
             if (ch == ',' && depth == 0)
-              fail(s, param, "'" + expr + "' holds several expressions separated by ','; give one "
-                             "(commas only inside function calls such as if(x < 0.1, a, b))");
+              fail(s, param,
+                   "'" + expr +
+                     "' holds several expressions separated by ','; give one "
+                     "(commas only inside function calls such as if(x < 0.1, a, b))");
           }
       }
       // every number written in the expression usable, as a plain value must be (a
@@ -251,13 +262,14 @@ namespace granhydro
           char        *end = nullptr;
           const double v   = std::strtod(expr.c_str() + i, &end);
           if (!usable_decimal(v))
-            fail(s, param, "the number '" + std::string(expr.c_str() + i, static_cast<const char *>(end)) + "' in '" + expr +
-                             "' is not usable (" + usable_decimal_rule + ")");
+            fail(s, param,
+                 "the number '" + std::string(expr.c_str() + i, static_cast<const char *>(end)) + "' in '" +
+                   expr + "' is not usable (" + usable_decimal_rule + ")");
           i = std::size_t(end - expr.c_str()) - 1;
         }
       // muParser prints its own diagnostics to std::cerr; keep them out of the message
       std::ostringstream quiet;
-      auto *old_buf = std::cerr.rdbuf(quiet.rdbuf());
+      auto              *old_buf = std::cerr.rdbuf(quiet.rdbuf());
       struct Restore
       {
         std::streambuf *b;
@@ -295,15 +307,17 @@ namespace granhydro
         }
       catch (const std::exception &e)
         {
-          fail(s, param, "cannot parse expression '" + expr + "' (variables: " +
-                           std::string(dim == 1 ? "x" : (dim == 2 ? "x, y" : "x, y, z")) +
-                           "): " + human_message(e.what()));
+          fail(s, param,
+               "cannot parse expression '" + expr +
+                 "' (variables: " + std::string(dim == 1 ? "x" : (dim == 2 ? "x, y" : "x, y, z")) +
+                 "): " + human_message(e.what()));
         }
       catch (...) // muParser's own ParserError is not a std::exception
         {
-          fail(s, param, "cannot parse expression '" + expr + "' (variables: " +
-                           std::string(dim == 1 ? "x" : (dim == 2 ? "x, y" : "x, y, z")) +
-                           "; check it and 'Initial state/Constants')");
+          fail(s, param,
+               "cannot parse expression '" + expr +
+                 "' (variables: " + std::string(dim == 1 ? "x" : (dim == 2 ? "x, y" : "x, y, z")) +
+                 "; check it and 'Initial state/Constants')");
         }
     }
 
@@ -325,11 +339,12 @@ namespace granhydro
         }
       const auto &h = d->header();
       if (h.dim != int(s.dimension))
-        fail(s, "Initial state/Checkpoint", cp + "holds a " + std::to_string(h.dim) +
-                                              "D state; the scene is " + std::to_string(s.dimension) + "D");
+        fail(s, "Initial state/Checkpoint",
+             cp + "holds a " + std::to_string(h.dim) + "D state; the scene is " +
+               std::to_string(s.dimension) + "D");
       if (std::string(h.model) != to_string(s.model))
         fail(s, "Initial state/Checkpoint",
-                cp + "was written with 'Material/Model = " + std::string(h.model) + "'");
+             cp + "was written with 'Material/Model = " + std::string(h.model) + "'");
       // the mesh, as the run matches it (Simulation::read_checkpoint): a checkpoint of another
       // mesh passed --check and was refused by the run
       {
@@ -341,8 +356,8 @@ namespace granhydro
             if (!what.empty())
               break;
             if (h.cells[d] != s.cells[d])
-              what = "'Domain/Cells' differ (the checkpoint's mesh has " +
-                     std::to_string(h.cells[d]) + " along " + std::string(1, "xyz"[d]) + ")";
+              what = "'Domain/Cells' differ (the checkpoint's mesh has " + std::to_string(h.cells[d]) +
+                     " along " + std::string(1, "xyz"[d]) + ")";
             else if (!(std::abs(h.lower[d] - s.lower[d]) <= tol && std::abs(h.upper[d] - s.upper[d]) <= tol))
               what = "the corners differ (the checkpoint's box spans " + fmt(h.lower[d]) + " .. " +
                      fmt(h.upper[d]) + " m along " + std::string(1, "xyz"[d]) + ")";
@@ -365,27 +380,27 @@ namespace granhydro
           what = "it holds " + std::to_string(h.n_cells) + " cells, the scene's adaptive mesh " +
                  fmt(coarse) + " .. " + fmt(finest) + " ('Adaptivity/Maximum level')";
         if (!same || !what.empty())
-          fail(s, "Initial state/Checkpoint", cp + "was written for another mesh: " +
-                                                (what.empty() ? "another number of components" : what));
+          fail(s, "Initial state/Checkpoint",
+               cp +
+                 "was written for another mesh: " + (what.empty() ? "another number of components" : what));
       }
       const double t_si = h.time * h.length / h.velocity;
       if (!(t_si < s.end_time * (1 - 1e-12)))
-        fail(s, "Initial state/Checkpoint", cp + "is at t = " + fmt(t_si) +
-                                              " s, not before 'Time/End time' = " + fmt(s.end_time) +
-                                              " s; raise the end time to continue the run");
+        fail(s, "Initial state/Checkpoint",
+             cp + "is at t = " + fmt(t_si) + " s, not before 'Time/End time' = " + fmt(s.end_time) +
+               " s; raise the end time to continue the run");
     }
   } // namespace
 
-  void InitialStateParameters::check(const Scene &s,
-                                     const std::vector<std::array<double, 3>> &mesh_centres,
+  void InitialStateParameters::check(const Scene &s, const std::vector<std::array<double, 3>> &mesh_centres,
                                      const unsigned long long mesh_cells)
   {
     const unsigned int dim = s.dimension;
-    const auto vel = dealii::Utilities::split_string_list(s.initial_velocity, ';');
+    const auto         vel = dealii::Utilities::split_string_list(s.initial_velocity, ';');
     if (vel.size() != dim && vel.size() != 3)
-      fail(s, "Initial state/Velocity", "expected " + std::to_string(dim) +
-                                          " (or 3) expressions separated by ';', got " +
-                                          std::to_string(vel.size()));
+      fail(s, "Initial state/Velocity",
+           "expected " + std::to_string(dim) + " (or 3) expressions separated by ';', got " +
+             std::to_string(vel.size()));
     check_expression(s, "Initial state/Packing fraction", s.initial_packing_fraction);
     check_expression(s, "Initial state/Temperature", s.initial_temperature);
     if (!s.initial_checkpoint.empty())
@@ -397,14 +412,14 @@ namespace granhydro
     if (s.initial_checkpoint.empty())
       {
         std::ostringstream quiet;
-        auto *old_buf = std::cerr.rdbuf(quiet.rdbuf());
-        std::string bad;
+        auto              *old_buf = std::cerr.rdbuf(quiet.rdbuf());
+        std::string        bad;
         try
           {
             const auto constants = expression_constants(s);
-            bad = dim == 1 ? sample_initial_state<1>(s, constants, mesh_centres) :
-                  dim == 2 ? sample_initial_state<2>(s, constants, mesh_centres) :
-                             sample_initial_state<3>(s, constants, mesh_centres);
+            bad                  = dim == 1 ? sample_initial_state<1>(s, constants, mesh_centres) :
+                                   dim == 2 ? sample_initial_state<2>(s, constants, mesh_centres) :
+                                              sample_initial_state<3>(s, constants, mesh_centres);
           }
         catch (...)
           {

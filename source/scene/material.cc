@@ -26,24 +26,20 @@ namespace granhydro
                         "no transport), the dilute elastic limit of granular gases. "
                         "'granular': hard spheres, p = n T Z(phi) with Torquato's pair "
                         "correlation and Garzo-Dufty (1999) transport (doc/physics.md 2, 3).");
-      prm.declare_entry("Restitution coefficient", default_text(defaults.restitution),
-                        Patterns::Double(0, 1),
+      prm.declare_entry("Restitution coefficient", default_text(defaults.restitution), Patterns::Double(0, 1),
                         "Normal coefficient of restitution eps of grain-grain collisions "
                         "(granular model; 0.5 <= eps <= 1).");
-      prm.declare_entry("Friction coefficient", default_text(defaults.friction),
-                        Patterns::Double(0, 1),
+      prm.declare_entry("Friction coefficient", default_text(defaults.friction), Patterns::Double(0, 1),
                         "Coulomb friction coefficient mu between grains (granular model; 0 = "
                         "smooth spheres). The cooling rate uses Chialvo & Sundaresan's (2013) "
                         "effective restitution e_eff = eps - (3/2) mu exp(-3 mu); pressure and "
                         "transport keep eps (doc/user-guide.md, 'Frictional grains').");
       prm.declare_entry("Freezing packing fraction", default_text(defaults.phi_freezing),
-                        Patterns::Double(0, 1),
-                        "phi_f of Torquato's pair correlation (granular model).");
+                        Patterns::Double(0, 1), "phi_f of Torquato's pair correlation (granular model).");
       prm.declare_entry("Close packing fraction", default_text(defaults.phi_close_packing),
                         Patterns::Double(0, 1),
                         "phi_c, random close packing: chi has its pole here (granular model).");
-      prm.declare_entry("Close packing guard", default_text(defaults.guard_delta),
-                        Patterns::Double(0, 0.1),
+      prm.declare_entry("Close packing guard", default_text(defaults.guard_delta), Patterns::Double(0, 0.1),
                         "delta: chi is continued linearly (C1) beyond phi_c - delta, so "
                         "coefficients stay finite (doc/physics.md 2, guard).");
       prm.declare_entry("Maximum mean free path", default_text(defaults.max_free_path),
@@ -65,13 +61,11 @@ namespace granhydro
                         "lets a wall or a tearing layer pull on the grains "
                         "(doc/physics.md 4.7).");
       prm.declare_entry("Grain diameter", default_text(defaults.grain_diameter),
-                        Patterns::Double(0, Patterns::Double::max_double_value),
-                        "Grain diameter sigma [m].");
+                        Patterns::Double(0, Patterns::Double::max_double_value), "Grain diameter sigma [m].");
       prm.declare_entry("Material density", default_text(defaults.material_density),
                         Patterns::Double(0, Patterns::Double::max_double_value),
                         "Material density rho_s [kg/m^3], 1e-3 .. 1e6; grain mass m = rho_s pi sigma^3 / 6.");
-      prm.declare_entry("Adiabatic index", default_text(defaults.adiabatic_index),
-                        Patterns::Double(1, 3),
+      prm.declare_entry("Adiabatic index", default_text(defaults.adiabatic_index), Patterns::Double(1, 3),
                         "Adiabatic index gamma_a of the ideal-gas model (5/3 = dilute "
                         "elastic grains, internal energy 3T/2 per grain).");
     }
@@ -81,10 +75,10 @@ namespace granhydro
   void MaterialParameters::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Material");
-    model            = get_enum<Model>(prm, "Material", "Model");
-    grain_diameter   = prm.get_double("Grain diameter");
-    material_density = prm.get_double("Material density");
-    adiabatic_index  = prm.get_double("Adiabatic index");
+    model             = get_enum<Model>(prm, "Material", "Model");
+    grain_diameter    = prm.get_double("Grain diameter");
+    material_density  = prm.get_double("Material density");
+    adiabatic_index   = prm.get_double("Adiabatic index");
     restitution       = prm.get_double("Restitution coefficient");
     friction          = prm.get_double("Friction coefficient");
     phi_freezing      = prm.get_double("Freezing packing fraction");
@@ -99,26 +93,29 @@ namespace granhydro
   {
     const unsigned int dim = s.dimension;
     if (!(s.grain_diameter >= 1e-9 && s.grain_diameter <= 10))
-      fail(s, "Material/Grain diameter", fmt(s.grain_diameter) + " m; allowed 1e-9 .. 10 m (the "
-                                         "internal units are built on it)");
+      fail(s, "Material/Grain diameter",
+           fmt(s.grain_diameter) + " m; allowed 1e-9 .. 10 m (the "
+                                   "internal units are built on it)");
     // the grain mass is the internal mass unit: 1e308 kg/m^3 made the scaled temperature
     // nan in the first step (the densest solids are near 2.3e4 kg/m^3)
     if (!(s.material_density >= 1e-3 && s.material_density <= 1e6))
-      fail(s, "Material/Material density", fmt(s.material_density) + " kg/m^3; allowed 1e-3 .. 1e6 "
-                                           "kg/m^3 (the grain mass is the internal mass unit)");
+      fail(s, "Material/Material density",
+           fmt(s.material_density) + " kg/m^3; allowed 1e-3 .. 1e6 "
+                                     "kg/m^3 (the grain mass is the internal mass unit)");
     if (s.adiabatic_index <= 1)
       fail(s, "Material/Adiabatic index", "must exceed 1");
     if (s.model == Model::granular)
       {
         if (s.restitution < 0.5 || s.restitution > 1)
           fail(s, "Material/Restitution coefficient",
-                  "must lie in [0.5, 1] (Garzo-Dufty coefficients are verified positive there)");
+               "must lie in [0.5, 1] (Garzo-Dufty coefficients are verified positive there)");
         if (!(s.friction >= 0 && s.friction <= 1))
           fail(s, "Material/Friction coefficient", "must lie in [0, 1] (0: smooth spheres)");
         // the densest packing of equal spheres is pi / (3 sqrt 2) = 0.7405
         if (!(s.phi_close_packing <= M_PI / (3 * std::sqrt(2.))))
-          fail(s, "Material/Close packing fraction", "must not exceed 0.7405, the densest packing of "
-                                                     "equal spheres (random close packing: 0.63-0.64)");
+          fail(s, "Material/Close packing fraction",
+               "must not exceed 0.7405, the densest packing of "
+               "equal spheres (random close packing: 0.63-0.64)");
         if (!(s.phi_freezing > 0))
           fail(s, "Material/Freezing packing fraction", "must be positive (0.49 for hard spheres)");
         if (!(s.phi_freezing < s.phi_close_packing))
@@ -132,14 +129,15 @@ namespace granhydro
       {
         if (s.restitution != 1)
           fail(s, "Material/Restitution coefficient",
-                  "the ideal-gas model is elastic; use 'Model = granular' for eps < 1");
+               "the ideal-gas model is elastic; use 'Model = granular' for eps < 1");
         if (s.friction != 0)
           fail(s, "Material/Friction coefficient",
-                  "the ideal-gas model has smooth grains; use 'Model = granular' for mu > 0");
+               "the ideal-gas model has smooth grains; use 'Model = granular' for mu > 0");
         for (unsigned int d = 0; d < dim; ++d)
           if (s.gravity[d] != 0)
-            fail(s, "Effects/Gravity", "the ideal-gas verification model has no body force; use "
-                                       "'Material/Model = granular'");
+            fail(s, "Effects/Gravity",
+                 "the ideal-gas verification model has no body force; use "
+                 "'Material/Model = granular'");
       }
   }
 } // namespace granhydro

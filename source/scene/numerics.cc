@@ -51,13 +51,11 @@ namespace granhydro
                         "tolerance (smooth regions): 35-40 % less convective time, larger "
                         "errors (doc/performance.md, 'Cost of the diffusion step and of the "
                         "convective kernel').");
-      prm.declare_entry("MUSTA tolerance", default_text(defaults.musta_tolerance),
-                        Patterns::Double(0, 1),
+      prm.declare_entry("MUSTA tolerance", default_text(defaults.musta_tolerance), Patterns::Double(0, 1),
                         "Stopping rule: stop when the FORCE flux changes between stages by "
                         "less than this in mass, momentum (as a vector) and energy, each "
                         "relative to max(|F|, S_max (|U_L| + |U_R|)/2) (paper: 1 %).");
-      prm.declare_entry("MUSTA local CFL", default_text(defaults.musta_local_cfl),
-                        Patterns::Double(0, 1),
+      prm.declare_entry("MUSTA local CFL", default_text(defaults.musta_local_cfl), Patterns::Double(0, 1),
                         "Local Courant number of the MUSTA predictor stages (Titarev-Toro).");
       prm.declare_entry("CFL number", default_text(defaults.cfl), Patterns::Double(0, 1),
                         "Courant number: dt = CFL / max_cells sum_d (|u_d| + c)/dx_d.");
@@ -89,19 +87,19 @@ namespace granhydro
   {
     prm.enter_subsection("Numerics");
     {
-      reconstruction  = get_enum<ReconstructionType>(prm, "Numerics", "Reconstruction");
-      face_quadrature = get_enum<FaceQuadrature>(prm, "Numerics", "Face quadrature");
+      reconstruction        = get_enum<ReconstructionType>(prm, "Numerics", "Reconstruction");
+      face_quadrature       = get_enum<FaceQuadrature>(prm, "Numerics", "Face quadrature");
       no_slip_pressure_flux = prm.get("No-slip wall flux") == "pressure";
-      flux            = get_enum<FluxType>(prm, "Numerics", "Flux");
-      musta_max_stages   = prm.get_integer("MUSTA maximum stages");
-      musta_tolerance    = prm.get_double("MUSTA tolerance");
-      musta_min_stages   = prm.get_integer("MUSTA minimum stages");
-      musta_local_cfl    = prm.get_double("MUSTA local CFL");
-      cfl                = prm.get_double("CFL number");
-      fixed_time_step    = prm.get_double("Fixed time step");
-      reference_velocity = prm.get_double("Reference velocity");
-      max_step_retries   = prm.get_integer("Maximum step retries");
-      merge_strang       = prm.get("Strang splitting") == "merged";
+      flux                  = get_enum<FluxType>(prm, "Numerics", "Flux");
+      musta_max_stages      = prm.get_integer("MUSTA maximum stages");
+      musta_tolerance       = prm.get_double("MUSTA tolerance");
+      musta_min_stages      = prm.get_integer("MUSTA minimum stages");
+      musta_local_cfl       = prm.get_double("MUSTA local CFL");
+      cfl                   = prm.get_double("CFL number");
+      fixed_time_step       = prm.get_double("Fixed time step");
+      reference_velocity    = prm.get_double("Reference velocity");
+      max_step_retries      = prm.get_integer("Maximum step retries");
+      merge_strang          = prm.get("Strang splitting") == "merged";
     }
     prm.leave_subsection();
   }
@@ -109,8 +107,9 @@ namespace granhydro
   void NumericsParameters::check_cfl(const Scene &s)
   {
     if (!(s.cfl >= 1e-3 && s.cfl <= 1))
-      fail(s, "Numerics/CFL number", "must lie in [1e-3, 1] (SSP-RK3 stability; smaller steps only "
-                                     "creep: use 'Numerics/Fixed time step' for a tiny fixed step)");
+      fail(s, "Numerics/CFL number",
+           "must lie in [1e-3, 1] (SSP-RK3 stability; smaller steps only "
+           "creep: use 'Numerics/Fixed time step' for a tiny fixed step)");
   }
 
   void NumericsParameters::check_musta(const Scene &s)
@@ -129,8 +128,9 @@ namespace granhydro
       {
         const double v0 = std::sqrt(9.81 * s.grain_diameter);
         if (!(s.reference_velocity >= 1e-3 * v0 && s.reference_velocity <= 1e3 * v0))
-          fail(s, "Numerics/Reference velocity", fmt(s.reference_velocity) + " m/s; allowed 0 (= sqrt(g sigma) = " +
-                                                   fmt(v0) + " m/s) or within 1e-3 .. 1e3 times that");
+          fail(s, "Numerics/Reference velocity",
+               fmt(s.reference_velocity) + " m/s; allowed 0 (= sqrt(g sigma) = " + fmt(v0) +
+                 " m/s) or within 1e-3 .. 1e3 times that");
       }
   }
 } // namespace granhydro

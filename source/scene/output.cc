@@ -2,7 +2,6 @@
 #include <granhydro/scene/scene.h>
 
 #include "parameter_tools.h"
-
 #include <unistd.h>
 
 #include <cctype>
@@ -66,13 +65,11 @@ namespace granhydro
                         "rank; K = one file per rank on up to K ranks, and on more ranks K "
                         "files, file k holding the pieces of ranks k, k+K, k+2K, ... "
                         "(written collectively with MPI-IO). A whole number 0..1000000.");
-      prm.declare_entry("Write checkpoint", default_text(defaults.write_checkpoint),
-                        Patterns::Bool(),
+      prm.declare_entry("Write checkpoint", default_text(defaults.write_checkpoint), Patterns::Bool(),
                         "Write <Directory>/<Base name>.checkpoint at every output time and at "
                         "the end (replaced atomically), for 'granhydro --resume' and 'Initial "
                         "state/Checkpoint'.");
-      prm.declare_entry("Keep checkpoints", default_text(defaults.keep_checkpoints),
-                        Patterns::Anything(),
+      prm.declare_entry("Keep checkpoints", default_text(defaults.keep_checkpoints), Patterns::Anything(),
                         "How many checkpoints to keep, a whole number 1..1000. 1: only the latest, "
                         "<Base name>.checkpoint (and the one before it as <Base name>.checkpoint.bak). "
                         "N > 1: also the N most recent as <Base name>_checkpoint_<step>.checkpoint "
@@ -166,27 +163,27 @@ namespace granhydro
   void OutputParameters::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Output");
-    output_directory = prm.get("Directory");
-    base_name        = prm.get("Base name");
-    output_interval  = prm.get_double("Interval");
-    write_vtu        = prm.get_bool("Write VTU");
-    write_profiles   = prm.get_bool("Write profiles");
-    write_checkpoint = prm.get_bool("Write checkpoint");
-    write_summary    = prm.get_bool("Write summary");
+    output_directory     = prm.get("Directory");
+    base_name            = prm.get("Base name");
+    output_interval      = prm.get_double("Interval");
+    write_vtu            = prm.get_bool("Write VTU");
+    write_profiles       = prm.get_bool("Write profiles");
+    write_checkpoint     = prm.get_bool("Write checkpoint");
+    write_summary        = prm.get_bool("Write summary");
     vtu_files_per_output = static_cast<unsigned int>(
       whole_number(prm.get("VTU files per output"), "Output/VTU files per output", 0, 1000000,
                    "0 = one file per MPI rank, K = at most K files per output time"));
-    keep_checkpoints = static_cast<unsigned int>(
-      whole_number(prm.get("Keep checkpoints"), "Output/Keep checkpoints", 1, 1000,
-                   "1 = only the latest checkpoint, N = the N most recent"));
+    keep_checkpoints =
+      static_cast<unsigned int>(whole_number(prm.get("Keep checkpoints"), "Output/Keep checkpoints", 1, 1000,
+                                             "1 = only the latest checkpoint, N = the N most recent"));
     parse_history_interval(prm.get("History interval"), history_steps, history_seconds);
     {
       const std::string p = prm.get("Profile direction");
-      profile_direction = p == "auto" ? -1 : (p == "x" ? 0 : (p == "y" ? 1 : 2));
+      profile_direction   = p == "auto" ? -1 : (p == "x" ? 0 : (p == "y" ? 1 : 2));
     }
     {
       const std::string c = prm.get("Cross-section direction");
-      section_direction = c == "none" ? -1 : (c == "x" ? 0 : (c == "y" ? 1 : 2));
+      section_direction   = c == "none" ? -1 : (c == "x" ? 0 : (c == "y" ? 1 : 2));
     }
     progress_interval = prm.get_double("Progress interval");
     verbose           = prm.get_bool("Verbose");
@@ -199,12 +196,13 @@ namespace granhydro
     if (s.output_directory.empty())
       fail(s, "Output/Directory", "must not be empty");
     if (s.output_directory.size() > 1024)
-      fail(s, "Output/Directory", "a path of " + std::to_string(s.output_directory.size()) +
-                                    " characters; allowed up to 1024");
+      fail(s, "Output/Directory",
+           "a path of " + std::to_string(s.output_directory.size()) + " characters; allowed up to 1024");
     for (const auto &part : std::filesystem::path(s.output_directory))
       if (part.string().size() > 255)
-        fail(s, "Output/Directory", "a folder name of " + std::to_string(part.string().size()) +
-                                      " characters; file systems allow up to 255");
+        fail(s, "Output/Directory",
+             "a folder name of " + std::to_string(part.string().size()) +
+               " characters; file systems allow up to 255");
     {
       // a file name, not a path: no '/', no leading '.', at most 100 characters of
       // letters, digits, '_', '-', '.'
@@ -213,9 +211,11 @@ namespace granhydro
       for (const char ch : b)
         ok = ok && (std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-' || ch == '.');
       if (!ok)
-        fail(s, "Output/Base name", "'" + b + "' must be 1..100 characters of letters, digits, '_', "
-                                    "'-' or '.', not starting with '.' (a file name, not a path: "
-                                    "use 'Output/Directory' for folders)");
+        fail(s, "Output/Base name",
+             "'" + b +
+               "' must be 1..100 characters of letters, digits, '_', "
+               "'-' or '.', not starting with '.' (a file name, not a path: "
+               "use 'Output/Directory' for folders)");
       // the output folder, or the nearest folder above it that exists, must be writable
       std::error_code       ec;
       std::filesystem::path dir = std::filesystem::absolute(s.output_directory, ec);
@@ -231,15 +231,15 @@ namespace granhydro
         {
           std::string probe = (dir / ".granhydro_probe_XXXXXX").string();
           if (::mkdtemp(&probe[0]) == nullptr)
-            fail(s, "Output/Directory", "cannot create folders in '" + dir.string() + "': " +
-                                          std::strerror(errno));
+            fail(s, "Output/Directory",
+                 "cannot create folders in '" + dir.string() + "': " + std::strerror(errno));
           ::rmdir(probe.c_str());
         }
     }
     if (s.section_direction >= 0 && dim != 3)
       fail(s, "Output/Cross-section direction", "cross sections need a 3D scene");
     if (s.profile_direction >= static_cast<int>(dim))
-      fail(s, "Output/Profile direction", "names a direction the " + std::to_string(dim) +
-                                            "D scene does not resolve");
+      fail(s, "Output/Profile direction",
+           "names a direction the " + std::to_string(dim) + "D scene does not resolve");
   }
 } // namespace granhydro

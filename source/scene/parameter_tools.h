@@ -47,15 +47,12 @@ namespace granhydro::scene_detail
 
   /// a comma-separated list of `dim` or 3 numbers (the rest of the N entries `fill`)
   template <typename T, std::size_t N>
-  std::array<T, N> parse_list(const std::string &text,
-                              const std::string &name,
-                              const unsigned int dim,
-                              const T             fill)
+  std::array<T, N> parse_list(const std::string &text, const std::string &name, const unsigned int dim,
+                              const T fill)
   {
     const auto parts = dealii::Utilities::split_string_list(text, ',');
     if (parts.size() != dim && parts.size() != 3)
-      throw SceneError("parameter '" + name + "' = '" + text + "': expected " +
-                       std::to_string(dim) +
+      throw SceneError("parameter '" + name + "' = '" + text + "': expected " + std::to_string(dim) +
                        " comma-separated values (one per dimension) or 3");
     std::array<T, N> a;
     a.fill(fill);
@@ -64,8 +61,7 @@ namespace granhydro::scene_detail
         std::istringstream is(parts[i]);
         T                  v;
         if (!(is >> v) || !(is >> std::ws).eof())
-          throw SceneError("parameter '" + name + "': cannot read '" + parts[i] +
-                           "' as a number");
+          throw SceneError("parameter '" + name + "': cannot read '" + parts[i] + "' as a number");
         if constexpr (std::is_floating_point_v<T>)
           if (!usable_decimal(v))
             throw SceneError("parameter '" + name + "': '" + parts[i] + "' is not a usable number (" +
@@ -79,7 +75,7 @@ namespace granhydro::scene_detail
   /// 1.6666666666666667) or, where shorter, scientific without padding (1e-3, 1e-10)
   inline std::string shortest_decimal(const double v)
   {
-    const auto reads_back = [v](const std::string &t) { return std::strtod(t.c_str(), nullptr) == v; };
+    const auto  reads_back = [v](const std::string &t) { return std::strtod(t.c_str(), nullptr) == v; };
     std::string fixed, scientific;
     for (int p = 0; p <= 17 && fixed.empty(); ++p)
       {
@@ -92,8 +88,8 @@ namespace granhydro::scene_detail
       {
         std::ostringstream os;
         os << std::scientific << std::setprecision(p) << v;
-        std::string t = os.str(); // 1.5e-03 -> 1.5e-3, 2.6e+03 -> 2.6e3
-        const auto  e = t.find('e');
+        std::string t        = os.str(); // 1.5e-03 -> 1.5e-3, 2.6e+03 -> 2.6e3
+        const auto  e        = t.find('e');
         std::string exponent = t.substr(e + 1), sign;
         if (exponent[0] == '-' || exponent[0] == '+')
           {

@@ -92,8 +92,8 @@ namespace granhydro
   Scene scene_detail::scene_from(ParameterHandler &prm, const std::string &source_name)
   {
     Scene s;
-    s.source    = source_name;
-    s.dimension = prm.get_integer("Dimension");
+    s.source               = source_name;
+    s.dimension            = prm.get_integer("Dimension");
     const unsigned int dim = s.dimension;
     // the first entry that does not convert names the error: keep this order
     s.DomainParameters::parse_parameters(prm, dim, source_name);
@@ -117,16 +117,17 @@ namespace granhydro
     void check_step_counts(const Scene &s)
     {
       if (s.output_interval > 0 && s.end_time / s.output_interval > 1e5)
-        fail(s, "Output/Interval", "would write more than 1e5 outputs before 'Time/End time' (" +
-                                     fmt(s.end_time) + " s)");
+        fail(s, "Output/Interval",
+             "would write more than 1e5 outputs before 'Time/End time' (" + fmt(s.end_time) + " s)");
       // the steady state is tested at output times: without them the tolerance did nothing
       if (s.steady_tolerance > 0 && !(s.output_interval > 0))
-        fail(s, "Time/Steady state tolerance", "needs 'Output/Interval' > 0 (the steady state is "
-                                               "tested once per output interval); set an interval "
-                                               "or the tolerance to 0");
+        fail(s, "Time/Steady state tolerance",
+             "needs 'Output/Interval' > 0 (the steady state is "
+             "tested once per output interval); set an interval "
+             "or the tolerance to 0");
       if (s.fixed_time_step > 0 && s.end_time / s.fixed_time_step > 1e9)
-        fail(s, "Numerics/Fixed time step", "would need more than 1e9 steps to 'Time/End time' (" +
-                                              fmt(s.end_time) + " s)");
+        fail(s, "Numerics/Fixed time step",
+             "would need more than 1e9 steps to 'Time/End time' (" + fmt(s.end_time) + " s)");
     }
 
     /// what the effects need from the material and from each other
@@ -135,11 +136,13 @@ namespace granhydro
       if (s.dense_closure != DenseClosure::none && s.model != Model::granular)
         fail(s, "Dense closure/Model", "a dense closure needs 'Material/Model = granular'");
       if (!s.convection && s.fixed_time_step <= 0)
-        fail(s, "Numerics/Fixed time step", "must be positive when 'Effects/Convection' is off (the "
-                                            "convective CFL then sets no time step)");
+        fail(s, "Numerics/Fixed time step",
+             "must be positive when 'Effects/Convection' is off (the "
+             "convective CFL then sets no time step)");
       if (!s.convection && !s.diffusion_active())
-        fail(s, "Effects/Convection", "with convection off the scene must have an active diffusion "
-                                      "step (granular model with transport, cooling or gravity)");
+        fail(s, "Effects/Convection",
+             "with convection off the scene must have an active diffusion "
+             "step (granular model with transport, cooling or gravity)");
     }
   } // namespace
 

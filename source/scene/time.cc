@@ -15,8 +15,7 @@ namespace granhydro
     prm.enter_subsection("Time");
     {
       prm.declare_entry("End time", default_text(defaults.end_time),
-                        Patterns::Double(0, Patterns::Double::max_double_value),
-                        "Simulated end time [s].");
+                        Patterns::Double(0, Patterns::Double::max_double_value), "Simulated end time [s].");
       prm.declare_entry("Maximum wall time", default_text(defaults.max_wall_seconds),
                         Patterns::Double(0, Patterns::Double::max_double_value),
                         "Stop cleanly (final output, checkpoint, <Base name>_summary.csv with status "
@@ -37,8 +36,8 @@ namespace granhydro
   void TimeParameters::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Time");
-    end_time  = prm.get_double("End time");
-    max_steps = prm.get_integer("Maximum steps");
+    end_time         = prm.get_double("End time");
+    max_steps        = prm.get_integer("Maximum steps");
     max_wall_seconds = prm.get_double("Maximum wall time");
     steady_tolerance = prm.get_double("Steady state tolerance");
     prm.leave_subsection();

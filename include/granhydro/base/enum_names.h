@@ -128,8 +128,7 @@ namespace granhydro
     const auto  table = enum_names(Enum{});
     std::string out;
     for (std::size_t i = 0; i < table.size(); ++i)
-      out += std::string(i == 0 ? "" : (i + 1 == table.size() ? " or " : ", ")) + "'" +
-             table[i].name + "'";
+      out += std::string(i == 0 ? "" : (i + 1 == table.size() ? " or " : ", ")) + "'" + table[i].name + "'";
     return out;
   }
 

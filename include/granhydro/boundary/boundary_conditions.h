@@ -20,10 +20,9 @@ namespace granhydro
   /// Domain/Boundary x- ... z+
   constexpr auto enum_names(BoundaryType)
   {
-    return enum_table(EnumName{BoundaryType::periodic, "periodic"},
-                      EnumName{BoundaryType::slip_wall, "slip wall"},
-                      EnumName{BoundaryType::no_slip_wall, "no-slip wall"},
-                      EnumName{BoundaryType::outflow, "outflow"});
+    return enum_table(
+      EnumName{BoundaryType::periodic, "periodic"}, EnumName{BoundaryType::slip_wall, "slip wall"},
+      EnumName{BoundaryType::no_slip_wall, "no-slip wall"}, EnumName{BoundaryType::outflow, "outflow"});
   }
   static_assert(check_enum_names(enum_names(BoundaryType{})));
 } // namespace granhydro

@@ -23,10 +23,9 @@ namespace granhydro
   /// Numerics/Reconstruction
   constexpr auto enum_names(ReconstructionType)
   {
-    return enum_table(EnumName{ReconstructionType::first_order, "first order"},
-                      EnumName{ReconstructionType::muscl, "muscl"},
-                      EnumName{ReconstructionType::weno3, "weno3"},
-                      EnumName{ReconstructionType::weno5, "weno5"});
+    return enum_table(
+      EnumName{ReconstructionType::first_order, "first order"}, EnumName{ReconstructionType::muscl, "muscl"},
+      EnumName{ReconstructionType::weno3, "weno3"}, EnumName{ReconstructionType::weno5, "weno5"});
   }
   static_assert(check_enum_names(enum_names(ReconstructionType{})));
 

@@ -34,8 +34,7 @@ namespace granhydro::diffusion
   {
     return enum_table(EnumName{ImplicitMethod::gauss_legendre, "gauss-legendre"},
                       EnumName{ImplicitMethod::implicit_midpoint, "implicit midpoint"},
-                      EnumName{ImplicitMethod::sdirk2, "sdirk2"},
-                      EnumName{ImplicitMethod::rkl2, "rkl2"},
+                      EnumName{ImplicitMethod::sdirk2, "sdirk2"}, EnumName{ImplicitMethod::rkl2, "rkl2"},
                       EnumName{ImplicitMethod::cost_based, "cost-based"},
                       EnumName{ImplicitMethod::automatic, "automatic"},
                       EnumName{ImplicitMethod::explicit_euler, "explicit euler"});

@@ -106,7 +106,8 @@ namespace granhydro::physics
         return std::numeric_limits<double>::infinity(); // a pile at rest with T = 0: rigid
       const double n = exponent(div);
       const double r = pressure_ratio(div, zeta);
-      const double f = std::sqrt(2.) * sin_phi * r * (n - (n - 1.) * std::pow(r, 1. / (n - 1.))) / (2. * zeta);
+      const double f =
+        std::sqrt(2.) * sin_phi * r * (n - (n - 1.) * std::pow(r, 1. / (n - 1.))) / (2. * zeta);
       return f > 0 ? f : 0.; // compression far beyond the critical state: MFIX sets it to 0
     }
 

@@ -11,10 +11,10 @@
 #include <granhydro/physics/ideal_gas.h>
 #include <granhydro/physics/material_model.h>
 
-#define GRANHYDRO_FOR_EACH_MODEL(X)           \
-  X(1, ::granhydro::physics::IdealGas<1>)     \
-  X(2, ::granhydro::physics::IdealGas<2>)     \
-  X(3, ::granhydro::physics::IdealGas<3>)     \
-  X(1, ::granhydro::physics::GranularGas<1>)  \
-  X(2, ::granhydro::physics::GranularGas<2>)  \
+#define GRANHYDRO_FOR_EACH_MODEL(X)          \
+  X(1, ::granhydro::physics::IdealGas<1>)    \
+  X(2, ::granhydro::physics::IdealGas<2>)    \
+  X(3, ::granhydro::physics::IdealGas<3>)    \
+  X(1, ::granhydro::physics::GranularGas<1>) \
+  X(2, ::granhydro::physics::GranularGas<2>) \
   X(3, ::granhydro::physics::GranularGas<3>)

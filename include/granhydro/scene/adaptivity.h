@@ -44,13 +44,13 @@ namespace granhydro
 
   struct AdaptivityParameters
   {
-    unsigned int max_level         = 0;    ///< refinement levels above Domain/Cells; 0 = uniform
-    RefinementIndicator adapt_indicator = RefinementIndicator::jumps;
-    double       refine_threshold  = 0.05; ///< refine where the indicator exceeds this
-    double       coarsen_threshold = 0.01; ///< coarsen where it stays below this
-    unsigned int adapt_interval    = 5;    ///< steps between adaptations
-    unsigned int adapt_buffer      = 2;    ///< the refine flag spreads over this many cell layers
-    LoadBalance  load_balance      = LoadBalance::automatic; ///< the MPI partition
+    unsigned int        max_level         = 0; ///< refinement levels above Domain/Cells; 0 = uniform
+    RefinementIndicator adapt_indicator   = RefinementIndicator::jumps;
+    double              refine_threshold  = 0.05; ///< refine where the indicator exceeds this
+    double              coarsen_threshold = 0.01; ///< coarsen where it stays below this
+    unsigned int        adapt_interval    = 5;    ///< steps between adaptations
+    unsigned int        adapt_buffer      = 2;    ///< the refine flag spreads over this many cell layers
+    LoadBalance         load_balance      = LoadBalance::automatic; ///< the MPI partition
 
     /// weigh each rank's cells by its measured cost at each adaptation ('Load balance'
     /// resolved: 'auto' = when no implicit step runs, whose GMRES + block ILU iterates
@@ -62,7 +62,7 @@ namespace granhydro
     }
 
     static void declare_parameters(dealii::ParameterHandler &prm);
-    void parse_parameters(dealii::ParameterHandler &prm);
+    void        parse_parameters(dealii::ParameterHandler &prm);
     /// a box domain in 2D/3D, ordered thresholds, a finest lattice of at most 2e8 points
     static void check(const Scene &s);
   };

@@ -31,17 +31,17 @@ namespace granhydro
 
   struct DenseClosureParameters
   {
-    DenseClosure dense_closure  = DenseClosure::none;
-    double      closure_F       = 0.05; // [Pa]
-    double      closure_phi_min = 0.62;
-    double      closure_r       = 2;
-    double      closure_s       = 5;
+    DenseClosure           dense_closure     = DenseClosure::none;
+    double                 closure_F         = 0.05; // [Pa]
+    double                 closure_phi_min   = 0.62;
+    double                 closure_r         = 2;
+    double                 closure_s         = 5;
     physics::FrictionalLaw frictional_stress = physics::FrictionalLaw::newtonian;
-    double      closure_time    = 0.5;  // t_f [s]: mu_f = t_f sin(theta_f) p_f, or its bound
-    double      closure_angle   = 28.5; // theta_f [degrees]
+    double                 closure_time      = 0.5;  // t_f [s]: mu_f = t_f sin(theta_f) p_f, or its bound
+    double                 closure_angle     = 28.5; // theta_f [degrees]
 
     static void declare_parameters(dealii::ParameterHandler &prm);
-    void parse_parameters(dealii::ParameterHandler &prm);
+    void        parse_parameters(dealii::ParameterHandler &prm);
     /// the closure's coefficients against the material's packing limits (granular model)
     static void check(const Scene &s);
   };

@@ -32,17 +32,17 @@ namespace granhydro
 
   struct DiffusionStepParameters
   {
-    diffusion::ImplicitMethod integrator = diffusion::ImplicitMethod::cost_based;
-    double       newton_tolerance   = 1e-10;
-    unsigned int newton_max_iterations = 25;
-    double       linear_tolerance   = 1e-12;
-    bool         inexact_newton     = true; ///< Linear forcing = eisenstat-walker
-    bool         reuse_matrix       = true; ///< Reuse Newton matrix
-    Preconditioner preconditioner   = Preconditioner::block_ilu;
-    bool         full_jacobian      = false;
+    diffusion::ImplicitMethod integrator            = diffusion::ImplicitMethod::cost_based;
+    double                    newton_tolerance      = 1e-10;
+    unsigned int              newton_max_iterations = 25;
+    double                    linear_tolerance      = 1e-12;
+    bool                      inexact_newton        = true; ///< Linear forcing = eisenstat-walker
+    bool                      reuse_matrix          = true; ///< Reuse Newton matrix
+    Preconditioner            preconditioner        = Preconditioner::block_ilu;
+    bool                      full_jacobian         = false;
 
     static void declare_parameters(dealii::ParameterHandler &prm);
-    void parse_parameters(dealii::ParameterHandler &prm);
+    void        parse_parameters(dealii::ParameterHandler &prm);
     /// a linear tolerance GMRES can reach
     static void check(const Scene &s);
   };

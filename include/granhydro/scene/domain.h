@@ -4,9 +4,9 @@
  * The 'Domain' subsection of a scene: the box or the mesh file, and what happens at
  * each of its sides (boundary kind, wall velocity, wall restitution).
  */
-#include <deal.II/base/parameter_handler.h>
-
 #include <granhydro/boundary/boundary_conditions.h>
+
+#include <deal.II/base/parameter_handler.h>
 
 #include <array>
 #include <string>
@@ -20,8 +20,8 @@ namespace granhydro
   {
     /// coarse mesh file (gmsh .msh or ucd .inp; empty: the box Lower/Upper corner, Cells),
     /// a relative name resolved against the scene file's directory (mesh/mesh_file.h)
-    std::string  mesh_file;
-    unsigned int mesh_refinements = 0; ///< global refinements of the file's coarse mesh
+    std::string                 mesh_file;
+    unsigned int                mesh_refinements = 0; ///< global refinements of the file's coarse mesh
     std::array<double, 3>       lower{{0, 0, 0}}, upper{{0.1, 0.1, 0.1}};
     std::array<unsigned int, 3> cells{{100, 100, 1}};
     /// boundary[2*d] lower side, boundary[2*d+1] upper side of direction d; with a mesh
@@ -37,8 +37,7 @@ namespace granhydro
     static void declare_parameters(dealii::ParameterHandler &prm);
     /// the lists hold `dim` values or 3; a relative mesh file name is resolved against the
     /// directory of `source_name` (the scene file)
-    void parse_parameters(dealii::ParameterHandler &prm, unsigned int dim,
-                          const std::string &source_name);
+    void parse_parameters(dealii::ParameterHandler &prm, unsigned int dim, const std::string &source_name);
 
     // Checks, in the order validate() runs them (the first failure is the message).
     // Some limits depend on other subsections, hence the whole scene.

@@ -5,8 +5,6 @@
  * in SI units, validated before any work is done (doc/user-guide.md, "Running scenes"
  * and "Scene files"). Internally the code works in scaled units (struct Units).
  */
-#include <deal.II/base/parameter_handler.h>
-
 #include <granhydro/base/errors.h>
 #include <granhydro/base/units.h>
 #include <granhydro/boundary/boundary_conditions.h>
@@ -23,6 +21,8 @@
 #include <granhydro/scene/numerics.h>
 #include <granhydro/scene/output.h>
 #include <granhydro/scene/time.h>
+
+#include <deal.II/base/parameter_handler.h>
 
 #include <array>
 #include <map>
@@ -50,7 +50,7 @@ namespace granhydro
                  TimeParameters,
                  OutputParameters
   {
-    std::string source = "<default scene>";
+    std::string  source    = "<default scene>";
     unsigned int dimension = 2;
     /// how the scene was read, for the run records: the -p overrides as given, and the
     /// scene they gave as a scene file of its own (expanded_scene_text())
@@ -96,7 +96,7 @@ namespace granhydro
    * state/Checkpoint) stay as given. Read, not validated: throws SceneError for what
    * cannot be read (unknown parameter, value against its pattern, bad override).
    */
-  std::string expanded_scene_text(const std::string &filename,
+  std::string expanded_scene_text(const std::string              &filename,
                                   const std::vector<std::string> &overrides = {});
 
   /// the effects the scene activates, each with the reason (doc/user-guide.md, "Running scenes")

@@ -11,13 +11,13 @@ namespace granhydro
 
   struct TimeParameters
   {
-    double       end_time  = 0.2;
-    unsigned int max_steps = 0;
+    double       end_time         = 0.2;
+    unsigned int max_steps        = 0;
     double       max_wall_seconds = 0; ///< 0 = no limit
     double       steady_tolerance = 0; // stop when KE and centre of mass change less per output interval
 
     static void declare_parameters(dealii::ParameterHandler &prm);
-    void parse_parameters(dealii::ParameterHandler &prm);
+    void        parse_parameters(dealii::ParameterHandler &prm);
     /// a positive end time
     static void check(const Scene &s);
   };
