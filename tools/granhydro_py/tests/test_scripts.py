@@ -16,7 +16,7 @@ import solver_files as sf
 from conftest import REPO, TOOLS
 
 SCRIPTS = ["chute_mu_i.py", "closure_sensitivity.py", "code_size.py", "compare_profiles.py", "cost_model.py",
-           "explicit_baseline.py", "fuzz_scenes.py", "layer_rules.py", "make_silo_mesh.py", "paraview_check.py",
+           "explicit_baseline.py", "format_check.py", "fuzz_scenes.py", "layer_rules.py", "make_silo_mesh.py", "paraview_check.py",
            "paraview_picture.py", "plot_chute.py",
            "plot_profiles.py", "work_precision.py", "dem/coarse_grain.py", "dem/compare.py",
            "dem/make_input.py", "dem/run_ensemble.py", "dem/stiffness_check.py"]
