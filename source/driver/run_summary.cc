@@ -280,8 +280,8 @@ namespace granhydro
     if (report.adaptive && sum.ranks > 1)
       pcout << "  partition: " << sum.min_rank_cells << " to " << sum.max_rank_cells
             << " cells per rank at the end, "
-            << (report.balance_by_cost ? "cells weighted by each rank's measured cost per cell" :
-                                         "equal numbers of cells")
+            << (adaptation.balance_by_cost ? "cells weighted by each rank's measured cost per cell" :
+                                             "equal numbers of cells")
             << " (Adaptivity/Load balance = " << report.load_balance << ")\n";
     if (sum.continuation_cells > 0)
       pcout

@@ -69,7 +69,6 @@ namespace granhydro
     p.musta              = scene.flux == FluxType::musta;
     p.adaptive           = scene.max_level > 0;
     p.load_balance       = to_string(scene.load_balance);
-    p.balance_by_cost    = scene.balance_by_measured_cost(scene.diffusion_active());
 
     CheckpointIdentity &c = r.identity;
     c.cells               = scene.cells;
@@ -84,7 +83,7 @@ namespace granhydro
     a.coarsen_threshold   = scene.coarsen_threshold;
     a.buffer              = scene.adapt_buffer;
     a.second_differences  = scene.adapt_indicator == RefinementIndicator::second_differences;
-    a.balance_by_cost     = p.balance_by_cost;
+    a.balance_by_cost     = scene.balance_by_measured_cost(scene.diffusion_active());
     return r;
   }
 

@@ -64,9 +64,8 @@ namespace granhydro
     std::string              integrator;       ///< Diffusion step/Integrator
     bool                     musta    = false; ///< Numerics/Flux = musta
     bool                     adaptive = false;
-    /// Adaptivity/Load balance as given, and whether it weighs cells by measured cost
+    /// Adaptivity/Load balance as given (what it means: AdaptationSettings::balance_by_cost)
     std::string load_balance;
-    bool        balance_by_cost = false;
   };
 
   /// what a checkpoint of this run is matched against
