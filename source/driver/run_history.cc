@@ -88,7 +88,7 @@ namespace granhydro
     const auto                           &d = integrator ? integrator->statistics() : none;
     row.emplace_back(N(earlier_.rejected_steps + L.sum.rejected_steps));
     row.emplace_back(integrator ? report.integrator : std::string("none"));
-    row.emplace_back(N(earlier_.convective_steps + convective_pieces));
+    row.emplace_back(N(earlier_.convective_steps + split_->counters().convective_pieces));
     row.emplace_back(N(e.steps + d.steps));
     row.emplace_back(N(e.rkl2_steps + d.rkl2_steps));
     row.emplace_back(N(e.rkl2_stages + d.rkl2_stages));

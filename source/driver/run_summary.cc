@@ -1,11 +1,15 @@
 /**
  * @file run_summary.cc
- * What Simulation reports at the end of a run: the run summary lines of the log and
- * the entries of <base>_summary.csv (written by io/summary_csv.h).
+ * What a run reports at its end (RunReport, driver/run_report.h): the run summary lines
+ * of the log and the entries of <base>_summary.csv (written by io/summary_csv.h); and the
+ * record of a run's figures that checkpoints carry (driver/run_summary.h).
  */
+#include <granhydro/base/errors.h>
 #include <granhydro/base/version.h>
-#include <granhydro/driver/simulation_instances.h>
+#include <granhydro/driver/phase_times.h>
+#include <granhydro/driver/run_report.h>
 #include <granhydro/io/summary_csv.h>
+#include <granhydro/physics/granular_gas.h>
 
 #include <deal.II/base/mpi.h>
 
@@ -187,8 +191,26 @@ namespace granhydro
     return !record.empty();
   }
 
-  template <int dim, class Description>
-  void Simulation<dim, Description>::print_run_summary(const RunSummary &sum) const
+  RunReport::RunReport(const RunReportSettings &settings, const RunFiles &files, const TimeLoopSettings &loop,
+                       const AdaptationSettings &adaptation, const Units &units, const unsigned int dim,
+                       const MPI_Comm comm, const dealii::ConditionalOStream &pcout)
+    : report(settings)
+    , files(files)
+    , loop(loop)
+    , adaptation(adaptation)
+    , units_(units)
+    , dim(dim)
+    , comm(comm)
+    , pcout(pcout)
+  {}
+
+  double RunReport::friction_dissipation_si(const RunSummary &sum) const
+  {
+    return sum.diffusion.friction_dissipation * units_.energy() * std::pow(units_.length, dim - 3.);
+  }
+
+  void RunReport::print(const RunSummary                           &sum,
+                        const std::pair<unsigned int, unsigned int> balance_counts) const
   {
     const double t0 = units_.time();
     const auto  &cs = sum.convection;
@@ -198,7 +220,7 @@ namespace granhydro
           << "  wall " << sum.wall_seconds << " s, convection " << sum.convection_seconds << " s, "
           << cs.cell_updates / std::max(sum.convection_seconds, 1e-30) / nr
           << " cell-updates/s per RK stage per core";
-    if (integrator && loop.convection)
+    if (sum.diffusion_active && loop.convection)
       pcout << ", " << sum.convective_steps << " SSP-RK3 steps ("
             << (loop.merge_strang ? "merged" : "symmetric") << " Strang splitting)";
     pcout << "\n"
@@ -213,7 +235,7 @@ namespace granhydro
     pcout << "\n  positivity: reconstructions reset to the cell average (cell x direction x stage) "
           << cs.limited_cells << ", cell updates redone first order (a posteriori) " << cs.fallback_cells
           << "\n";
-    if (integrator)
+    if (sum.diffusion_active)
       {
         const auto &ds = sum.diffusion;
         pcout << "  diffusion step: " << sum.diffusion_seconds << " s, " << ds.steps << " steps, "
@@ -271,7 +293,7 @@ namespace granhydro
                 dim == 2 ? " J/m" :
                            " J/m^2")
             << "\n";
-    if (const auto [balanced, balance_skipped] = patch_->balance_counts(); report.adaptive)
+    if (const auto [balanced, balance_skipped] = balance_counts; report.adaptive)
       pcout << "  adaptive mesh: " << sum.adaptations << " adaptations, " << sum.refined_cells
             << " cells refined, " << sum.coarsened_cells << " coarsened; " << sum.cells
             << " cells at the end, at most " << sum.max_cells << "; 2:1 balance by p4est in " << balanced
@@ -291,15 +313,14 @@ namespace granhydro
     if (sum.temperature_repairs > 0)
       pcout << "  temperature floor: " << sum.temperature_repairs
             << " cell updates of a cooling dense pile ended with T < "
-            << physics::GranularGas<dim>::temperature_floor
+            << physics::GranularGas<3>::temperature_floor
             << " (scaled) and were set to it; largest thermal-energy deficit "
             << sum.max_temperature_repair * units_.energy()
             << " J per grain (doc/user-guide.md, 'Dense closure')\n";
     pcout << phase_table(sum.phases, sum.ranks);
   }
 
-  template <int dim, class Description>
-  void Simulation<dim, Description>::write_summary(const RunSummary &sum, const std::string &status) const
+  void RunReport::write(const RunSummary &sum, const std::string &status) const
   {
     if (Utilities::MPI::this_mpi_process(comm) != 0)
       return;
@@ -379,14 +400,13 @@ namespace granhydro
       {
         io::write_summary_csv(files.directory, files.file("_summary.csv"), entries);
       }
-    catch (const io::OutputError &e)
+    catch (const OutputError &e)
       {
         throw RunError(e.what());
       }
   }
 
-  template <int dim, class Description>
-  std::vector<io::SummaryEntry> Simulation<dim, Description>::record_entries() const
+  std::vector<io::SummaryEntry> RunReport::record_entries() const
   {
     // the -p overrides as given, joined by ';' (for reading; a value may hold a ';' of its
     // own, e.g. a velocity "0; 0": <base>_parameters.prm is the exact record)
@@ -401,6 +421,4 @@ namespace granhydro
             {"ranks", N(Utilities::MPI::n_mpi_processes(comm))},
             {"start_time", started_utc_}};
   }
-
-  GRANHYDRO_SIMULATION_INSTANCES
 } // namespace granhydro

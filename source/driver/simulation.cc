@@ -2,17 +2,15 @@
  * @file simulation.cc
  * The composition root of a run: Simulation's model, mesh, operators, output and
  * initial state from the scene, and run_scene(), which picks the model and dimension.
- * The parts of a run: strang_step.cc (one time step), time_loop.cc (the time loop),
+ * The parts of a run: split_step.cc (one time step), time_loop.cc (the time loop),
  * adapt_mesh.cc, simulation_checkpoint.cc and run_summary.cc.
  */
+#include <granhydro/driver/initial_state.h>
 #include <granhydro/driver/run_records.h>
 #include <granhydro/driver/simulation_instances.h>
 #include <granhydro/io/diagnostics.h>
-#include <granhydro/physics/packing_fraction.h>
 
-#include <deal.II/base/function_parser.h>
 #include <deal.II/base/mpi.h>
-#include <deal.II/base/quadrature_lib.h>
 
 #include <algorithm>
 #include <cmath>
@@ -78,12 +76,12 @@ namespace granhydro
     c.source              = scene.source;
     c.adaptive            = scene.max_level > 0;
 
-    AdaptationSettings &a = r.adaptation;
-    a.refine_threshold    = scene.refine_threshold;
-    a.coarsen_threshold   = scene.coarsen_threshold;
-    a.buffer              = scene.adapt_buffer;
-    a.second_differences  = scene.adapt_indicator == RefinementIndicator::second_differences;
-    a.balance_by_cost     = scene.balance_by_measured_cost(scene.diffusion_active());
+    AdaptationSettings &a          = r.adaptation;
+    a.indicator.refine_threshold   = scene.refine_threshold;
+    a.indicator.coarsen_threshold  = scene.coarsen_threshold;
+    a.indicator.buffer             = scene.adapt_buffer;
+    a.indicator.second_differences = scene.adapt_indicator == RefinementIndicator::second_differences;
+    a.balance_by_cost              = scene.balance_by_measured_cost(scene.diffusion_active());
     return r;
   }
 
@@ -101,6 +99,7 @@ namespace granhydro
     report                = run.report;
     identity              = run.identity;
     adaptation            = run.adaptation;
+    run_report_ = std::make_unique<RunReport>(report, files, loop, adaptation, units_, dim, comm, pcout);
     if constexpr (std::is_same_v<Description, physics::IdealGas<dim>>)
       desc.gamma = scene.adiabatic_index;
     else
@@ -231,6 +230,9 @@ namespace granhydro
           is.full_jacobian         = scene.full_jacobian;
           integrator               = std::make_unique<diffusion::ImplicitIntegrator<dim>>(*diff, desc, is);
         }
+    split_ =
+      std::make_unique<SplitStep<dim, Description>>(desc, loop.convection, units_.time(), timers_, pcout);
+    split_->set_operators(*patch_, *conv, integrator.get());
     U.reinit(patch_->partitioner());
     print_header();
 
@@ -242,42 +244,17 @@ namespace granhydro
       }
 
     // initial state from the scene's expressions (SI), averaged over cells
-    const auto          constants = expression_constants(scene);
-    const std::string   vars      = dim == 1 ? "x" : (dim == 2 ? "x,y" : "x,y,z");
-    FunctionParser<dim> phi(1), T(1);
-    phi.initialize(vars, scene.initial_packing_fraction, constants);
-    T.initialize(vars, scene.initial_temperature, constants);
-    auto vexpr = Utilities::split_string_list(scene.initial_velocity, ';');
-    vexpr.resize(dim);
-    FunctionParser<dim> vel(dim);
-    vel.initialize(vars, vexpr, constants);
-    const double m = scene.grain_mass(), sigma = scene.grain_diameter;
-    bool         bad_phi = false, bad_T = false;
-    const auto   initial_state = [&](const Point<dim> &x) {
-      const double p = phi.value(x), t = T.value(x);
-      bad_phi        = bad_phi || !(p > 0);
-      bad_T          = bad_T || !(t > 0);
-      const double n = physics::number_density_si(p, sigma);
-      double       u[3];
-      for (unsigned int d = 0; d < dim; ++d)
-        u[d] = vel.value(x, d);
-      State Us;
-      Us[0]     = n;
-      double ke = 0;
-      for (unsigned int d = 0; d < dim; ++d)
-        {
-          Us[1 + d] = m * n * u[d];
-          ke += 0.5 * m * n * u[d] * u[d];
-        }
-      Us[dim + 1] = ke + n * t * desc.heat_capacity();
-      if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>) // contact potential
-        Us[dim + 1] +=
-          desc.contact.energy_density(n * units_.length * units_.length * units_.length) * units_.pressure();
-      // this Us is in SI with a *mass* momentum; convert to number momentum below
-      for (unsigned int d = 0; d < dim; ++d)
-        Us[1 + d] /= m;
-      return Us;
-    };
+    InitialStateSettings is;
+    is.packing_fraction = scene.initial_packing_fraction;
+    is.temperature      = scene.initial_temperature;
+    is.velocity         = scene.initial_velocity;
+    is.constants        = expression_constants(scene);
+    is.grain_mass       = scene.grain_mass();
+    is.grain_diameter   = scene.grain_diameter;
+    is.quadrature       = scene.initial_quadrature;
+    is.source           = scene.source;
+    InitialState<dim, Description> state(is, desc, units_);
+    const auto                     initial_state = [&state](const Point<dim> &x) { return state(x); };
     set_initial_state(initial_state, scene.initial_quadrature);
     // initial refinement: adapt to the initial state, then evaluate it anew on the finer
     // cells (no interpolation), up to the maximum level
@@ -296,14 +273,7 @@ namespace granhydro
             c += (d ? " x " : "") + std::to_string(scene.cells[d]);
           return c;
         }() << "\n";
-    if (Utilities::MPI::logical_or(bad_phi, comm))
-      throw SceneError("in " + scene.source +
-                       ": parameter 'Initial state/Packing fraction' "
-                       "must be positive everywhere in the domain");
-    if (Utilities::MPI::logical_or(bad_T, comm))
-      throw SceneError("in " + scene.source +
-                       ": parameter 'Initial state/Temperature' must be "
-                       "positive everywhere in the domain");
+    state.check(comm);
     output = std::make_unique<io::Output<dim, Description>>(scene.output_settings(), *patch_, desc);
   }
 
@@ -311,37 +281,7 @@ namespace granhydro
   void Simulation<dim, Description>::set_initial_state(const std::function<State(const Point<dim> &)> &f,
                                                        const unsigned int                              nq)
   {
-    // SI -> scaled: n [1/m^3] * L^3; number momentum n u [1/(m^2 s)] * L^3 / V; nE [J/m^3] / p0
-    const double nscale = 1. / units_.number_density(), mscale = nscale / units_.velocity,
-                 escale = 1. / units_.pressure();
-    const QGauss<1> q1(nq);
-    for (unsigned int s = 0; s < patch_->n_owned(); ++s)
-      {
-        State avg;
-        avg.fill(0.);
-        const auto        &ijk = patch_->lattice(s);
-        const unsigned int nq2 = dim > 1 ? nq : 1, nq3 = dim > 2 ? nq : 1;
-        for (unsigned int a = 0; a < nq; ++a)
-          for (unsigned int b = 0; b < nq2; ++b)
-            for (unsigned int c = 0; c < nq3; ++c)
-              {
-                Point<dim>         x;
-                const unsigned int id[3] = {a, b, c};
-                double             w     = 1;
-                for (unsigned int d = 0; d < dim; ++d)
-                  {
-                    x[d] = patch_->lower(d) + (ijk[d] + q1.point(id[d])[0]) * patch_->cell_size(s, d);
-                    w *= q1.weight(id[d]);
-                  }
-                const State v = f(x);
-                for (unsigned int k = 0; k < dim + 2; ++k)
-                  avg[k] += w * v[k];
-              }
-        U.local_element(std::size_t(s) * (dim + 2)) = avg[0] * nscale;
-        for (unsigned int d = 0; d < dim; ++d)
-          U.local_element(std::size_t(s) * (dim + 2) + 1 + d) = avg[1 + d] * mscale;
-        U.local_element(std::size_t(s) * (dim + 2) + dim + 1) = avg[dim + 1] * escale;
-      }
+    set_cell_averages(*patch_, f, nq, units_, U);
   }
 
   template <int dim, class Description>
@@ -378,6 +318,7 @@ namespace granhydro
       diff->setup();
     if (integrator)
       integrator->mesh_changed();
+    split_->set_operators(*patch_, *conv, integrator.get());
   }
 
   namespace

@@ -48,7 +48,7 @@ namespace granhydro
     h.velocity        = units_.velocity;
     h.time            = t;
     h.step            = step;
-    h.convection_owed = owed_;
+    h.convection_owed = split_->owed();
     h.outputs         = output ? output->count() : 0;
     std::snprintf(h.model, sizeof(h.model), "%s", identity.model.c_str());
     try
@@ -138,7 +138,8 @@ namespace granhydro
       throw SceneError(what + "does not hold every cell of the mesh");
     start_time_ = same_units ? h.time : h.time * h.length / h.velocity / units_.time();
     start_step_ = h.step;
-    owed_       = same_units ? h.convection_owed : h.convection_owed * h.length / h.velocity / units_.time();
+    split_->set_owed(same_units ? h.convection_owed :
+                                  h.convection_owed * h.length / h.velocity / units_.time());
     if (integrator && same_units)
       {
         history.rkl2_blocked = h.history.rkl2_blocked;

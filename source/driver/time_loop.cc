@@ -151,7 +151,7 @@ namespace granhydro
   template <int dim, class Description>
   void Simulation<dim, Description>::start_run(TimeLoopState &L)
   {
-    started_utc_  = utc_now(); // rank 0's clock gives the summary's start_time
+    run_report_->set_start_time(utc_now()); // rank 0's clock gives the summary's start_time
     L.t0          = units_.time();
     L.t_end       = loop.end_time / L.t0;
     L.dt_fixed    = loop.fixed_time_step / L.t0;
@@ -163,17 +163,14 @@ namespace granhydro
     while (L.interval > 0 && L.t >= L.next_output * (1 - 1e-12) && L.next_output < L.t_end)
       L.next_output = std::min(L.next_output + L.interval, L.t_end);
     timers_.reset();
-    temperature_repairs = 0;
-    continuation_cells  = 0;
-    convective_pieces   = 0;
-    max_repair          = 0;
-    L.step              = start_step_;
-    L.merge             = integrator && loop.convection && loop.merge_strang;
-    if (owed_ > 0 && !L.merge) // a checkpoint of a merged run restarted with symmetric steps
+    split_->reset_counters();
+    L.step  = start_step_;
+    L.merge = integrator && loop.convection && loop.merge_strang;
+    if (split_->owed() > 0 && !L.merge) // a checkpoint of a merged run restarted with symmetric steps
       {
-        if (!convect(U, owed_))
+        if (!split_->convect(U, split_->owed()))
           throw RunError("the convective half-step owed by the checkpoint failed");
-        owed_ = 0;
+        split_->set_owed(0);
       }
     L.checkpoint    = files.file(".checkpoint");
     L.last_progress = L.start;
@@ -181,7 +178,7 @@ namespace granhydro
     if (!conv->admissible(U, &why))
       throw RunError("initial state is inadmissible (n <= 0 or T <= 0): " + why);
     if (files.summary && Utilities::MPI::this_mpi_process(comm) == 0)
-      io::write_running_summary(files.file("_summary.csv"), record_entries());
+      io::write_running_summary(files.file("_summary.csv"), run_report_->record_entries());
     // a run from the scene's initial state writes it; a restart (even from the t = 0
     // checkpoint) has it already
     const bool fresh = L.step == 0 && !loop.from_checkpoint;
@@ -219,8 +216,9 @@ namespace granhydro
         // keep it within the CFL limit by shortening dt (the step after is then back
         // at the limit). Where the limit fell by more than that allows, the
         // convective part is split into pieces instead (advance())
-        const double room = 2 * (dt_cfl - owed_); // the longest dt with owed + dt/2 <= dt_cfl
-        if (L.merge && owed_ > 0 && room >= 0.5 * dt)
+        const double owed = split_->owed();
+        const double room = 2 * (dt_cfl - owed); // the longest dt with owed + dt/2 <= dt_cfl
+        if (L.merge && owed > 0 && room >= 0.5 * dt)
           dt = std::min(dt, room);
       }
     return dt;
@@ -289,7 +287,7 @@ namespace granhydro
         U  = L.backup;
         dt = dt / 2;
       }
-    owed_ = sync_at(dt) ? 0 : 0.5 * dt;
+    split_->set_owed(sync_at(dt) ? 0 : 0.5 * dt);
     return dt;
   }
 
@@ -442,10 +440,11 @@ namespace granhydro
     sum.coarsened_cells        = coarsened_cells;
     sum.min_rank_cells         = Utilities::MPI::min<unsigned long long>(patch_->n_owned(), comm);
     sum.max_rank_cells         = Utilities::MPI::max<unsigned long long>(patch_->n_owned(), comm);
-    sum.temperature_repairs    = Utilities::MPI::sum(temperature_repairs, comm);
-    sum.continuation_cells     = Utilities::MPI::sum(continuation_cells, comm);
-    sum.convective_steps       = convective_pieces; // the same on every rank
-    sum.max_temperature_repair = Utilities::MPI::max(max_repair, comm);
+    const SplitStepCounters &c = split_->counters();
+    sum.temperature_repairs    = Utilities::MPI::sum(c.temperature_repairs, comm);
+    sum.continuation_cells     = Utilities::MPI::sum(c.continuation_cells, comm);
+    sum.convective_steps       = c.convective_pieces; // the same on every rank
+    sum.max_temperature_repair = Utilities::MPI::max(c.max_repair, comm);
     sum.ranks                  = Utilities::MPI::n_mpi_processes(comm);
     {
       rusage usage{};
@@ -481,7 +480,7 @@ namespace granhydro
         // stopped between output times (signal, wall time, failure) with convective
         // time owed: the output shows the synchronised state, the checkpoint keeps the
         // state and the owed time, so that a restart continues exactly
-        if (owed_ > 0)
+        if (split_->owed() > 0)
           {
             Vector V;
             if (!synchronised_state(V))
@@ -508,9 +507,9 @@ namespace granhydro
         history_->check();
       }
     L.sum = sum;
-    print_run_summary(sum);
+    run_report_->print(sum, patch_->balance_counts());
     if (files.summary)
-      write_summary(sum, status);
+      run_report_->write(sum, status);
     if (files.vtu || files.profiles || files.summary)
       {
         pcout << "  output in " << files.directory << "/:";

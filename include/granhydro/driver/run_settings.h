@@ -2,12 +2,14 @@
 /**
  * @file run_settings.h
  * What the parts of a run read of the scene, one struct per part: the time loop
- * (time_loop.cc, strang_step.cc), the files it writes (outputs, checkpoints, history,
+ * (time_loop.cc, split_step.cc), the files it writes (outputs, checkpoints, history,
  * summary), the run report (run_summary.cc, run_records.cc) and a checkpoint's identity
  * (simulation_checkpoint.cc). The composition root (simulation.cc, run_settings())
  * fills them once from the Scene; no other part of the driver reads the Scene, so what
  * a part depends on is written here. SI units.
  */
+#include <granhydro/mesh/settings.h>
+
 #include <array>
 #include <string>
 #include <vector>
@@ -81,10 +83,8 @@ namespace granhydro
   /// the mesh adaptation (adapt_mesh.cc): the indicator's thresholds and the partition
   struct AdaptationSettings
   {
-    double       refine_threshold = 0, coarsen_threshold = 0;
-    unsigned int buffer             = 0;     ///< cells marked around each refined one (passes)
-    bool         second_differences = false; ///< the indicator: second differences (else jumps)
-    bool         balance_by_cost    = false; ///< the partition weighs cells by measured cost
+    RefinementIndicatorSettings indicator;               ///< where to refine and coarsen
+    bool                        balance_by_cost = false; ///< the partition weighs cells by measured cost
   };
 
   /// every part's settings

@@ -10,8 +10,10 @@
 #include <granhydro/base/errors.h>
 #include <granhydro/convection/convection_operator.h>
 #include <granhydro/diffusion/implicit_integrator.h>
+#include <granhydro/driver/run_report.h>
 #include <granhydro/driver/run_settings.h>
 #include <granhydro/driver/run_summary.h>
+#include <granhydro/driver/split_step.h>
 #include <granhydro/driver/time_loop.h>
 #include <granhydro/io/diagnostics.h>
 #include <granhydro/io/history.h>
@@ -58,24 +60,22 @@ namespace granhydro
     /// run to the scene's end time (or max steps)
     RunSummary run();
 
-    /// one time step of size dt (scaled) from time t: Strang splitting C(dt/2) V(dt)
-    /// C(dt/2), eq. 3.5, or only the active part. With Numerics/Strang splitting = merged
-    /// the first C also takes the convective time still owed by the previous step
-    /// (convection_owed()), and without sync the closing C(dt/2) is left owed to the next
-    /// step: C(dt0/2) V(dt0) C((dt0 + dt1)/2) V(dt1) ... C(dtn/2), the same scheme with
-    /// half the convective steps. false if a part failed (state then undefined; the owed
-    /// time is not changed: the caller commits it with set_convection_owed()).
-    /// max_convective_step (scaled; 0 = dt): the CFL limit, the longest convective step
+    /// one time step of size dt (scaled) from time t (SplitStep::advance(), split_step.h;
+    /// with Numerics/Strang splitting = merged and no sync the closing convective half is
+    /// owed to the next step: convection_owed())
     bool advance(const double t_scaled, const double dt_scaled, const bool sync = true,
-                 const double max_convective_step = 0);
+                 const double max_convective_step = 0)
+    {
+      return split_->advance(U, t_scaled, dt_scaled, sync, max_convective_step);
+    }
 
     /// scaled convective time the state still owes (0 after a synchronised step)
-    double convection_owed() const { return owed_; }
-    void   set_convection_owed(const double h) { owed_ = h; }
+    double convection_owed() const { return split_->owed(); }
+    void   set_convection_owed(const double h) { split_->set_owed(h); }
 
     /// the state with the owed convective time applied (a copy: U is not changed); false
     /// (and the unsynchronised state) if that convective step fails
-    bool synchronised_state(Vector &V);
+    bool synchronised_state(Vector &V) { return split_->synchronised_state(U, V); }
 
     const CartesianPatch<dim>                              &patch() const { return *patch_; }
     const Vector                                           &state() const { return U; }
@@ -117,11 +117,6 @@ namespace granhydro
     void set_cost_per_cell(const double c) { fixed_cost_ = c; }
 
   private:
-    /// SSP-RK3 over convective time h in `pieces` equal steps, then the temperature
-    /// repair; false if a stage failed or the result is inadmissible
-    bool convect(Vector &V, const double h, const unsigned int pieces = 1);
-    /// the dense closure's temperature floor on V (counted), GranularGas only
-    void repair(Vector &V);
     /// gravity and the container's inertial force in scaled units
     physics::BodyForce body_force() const;
     /// rebuild the operators' tables after the patch changed
@@ -172,11 +167,6 @@ namespace granhydro
     /// state
     void finish(TimeLoopState &L, const std::string &status);
 
-    // the run summary (run_summary.cc)
-    /// the run summary lines of the log
-    void print_run_summary(const RunSummary &sum) const;
-    /// <base>_summary.csv in the output directory (rank 0; written to .tmp, then renamed)
-    void write_summary(const RunSummary &sum, const std::string &status) const;
     /// output->write(V, time_si, step), timed as the section "output"
     void write_output(const Vector &V, const double time_si, const unsigned int step)
     {
@@ -186,14 +176,6 @@ namespace granhydro
     /// the phases' wall times over the ranks into sum.phases and the *_seconds rows
     /// (phase_times.cc; collective, after sum.wall_seconds is set)
     void measure_phases(RunSummary &sum) const;
-    /// the rows of the summary that say which run it was (also in the running summary):
-    /// version, git_revision, scene, overrides, ranks, start_time
-    std::vector<io::SummaryEntry> record_entries() const;
-    /// the frictional dissipation of the run in J (per m^(3 - dim) of the unresolved extent)
-    double friction_dissipation_si(const RunSummary &sum) const
-    {
-      return sum.diffusion.friction_dissipation * units_.energy() * std::pow(units_.length, dim - 3.);
-    }
     /// empty unless the state is near close packing (max phi >= 0.99 phi_c, granular
     /// model): then where, how dense and how much mass sits in the near-close-packed cells
     std::string overpacking_report(const Vector &U) const;
@@ -203,7 +185,7 @@ namespace granhydro
     /// the scene: read here, in the composition root (simulation.cc) only; the parts of
     /// the run read their settings below (run_settings.h)
     Scene                                scene;
-    TimeLoopSettings                     loop;       ///< time_loop.cc, strang_step.cc
+    TimeLoopSettings                     loop;       ///< time_loop.cc
     RunFiles                             files;      ///< outputs, checkpoints, history, summary
     RunReportSettings                    report;     ///< run_summary.cc, run_history.cc
     CheckpointIdentity                   identity;   ///< simulation_checkpoint.cc
@@ -220,20 +202,17 @@ namespace granhydro
     /// this rank's wall time in the sections convection, diffusion, adaptation and output
     /// (no barriers: TimerOutput without a communicator); measure_phases() reduces them
     dealii::TimerOutput timers_{pcout, dealii::TimerOutput::never, dealii::TimerOutput::wall_times};
-    unsigned long long  temperature_repairs = 0;
-    /// cell updates that ended beyond phi_c - delta (the continuations of chi and w)
-    unsigned long long continuation_cells = 0;
-    unsigned long long convective_pieces  = 0; ///< SSP-RK3 steps taken (convect())
-    double             max_repair         = 0;
-    double             owed_              = 0; ///< scaled convective time owed (merged Strang splitting)
-    double             start_time_        = 0; ///< scaled
-    std::string        started_utc_; ///< when run() started, ISO 8601 UTC (the summary's start_time)
-    unsigned int       start_step_ = 0;
-    Vector             U;
-    unsigned int       adaptations    = 0;
-    double             busy_at_adapt_ = 0; ///< conv->busy_seconds() at the last adaptation
-    double             fixed_cost_    = 0; ///< set_cost_per_cell()
-    unsigned long long max_cells = 0, refined_cells = 0, coarsened_cells = 0;
+    /// one time step: the splitting, the owed convective time, the repair counters
+    std::unique_ptr<SplitStep<dim, Description>> split_;
+    /// the run summary lines and <base>_summary.csv
+    std::unique_ptr<RunReport> run_report_;
+    double                     start_time_ = 0; ///< scaled
+    unsigned int               start_step_ = 0;
+    Vector                     U;
+    unsigned int               adaptations    = 0;
+    double                     busy_at_adapt_ = 0; ///< conv->busy_seconds() at the last adaptation
+    double                     fixed_cost_    = 0; ///< set_cost_per_cell()
+    unsigned long long         max_cells = 0, refined_cells = 0, coarsened_cells = 0;
     /// the record of the run's earlier segments, read from the checkpoint it restarted
     /// from (none: no segments, counted from step 0)
     RunSummary earlier_ = [] {

@@ -2,7 +2,7 @@
 /**
  * @file simulation_instances.h
  * The models and dimensions Simulation is built for. Its member functions are defined
- * over several files (simulation.cc, strang_step.cc, time_loop.cc, ...); each of them
+ * over several files (simulation.cc, split_step.cc, time_loop.cc, ...); each of them
  * ends with GRANHYDRO_SIMULATION_INSTANCES to instantiate the members it defines.
  */
 #include <granhydro/driver/simulation.h>

@@ -30,4 +30,13 @@ namespace granhydro
     /// the velocity unit [m/s] (wall velocities are stored scaled)
     double velocity_unit = 1;
   };
+
+  /// Adaptivity/Refine threshold, Coarsen threshold, Buffer cells, Indicator
+  struct RefinementIndicatorSettings
+  {
+    double       refine_threshold = 0, coarsen_threshold = 0;
+    unsigned int buffer             = 0;     ///< cells marked around each refined one (passes)
+    bool         second_differences = false; ///< the indicator: second differences (else jumps)
+  };
+
 } // namespace granhydro
