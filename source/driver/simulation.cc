@@ -99,7 +99,8 @@ namespace granhydro
     report                = run.report;
     identity              = run.identity;
     adaptation            = run.adaptation;
-    run_report_ = std::make_unique<RunReport>(report, files, loop, adaptation, units_, dim, comm, pcout);
+    run_report_  = std::make_unique<RunReport>(report, files, loop, adaptation, units_, dim, comm, pcout);
+    checkpoints_ = std::make_unique<Checkpointing<dim>>(identity, units_, comm);
     if constexpr (std::is_same_v<Description, physics::IdealGas<dim>>)
       desc.gamma = scene.adiabatic_index;
     else

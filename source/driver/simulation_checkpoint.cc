@@ -1,179 +1,57 @@
 /**
  * @file simulation_checkpoint.cc
- * Simulation's checkpoints: what of the run goes into one (state, time, step, owed
- * convective time, output count, the implicit step's history) and the checks of a
- * checkpoint against the scene on restart. The file itself: io/state_checkpoint.h.
+ * Simulation's checkpoints: what of the run it hands to Checkpointing
+ * (driver/checkpointing.h) and what a restart takes back (start time and step, owed
+ * convective time, the implicit step's history, the earlier segments' record, the output
+ * count).
  */
 #include <granhydro/driver/simulation_instances.h>
-#include <granhydro/io/state_checkpoint.h>
-
-#include <deal.II/base/mpi.h>
-
-#include <cmath>
-#include <cstdio>
-#include <memory>
 
 namespace granhydro
 {
   using namespace dealii;
 
   template <int dim, class Description>
-  std::int64_t Simulation<dim, Description>::lattice_key(const unsigned int s) const
-  {
-    return patch_->leaf_key(s);
-  }
-
-  template <int dim, class Description>
   void Simulation<dim, Description>::write_checkpoint(const std::string &file, const double t,
                                                       const unsigned int step, const bool with_history) const
   {
-    constexpr unsigned int                               NC = dim + 2;
-    typename diffusion::ImplicitIntegrator<dim>::History history;
+    typename Checkpointing<dim>::Contents c;
     if (with_history && integrator)
-      history = integrator->history();
-    std::vector<std::int64_t> keys(patch_->n_owned());
-    for (unsigned int s = 0; s < keys.size(); ++s)
-      keys[s] = lattice_key(s);
-    io::CheckpointHeader h;
-    h.dim          = dim;
-    h.n_components = NC;
-    for (unsigned int d = 0; d < 3; ++d)
-      {
-        h.cells[d] = d < dim ? identity.cells[d] : 1;
-        h.lower[d] = d < dim ? identity.lower[d] : 0;
-        h.upper[d] = d < dim ? identity.upper[d] : 0;
-      }
-    h.length          = units_.length;
-    h.mass            = units_.mass;
-    h.velocity        = units_.velocity;
-    h.time            = t;
-    h.step            = step;
-    h.convection_owed = split_->owed();
-    h.outputs         = output ? output->count() : 0;
-    std::snprintf(h.model, sizeof(h.model), "%s", identity.model.c_str());
-    try
-      {
-        io::set_run_record(h, record_);
-      }
-    catch (const io::CheckpointError &e)
-      {
-        throw io::OutputError("cannot write the checkpoint: " + std::string(e.what()));
-      }
-    auto &hh        = h.history;
-    hh.rkl2_blocked = history.rkl2_blocked;
-    hh.matrix_valid = history.matrix_valid;
-    if (history.matrix_valid)
-      {
-        hh.matrix_age     = history.matrix_age;
-        hh.matrix_coupled = history.matrix_coupled;
-        hh.matrix_stages  = history.matrix_N.size();
-        hh.matrix_t       = history.matrix_t;
-        hh.matrix_dt      = history.matrix_dt;
-        for (unsigned int i = 0; i < history.matrix_N.size(); ++i)
-          for (unsigned int j = 0; j < history.matrix_N.size(); ++j)
-            hh.matrix_N[i * history.matrix_N.size() + j] = history.matrix_N[i][j];
-      }
-    io::write_state_checkpoint(file, h, keys, U.begin(),
-                               history.matrix_valid ? history.state.data() : nullptr, comm);
+      c.history = integrator->history();
+    c.time            = t;
+    c.step            = step;
+    c.convection_owed = split_->owed();
+    c.outputs         = output ? output->count() : 0;
+    c.record          = record_;
+    checkpoints_->write(file, *patch_, U, c);
   }
 
   template <int dim, class Description>
   void Simulation<dim, Description>::read_checkpoint(const std::string &file)
   {
-    constexpr unsigned int NC = dim + 2;
-    const std::string      what =
-      "in " + identity.source + ": parameter 'Initial state/Checkpoint': '" + file + "' ";
-    // the header and the part table (O(ranks)); the parts are streamed below
-    std::unique_ptr<io::CheckpointReader> reader;
-    try
-      {
-        reader = std::make_unique<io::CheckpointReader>(file);
-        if (identity.adaptive && reader->header().dim == dim)
-          {
-            // an adaptive mesh is rebuilt from the leaves in the file
-            patch_->refine_to(io::checkpoint_keys(*reader, comm));
-            mesh_changed();
-            U.reinit(patch_->partitioner());
-          }
-      }
-    catch (const io::CheckpointError &e)
-      {
-        throw SceneError(what + e.what());
-      }
-    const io::CheckpointHeader &h = reader->header();
-    bool same_mesh = h.dim == dim && h.n_components == int(NC) && h.n_cells == patch_->n_global_cells();
-    for (unsigned int d = 0; d < dim; ++d)
-      {
-        const double extent = std::abs(identity.upper[d] - identity.lower[d]);
-        same_mesh           = same_mesh && h.cells[d] == identity.cells[d] &&
-                    std::abs(h.lower[d] - identity.lower[d]) <= 1e-12 * extent &&
-                    std::abs(h.upper[d] - identity.upper[d]) <= 1e-12 * extent;
-      }
-    if (!same_mesh)
-      throw SceneError(what + "was written for another mesh (dimension, Domain/Cells, corners or "
-                              "Adaptivity/Maximum level differ)");
-    if (std::string(h.model) != identity.model)
-      throw SceneError(what + "was written with 'Material/Model = " + std::string(h.model) + "'");
-    const bool                same_units = io::same_units(h, units_);
-    std::vector<std::int64_t> keys(patch_->n_owned());
-    for (unsigned int s = 0; s < keys.size(); ++s)
-      keys[s] = lattice_key(s);
-    // the implicit step's history (a checkpoint between output times): only with the same
-    // units and an integrator that keeps one
-    const bool with_history = h.history.matrix_valid && same_units && integrator;
-    typename diffusion::ImplicitIntegrator<dim>::History history;
-    if (with_history)
-      history.state.resize(std::size_t(patch_->n_owned()) * NC);
-    std::size_t found = 0;
-    try
-      {
-        found = io::read_state_checkpoint(*reader, keys, units_, U.begin(),
-                                          with_history ? history.state.data() : nullptr, comm);
-      }
-    catch (const io::CheckpointError &e)
-      {
-        throw SceneError(what + e.what());
-      }
-    if (Utilities::MPI::sum(found, comm) != patch_->n_global_cells() || found != patch_->n_owned())
-      throw SceneError(what + "does not hold every cell of the mesh");
-    start_time_ = same_units ? h.time : h.time * h.length / h.velocity / units_.time();
-    start_step_ = h.step;
-    split_->set_owed(same_units ? h.convection_owed :
-                                  h.convection_owed * h.length / h.velocity / units_.time());
-    if (integrator && same_units)
-      {
-        history.rkl2_blocked = h.history.rkl2_blocked;
-        if (with_history)
-          {
-            history.matrix_valid   = true;
-            history.matrix_coupled = h.history.matrix_coupled;
-            history.matrix_age     = h.history.matrix_age;
-            history.matrix_t       = h.history.matrix_t;
-            history.matrix_dt      = h.history.matrix_dt;
-            const unsigned int ns  = h.history.matrix_stages;
-            history.matrix_N.assign(ns, std::vector<double>(ns));
-            for (unsigned int a = 0; a < ns; ++a)
-              for (unsigned int b = 0; b < ns; ++b)
-                history.matrix_N[a][b] = h.history.matrix_N[a * ns + b];
-          }
-        integrator->restore(history);
-      }
+    const typename Checkpointing<dim>::Restart r =
+      checkpoints_->read(file, *patch_, U, integrator != nullptr, [this] { mesh_changed(); });
+    start_time_ = r.contents.time;
+    start_step_ = r.contents.step;
+    split_->set_owed(r.contents.convection_owed);
+    if (integrator && r.same_units)
+      integrator->restore(r.contents.history);
     // the record of the run's earlier segments (none in a checkpoint of format v5: the
     // counts then start at this checkpoint's step)
     RunSummary earlier;
-    if (from_run_record(io::run_record(h), record_units(), earlier))
+    if (from_run_record(r.contents.record, record_units(), earlier))
       earlier_ = earlier;
     else
       {
         earlier_                   = RunSummary();
         earlier_.segments          = 0;
-        earlier_.counted_from_step = h.step;
-        pcout << "  the checkpoint carries no record of the run before it (format v" << reader->version()
-              << "): the summary counts from step " << h.step << "\n";
+        earlier_.counted_from_step = r.contents.step;
+        pcout << "  the checkpoint carries no record of the run before it (format v" << r.version
+              << "): the summary counts from step " << r.contents.step << "\n";
       }
-    output->resume(h.outputs, start_time());
+    output->resume(r.contents.outputs, start_time());
     pcout << "  initial state: checkpoint " << file << " (t = " << start_time() << " s, step " << start_step_
-          << (with_history ? ", with the implicit step's history" : "") << ")\n";
+          << (r.with_history ? ", with the implicit step's history" : "") << ")\n";
   }
 
   GRANHYDRO_SIMULATION_INSTANCES

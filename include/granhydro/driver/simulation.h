@@ -10,6 +10,7 @@
 #include <granhydro/base/errors.h>
 #include <granhydro/convection/convection_operator.h>
 #include <granhydro/diffusion/implicit_integrator.h>
+#include <granhydro/driver/checkpointing.h>
 #include <granhydro/driver/run_report.h>
 #include <granhydro/driver/run_settings.h>
 #include <granhydro/driver/run_summary.h>
@@ -179,8 +180,6 @@ namespace granhydro
     /// empty unless the state is near close packing (max phi >= 0.99 phi_c, granular
     /// model): then where, how dense and how much mass sits in the near-close-packed cells
     std::string overpacking_report(const Vector &U) const;
-    /// key of owned slot s in the checkpoint file (lattice index, x fastest)
-    std::int64_t lattice_key(const unsigned int s) const;
 
     /// the scene: read here, in the composition root (simulation.cc) only; the parts of
     /// the run read their settings below (run_settings.h)
@@ -206,13 +205,15 @@ namespace granhydro
     std::unique_ptr<SplitStep<dim, Description>> split_;
     /// the run summary lines and <base>_summary.csv
     std::unique_ptr<RunReport> run_report_;
-    double                     start_time_ = 0; ///< scaled
-    unsigned int               start_step_ = 0;
-    Vector                     U;
-    unsigned int               adaptations    = 0;
-    double                     busy_at_adapt_ = 0; ///< conv->busy_seconds() at the last adaptation
-    double                     fixed_cost_    = 0; ///< set_cost_per_cell()
-    unsigned long long         max_cells = 0, refined_cells = 0, coarsened_cells = 0;
+    /// what a checkpoint holds besides the state, and its checks on restart
+    std::unique_ptr<Checkpointing<dim>> checkpoints_;
+    double                              start_time_ = 0; ///< scaled
+    unsigned int                        start_step_ = 0;
+    Vector                              U;
+    unsigned int                        adaptations    = 0;
+    double                              busy_at_adapt_ = 0; ///< conv->busy_seconds() at the last adaptation
+    double                              fixed_cost_    = 0; ///< set_cost_per_cell()
+    unsigned long long                  max_cells = 0, refined_cells = 0, coarsened_cells = 0;
     /// the record of the run's earlier segments, read from the checkpoint it restarted
     /// from (none: no segments, counted from step 0)
     RunSummary earlier_ = [] {
