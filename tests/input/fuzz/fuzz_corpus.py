@@ -4,7 +4,7 @@
 The corpus is regenerated deterministically by the mutation fuzzer
 (tools/fuzz_scenes.py, corpus_cases(): fixed seed, only cases whose mutation makes the
 scene invalid, spread over the mutation classes and the committed scenes).  Each case
-is checked like tests/bad_input/check_bad_input.cmake does, but with `--check`:
+is checked like tests/input/bad_input/check_bad_input.cmake does, but with `--check`:
 
   - exit code exactly 2 (bad input), no signal, no timeout (30 s),
   - stderr names the parameter ('Section/Name', "entry named X") or the offending line
@@ -14,9 +14,9 @@ is checked like tests/bad_input/check_bad_input.cmake does, but with `--check`:
     "MPI_ABORT", ...),
   - the (empty) working directory stays empty.
 
-  /usr/bin/python3 tests/fuzz/fuzz_corpus.py --exe build/granhydro [--jobs 2]
-  /usr/bin/python3 tests/fuzz/fuzz_corpus.py --list                 # the cases
-  /usr/bin/python3 tests/fuzz/fuzz_corpus.py --exe X --only sod_1d:numeric:003 --write /tmp/repro
+  /usr/bin/python3 tests/input/fuzz/fuzz_corpus.py --exe build/granhydro [--jobs 2]
+  /usr/bin/python3 tests/input/fuzz/fuzz_corpus.py --list                 # the cases
+  /usr/bin/python3 tests/input/fuzz/fuzz_corpus.py --exe X --only sod_1d:numeric:003 --write /tmp/repro
 
 Exit status 0 when every case passes, 1 otherwise (every failing case is listed with
 its mutation, the diff from its base scene and granhydro's stderr).
@@ -29,7 +29,7 @@ import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-REPO = HERE.parent.parent
+REPO = HERE.parent.parent.parent
 sys.path.insert(0, str(REPO / 'tools'))
 import fuzz_scenes as fz  # noqa: E402
 

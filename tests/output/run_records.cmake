@@ -177,7 +177,7 @@ elseif(MODE STREQUAL "summary")
   endif()
   # the commit: in a git checkout never "unknown"; read from .git/HEAD without git the
   # same commit as git describe names (without its "-dirty")
-  execute_process(COMMAND "${CMAKE_COMMAND}" -DSOURCE_DIR=${SOURCE_DIR} -P ${CMAKE_CURRENT_LIST_DIR}/../cmake/git_revision.cmake
+  execute_process(COMMAND "${CMAKE_COMMAND}" -DSOURCE_DIR=${SOURCE_DIR} -P ${CMAKE_CURRENT_LIST_DIR}/../../cmake/git_revision.cmake
                   OUTPUT_VARIABLE without_git OUTPUT_STRIP_TRAILING_WHITESPACE)
   if(EXISTS "${SOURCE_DIR}/.git")
     # a commit (5e8f60f, 5e8f60f-dirty) or, once there are tags, v1.0 or v1.0-3-g5e8f60f

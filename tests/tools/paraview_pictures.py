@@ -1,7 +1,7 @@
 """ctest tools.paraview: what a ParaView user sees of a granhydro run (run with pvpython
 under xvfb-run; registered only where ParaView's Python is installed).
 
-    xvfb-run -a pvpython tests/paraview_pictures.py GRANHYDRO SOURCE_DIR WORKDIR
+    xvfb-run -a pvpython tests/tools/paraview_pictures.py GRANHYDRO SOURCE_DIR WORKDIR
 
 1. runs a small 2D granular box at rest (packing fraction 0.1 below y = 0.05 m, 0.3
    above, no gravity; two output times) on one rank;

@@ -2,14 +2,14 @@
 # the printed default scene in a text block). The ctest doc.parameters_md fails when the
 # committed file differs from what the current granhydro prints.
 #
-#   cmake -DREGENERATE=1 -P tests/parameters_md.cmake        regenerate doc/parameters.md
-#   cmake -P tests/parameters_md.cmake                       check it
+#   cmake -DREGENERATE=1 -P tests/doc/parameters_md.cmake        regenerate doc/parameters.md
+#   cmake -P tests/doc/parameters_md.cmake                       check it
 #
 # Options: -DEXE=<granhydro> (default: build/granhydro of this tree), -DDOC=<file> (default:
 # doc/parameters.md), -DOUT=<file>: where a check writes the expected text (default:
 # parameters.md.expected in the working directory).
 
-get_filename_component(tree "${CMAKE_CURRENT_LIST_DIR}/.." ABSOLUTE)
+get_filename_component(tree "${CMAKE_CURRENT_LIST_DIR}/../.." ABSOLUTE)
 if(NOT EXE)
   set(EXE "${tree}/build/granhydro")
 endif()
@@ -44,7 +44,7 @@ prints a scene the same way, expanded (includes and `-p` overrides applied), and
 run records its scene so in `<Base name>_parameters.prm` ([Output](user-guide.md#output)).
 
 This page is generated: do not edit it. After changing a parameter or its documentation,
-build `granhydro` and run `cmake -DREGENERATE=1 -P tests/parameters_md.cmake` (ctest
+build `granhydro` and run `cmake -DREGENERATE=1 -P tests/doc/parameters_md.cmake` (ctest
 `doc.parameters_md` fails while the page is out of date).
 
 Subsections, in this order: @SUBSECTIONS@.

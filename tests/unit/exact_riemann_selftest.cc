@@ -1,5 +1,5 @@
 // Standalone self-test of tests/exact_riemann.h (no test framework).
-// Build & run:  g++ -std=c++17 -O2 -Wall -Wextra -o /tmp/ers tests/exact_riemann_selftest.cc && /tmp/ers
+// Build & run:  g++ -std=c++17 -O2 -Wall -Wextra -o /tmp/ers tests/unit/exact_riemann_selftest.cc && /tmp/ers
 // Reference values: Toro, "Riemann Solvers and Numerical Methods for Fluid
 // Dynamics", Tables 4.2/4.3 (gamma = 1.4); gamma = 5/3 Sod values as given.
 // Returns 0 on success; prints every failed check to stderr and returns 1.

@@ -5,7 +5,7 @@
 # their Python package, and headers that are the public API only: no internal header
 # (source/<layer>/*.h) is installed, and every granhydro header an installed header
 # includes is installed.
-#   cmake -DBUILD=<build dir> -DPREFIX=<scratch prefix> [-DSOURCE=<checkout>] -P tests/install_check.cmake
+#   cmake -DBUILD=<build dir> -DPREFIX=<scratch prefix> [-DSOURCE=<checkout>] -P tests/install/install_check.cmake
 if(NOT BUILD OR NOT PREFIX)
   message(FATAL_ERROR "install_check: give -DBUILD=<build dir> -DPREFIX=<scratch prefix>")
 endif()

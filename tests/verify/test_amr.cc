@@ -719,7 +719,7 @@ int main(int argc, char **argv)
               std::ofstream out(write_reference);
               out << "# verify.amr_sod_diagonal_" << dim << "d: the uniform " << (base << level) << "^" << dim
                   << " run's L1 errors (interior, whole domain), cells, cell-steps and wall seconds\n"
-                  << "# (tests/test_amr.cc). Regenerate after a change of the uniform solution:\n"
+                  << "# (tests/verify/test_amr.cc). Regenerate after a change of the uniform solution:\n"
                   << "#   build/tests/test_amr sod " << dim
                   << " --write-uniform-reference=" << write_reference << "\n"
                   << std::setprecision(17) << eu << "," << eu_all << "," << nu << "," << cu << "," << wu
