@@ -1,7 +1,7 @@
 # granhydro_add_test: the one way a test is registered (tests/*/CMakeLists.txt).
 #
 #   granhydro_add_test(NAME <ctest name> LABELS <label...> TIMEOUT <seconds>
-#                      EXE <target> [SOURCES <file...>] [PLAIN] | COMMAND <command...>
+#                      EXE <target> [SOURCES <file...>] [PLAIN] [SCENES] | COMMAND <command...>
 #                      [ARGS <argument...>] [RANKS <n>] [MPI] [PROCESSORS <n>]
 #                      [ENVIRONMENT <VAR=value...>] [PROPERTIES <property value...>])
 #
@@ -9,6 +9,8 @@
 #   from SOURCES (default <target>.cc of the calling folder), linked to granhydro_core, or
 #   from the standard library only with PLAIN. Test executables are written to
 #   build/tests/ whatever their folder (the documented study commands use that path).
+#   SCENES: the source reads its scenes (.prm files beside it) from GRANHYDRO_TEST_DIR,
+#   defined as the calling folder.
 # COMMAND <command...>: a driver (bash script, cmake -P, python3) run as given.
 # ARGS: the arguments after the executable or the command.
 # RANKS <n>: the executable runs under ${DEAL_II_MPIEXEC} -n <n> (--oversubscribe above 2).
@@ -22,7 +24,7 @@ set(MPIEXEC_ENV OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_M
 
 function(granhydro_add_test)
   # PARSE_ARGV keeps a ';' inside one argument (a -D list for a cmake -P driver)
-  cmake_parse_arguments(PARSE_ARGV 0 T "PLAIN;MPI" "NAME;TIMEOUT;EXE;RANKS;PROCESSORS"
+  cmake_parse_arguments(PARSE_ARGV 0 T "PLAIN;MPI;SCENES" "NAME;TIMEOUT;EXE;RANKS;PROCESSORS"
                         "LABELS;SOURCES;COMMAND;ARGS;ENVIRONMENT;PROPERTIES")
   if(T_UNPARSED_ARGUMENTS)
     message(FATAL_ERROR "granhydro_add_test(${T_NAME}): unknown arguments ${T_UNPARSED_ARGUMENTS}")
@@ -46,6 +48,9 @@ function(granhydro_add_test)
         target_link_libraries(${T_EXE} granhydro_core)
         target_include_directories(${T_EXE} PRIVATE ${GRANHYDRO_TESTS_DIR})
         deal_ii_setup_target(${T_EXE})
+      endif()
+      if(T_SCENES)
+        target_compile_definitions(${T_EXE} PRIVATE GRANHYDRO_TEST_DIR="${CMAKE_CURRENT_SOURCE_DIR}")
       endif()
     endif()
     set(command "$<TARGET_FILE:${T_EXE}>")

@@ -1,7 +1,9 @@
 #!/bin/bash
 # Checkpoints across rank counts (ctests checkpoint.ranks_* and mpi.checkpoint_ranks_*):
 #   checkpoint_ranks.sh <granhydro> <scene.prm> <work dir> <W> <R> <continue: yes|no> [mpiexec...]
-# 1. the scene uninterrupted on 1 rank: its final state digest and step count S;
+# 1. the scene uninterrupted on 1 rank: its final state digest and step count S (with
+#    CHECKPOINT_RANKS_REFERENCE=<work dir of another test of the same scene>: that test's
+#    uninterrupted run, run once for all rank pairs);
 # 2. on W ranks, stopped by SIGTERM after step K = S/2 (test hook GRANHYDRO_SIGTERM_AT_STEP):
 #    a checkpoint of W parts (one per rank) at step K;
 # 3. round trip: restarted on R ranks with Time/Maximum steps = K, the run stops at once
@@ -21,8 +23,17 @@ info() { "$exe" --checkpoint-info "$1"; }
 digest() { info "$1" | sed -n 's/.*state digest //p'; }
 field() { info "$1" | sed -n "s/.* $2 \([0-9]*\).*/\1/p" | head -1; }
 
-run 1 -p "Output/Directory=full" "$scene" > full.log 2>&1 || { cat full.log; fail "uninterrupted run"; }
-a=$(digest full/solution.checkpoint); s=$(field full/solution.checkpoint step)
+if [ -n "${CHECKPOINT_RANKS_REFERENCE:-}" ]; then
+  # the uninterrupted 1-rank run of the same scene by the same executable, made once by
+  # the ctest fixture's setup test (ctest runs it first, also for a single test)
+  full=$CHECKPOINT_RANKS_REFERENCE/full/solution.checkpoint
+  [ -f "$full" ] || fail "no uninterrupted run at $full (its setup test failed?)"
+  echo "the uninterrupted 1-rank run: $full"
+else
+  run 1 -p "Output/Directory=full" "$scene" > full.log 2>&1 || { cat full.log; fail "uninterrupted run"; }
+  full=full/solution.checkpoint
+fi
+a=$(digest "$full"); s=$(field "$full" step)
 k=$((s / 2))
 GRANHYDRO_SIGTERM_AT_STEP=$k run "$W" -p "Output/Directory=int" "$scene" > int.log 2>&1
 rc=$?

@@ -8,9 +8,9 @@
 // The cases are shock problems with walls and periodic directions, so the
 // wide WENO5 ghost layers, mirror ghosts across rank boundaries and the
 // a-posteriori fallback (flags exchanged between ranks) are all exercised.
-#include "common/test_common.h"
-
 #include <granhydro/mesh/slot_exchange.h>
+
+#include "common/test_common.h"
 
 #include <map>
 
@@ -47,7 +47,7 @@ void compare(const std::string &name, const Scene &s, Checker &chk, const double
   const auto         par = run<dim, Description>(s, world, fN);
   if (me == 0)
     {
-      const auto ser  = run<dim, Description>(s, MPI_COMM_SELF, f1);
+      const auto ser          = run<dim, Description>(s, MPI_COMM_SELF, f1);
       const auto [same, diff] = compare_states<dim>(par, ser);
       std::ostringstream os;
       os << name << ": " << dealii::Utilities::MPI::n_mpi_processes(world) << " ranks vs 1 rank, "
@@ -68,8 +68,8 @@ void compare(const std::string &name, const Scene &s, Checker &chk, const double
 void check_slot_exchange(Checker &chk)
 {
   const MPI_Comm     comm = MPI_COMM_WORLD;
-  const unsigned int P = dealii::Utilities::MPI::n_mpi_processes(comm),
-                     me = dealii::Utilities::MPI::this_mpi_process(comm);
+  const unsigned int P    = dealii::Utilities::MPI::n_mpi_processes(comm),
+                     me   = dealii::Utilities::MPI::this_mpi_process(comm);
   const unsigned int n = 10, NC = 5, m = 7, channels = 4;
   dealii::IndexSet   owned(std::size_t(P) * n * NC), ghosts(std::size_t(P) * n * NC);
   owned.add_range(std::size_t(me) * n * NC, std::size_t(me + 1) * n * NC);
@@ -81,7 +81,7 @@ void check_slot_exchange(Checker &chk)
         ghosts.add_range(std::size_t(c) * NC, std::size_t(c + 1) * NC);
       }
   const dealii::Utilities::MPI::Partitioner part(owned, ghosts, comm);
-  std::vector<std::uint16_t> need(ghost_cells.size(), 0);
+  std::vector<std::uint16_t>                need(ghost_cells.size(), 0);
   for (unsigned int g = 0; g < need.size(); ++g)
     for (unsigned int k = 0; k < channels; ++k)
       if ((g + k) % 3 != 0)
@@ -123,7 +123,7 @@ int main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   Checker                                  chk;
-  chk.root = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+  chk.root           = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
   const bool only_3d = argc > 1 && std::string(argv[1]) == "3d";
   check_slot_exchange(chk);
   if (only_3d)
@@ -136,81 +136,42 @@ int main(int argc, char **argv)
         s.upper    = {{1, 20. / 24, 16. / 24}};
         s.boundary = {{"slip wall", "outflow", "periodic", "periodic", "slip wall", "slip wall"}};
         s.end_time = 0.05;
-        compare<3>("3D blast, slip/outflow in x, periodic in y, slip walls in z (bit for bit)",
-                   make_scene(s), chk, 0.);
+        compare<3>("3D blast, slip/outflow in x, periodic in y, slip walls in z (bit for bit)", make_scene(s),
+                   chk, 0.);
       }
       // a dense granular gas under gravity on a uniform 3D mesh, with every effect of the
       // diffusion step, SDIRK2: the Newton matrices are block ILU(0) per rank, so GMRES
       // iterates differ with the partition; Newton stops at 1e-13 of max|U| and GMRES at
       // 1e-14 relative: 1e-12 relative is what the solver tolerances allow
-      const std::string text = R"(set Dimension = 3
-subsection Domain
-  set Lower corner = 0, 0, 0
-  set Upper corner = 0.016, 0.016, 0.02
-  set Cells = 16, 16, 20
-  set Boundary x- = periodic
-  set Boundary x+ = periodic
-  set Boundary y- = periodic
-  set Boundary y+ = periodic
-  set Boundary z- = no-slip wall
-  set Boundary z+ = slip wall
-end
-subsection Material
-  set Model = granular
-  set Restitution coefficient = 0.8
-end
-subsection Effects
-  set Gravity = 0, 0, -9.81
-end
-subsection Initial state
-  set Packing fraction = 0.3 + 0.25*exp(-((x-0.008)^2+(y-0.007)^2+(z-0.01)^2)/0.004^2)
-  set Velocity = 0.02*sin(2*pi*x/0.016); 0.01*cos(2*pi*y/0.016); 0
-  set Temperature = 1e-7*(1 + 0.5*sin(2*pi*x/0.016))
-end
-subsection Diffusion step
-  set Integrator = sdirk2
-  set Newton tolerance = 1e-13
-  set Linear solver tolerance = 1e-14
-end
-subsection Time
-  set End time = 1
-  set Maximum steps = 10
-end
-subsection Output
-  set Write VTU = false
-  set Write profiles = false
-  set Write checkpoint = false
-  set Verbose = false
-end
-)";
+      const std::string text = read_text_file(std::string(GRANHYDRO_TEST_DIR) + "/granular_gas_3d.prm");
       compare<3, physics::GranularGas<3>>("3D granular gas, uniform 16x16x20, all effects, sdirk2",
-                                          parse_scene(text, "granular_3d"), chk, 1e-12);
+                                          parse_scene(text, "granular_gas_3d.prm"), chk, 1e-12);
       return chk.failed != 0;
     }
   {
     SceneSpec s;
-    s.dim       = 1;
-    s.cells     = {{200, 1, 1}};
-    s.boundary  = {{"slip wall", "outflow", "", "", "", ""}};
-    s.end_time  = 0.15;
+    s.dim      = 1;
+    s.cells    = {{200, 1, 1}};
+    s.boundary = {{"slip wall", "outflow", "", "", "", ""}};
+    s.end_time = 0.15;
     compare<1>("1D blast, slip wall | outflow", make_scene(s), chk);
   }
   {
     SceneSpec s;
-    s.dim       = 2;
-    s.cells     = {{64, 48, 1}};
-    s.upper     = {{1, 0.75, 1}};
-    s.boundary  = {{"slip wall", "slip wall", "periodic", "periodic", "", ""}};
-    s.end_time  = 0.1;
+    s.dim      = 2;
+    s.cells    = {{64, 48, 1}};
+    s.upper    = {{1, 0.75, 1}};
+    s.boundary = {{"slip wall", "slip wall", "periodic", "periodic", "", ""}};
+    s.end_time = 0.1;
     compare<2>("2D blast, slip walls in x, periodic in y, WENO5 + Gauss + MUSTA", make_scene(s), chk);
   }
   {
     SceneSpec s;
-    s.dim       = 3;
-    s.cells     = {{24, 20, 16}};
-    s.upper     = {{1, 20. / 24, 16. / 24}};
-    s.boundary  = {{"slip wall", "outflow", "periodic", "periodic", "slip wall", "slip wall"}};
-    s.end_time  = 0.05;
+    s.dim      = 3;
+    s.cells    = {{24, 20, 16}};
+    s.upper    = {{1, 20. / 24, 16. / 24}};
+    s.boundary = {{"slip wall", "outflow", "periodic", "periodic", "slip wall", "slip wall"}};
+    s.end_time = 0.05;
     compare<3>("3D blast, slip/outflow in x, periodic in y, slip walls in z", make_scene(s), chk);
   }
   {
@@ -219,43 +180,7 @@ end
     // with GMRES + ILU, whose iterates depend on the partition (block ILU); Newton
     // stops at 1e-13 of max|U| and GMRES at 1e-14 relative, so 1 and N ranks agree
     // to ~1e-12 of the state, asserted with 1e-10.
-    const std::string text = R"(set Dimension = 2
-subsection Domain
-  set Lower corner = 0, 0
-  set Upper corner = 0.03, 0.024
-  set Cells = 30, 24
-  set Boundary x- = periodic
-  set Boundary x+ = periodic
-  set Boundary y- = slip wall
-  set Boundary y+ = slip wall
-end
-subsection Material
-  set Model = granular
-  set Restitution coefficient = 0.8
-end
-subsection Effects
-  set Gravity = 0, -9.81
-end
-subsection Initial state
-  set Packing fraction = 0.3 + 0.2*exp(-((x-0.012)^2+(y-0.01)^2)/0.004^2)
-  set Velocity = 0.02*sin(2*pi*x/0.03); 0
-  set Temperature = 1e-7*(1 + 0.5*sin(2*pi*x/0.03))
-end
-subsection Diffusion step
-  set Newton tolerance = 1e-13
-  set Linear solver tolerance = 1e-14
-end
-subsection Time
-  set End time = 1
-  set Maximum steps = 30
-end
-subsection Output
-  set Write VTU = false
-  set Write profiles = false
-  set Write checkpoint = false
-  set Verbose = false
-end
-)";
+    const std::string text = read_text_file(std::string(GRANHYDRO_TEST_DIR) + "/granular_gas_2d.prm");
     // the default (cost-based: RKL2 here), and the two implicit integrators, whose Newton
     // matrices (block-sparse, block ILU(0) per rank) and GMRES iterates differ with the
     // partition

@@ -68,62 +68,20 @@ using namespace granhydro::testing;
 
 namespace
 {
+  /// a scene file beside this source (tests/verify/)
+  std::string scene_file(const std::string &name)
+  {
+    return read_text_file(std::string(GRANHYDRO_TEST_DIR) + "/" + name);
+  }
+
   std::string blast_3d(const unsigned int steps)
   {
     // a dense hot sphere off centre in a periodic box, moving diagonally: its shock
     // crosses the periodic boundaries, the refined shell follows it and the wake coarsens
-    std::ostringstream os;
-    os << R"(set Dimension = 3
-subsection Domain
-  set Lower corner = 0, 0, 0
-  set Upper corner = 1, 1, 1
-  set Cells = 4, 4, 4
-  set Boundary x- = periodic
-  set Boundary x+ = periodic
-  set Boundary y- = periodic
-  set Boundary y+ = periodic
-  set Boundary z- = periodic
-  set Boundary z+ = periodic
-end
-subsection Material
-  set Grain diameter = 1
-  set Material density = 1.909859317102744
-  set Adiabatic index = 1.6666666666666667
-end
-subsection Initial state
-  set Packing fraction = 0.5236*(0.2 + 0.8*(((x-0.4)^2+(y-0.45)^2+(z-0.5)^2) < 0.04))
-  set Temperature = 1*(0.1 + 4.9*(((x-0.4)^2+(y-0.45)^2+(z-0.5)^2) < 0.04)) / (0.2 + 0.8*(((x-0.4)^2+(y-0.45)^2+(z-0.5)^2) < 0.04))
-  set Velocity = 0.5; 0.3; -0.2
-  set Quadrature points = 2
-end
-subsection Numerics
-  set Reconstruction = weno5
-  set Face quadrature = midpoint
-  set Flux = hll
-  set CFL number = 0.4
-  set Reference velocity = 1
-end
-subsection Adaptivity
-  set Maximum level = 2
-  set Refine threshold = 0.1
-  set Coarsen threshold = 0.03
-  set Interval = 5
-  set Buffer = 1
-end
-subsection Time
-  set End time = 100
-  set Maximum steps = )"
-       << steps << R"(
-end
-subsection Output
-  set Write VTU = false
-  set Write profiles = false
-  set Write checkpoint = false
-  set Write summary = false
-  set Verbose = false
-end
-)";
-    return os.str();
+    std::string s = scene_file("blast_3d.prm");
+    const auto  i = s.find("set Maximum steps = 500\n");
+    AssertThrow(i != std::string::npos, dealii::ExcInternalError());
+    return s.replace(i, 23, "set Maximum steps = " + std::to_string(steps));
   }
 
   /// the blast between walls: slip walls across y, a no-slip floor and a slip lid in z,
@@ -144,94 +102,6 @@ end
     set("set Boundary z+ = periodic", "set Boundary z+ = slip wall");
     return s;
   }
-
-  /// a small 2D granular box with slip walls and outflow sides, 8 x 4 cells + 2 levels:
-  /// on 3 ranks a rank's stencil tables reach far past its own leaves (virtual cells'
-  /// sources, their gradient neighbours), the case that found the fetched lattice too
-  /// short for the rows no stencil reads
-  const char *granular_2d_open = R"(set Dimension = 2
-subsection Domain
-  set Lower corner = 0, 0
-  set Upper corner = 0.1, 0.05
-  set Cells = 8, 4
-  set Boundary x- = slip wall
-  set Boundary x+ = outflow
-  set Boundary y- = slip wall
-  set Boundary y+ = outflow
-end
-subsection Material
-  set Model = granular
-  set Restitution coefficient = 0.9
-end
-subsection Initial state
-  set Packing fraction = 0.05 + 0.25*(((x-0.07001951586920334)^2+(y-0.019971345889556427)^2) < 0.00010000000000000005)
-  set Temperature = 1e-6
-  set Velocity = 0.01; 0.01
-end
-subsection Adaptivity
-  set Maximum level = 2
-  set Refine threshold = 0.1
-  set Coarsen threshold = 0.03
-  set Interval = 2
-end
-subsection Time
-  set End time = 0.05
-  set Maximum steps = 30
-end
-subsection Output
-  set Interval = 1e-3
-  set Write VTU = false
-  set Write profiles = false
-  set Write checkpoint = false
-  set Write summary = false
-  set Verbose = false
-end
-)";
-
-  const char *granular_2d = R"(set Dimension = 2
-subsection Domain
-  set Lower corner = 0, 0
-  set Upper corner = 0.032, 0.032
-  set Cells = 8, 8
-  set Boundary x- = periodic
-  set Boundary x+ = periodic
-  set Boundary y- = slip wall
-  set Boundary y+ = no-slip wall
-end
-subsection Material
-  set Model = granular
-  set Restitution coefficient = 0.8
-end
-subsection Effects
-  set Gravity = 0, -9.81
-end
-subsection Initial state
-  set Packing fraction = 0.05 + 0.35*(y < 0.012 + 0.003*sin(2*pi*x/0.032))
-  set Velocity = 0.02*sin(2*pi*x/0.032); 0
-  set Temperature = 1e-7
-end
-subsection Adaptivity
-  set Maximum level = 2
-  set Refine threshold = 0.2
-  set Coarsen threshold = 0.05
-  set Interval = 3
-end
-subsection Diffusion step
-  set Newton tolerance = 1e-13
-  set Linear solver tolerance = 1e-14
-end
-subsection Time
-  set End time = 1
-  set Maximum steps = 24
-end
-subsection Output
-  set Write VTU = false
-  set Write profiles = false
-  set Write checkpoint = false
-  set Write summary = false
-  set Verbose = false
-end
-)";
 
   /// A Riemann problem along the diagonal: left/right density, normal velocity, pressure
   struct RiemannCase
@@ -515,7 +385,8 @@ int main(int argc, char **argv)
           // GMRES + block ILU iterates depend on the partition; Newton stops at 1e-13:
           // 1 and N ranks agree to ~1e-12, asserted with 1e-10 (the issue's tolerance)
           compare_ranks<2, physics::GranularGas<2>>("2D granular gas with AMR, all effects",
-                                                    parse_scene(granular_2d, "granular_2d"), chk, 1e-10);
+                                                    parse_scene(scene_file("granular_2d.prm"), "granular_2d"),
+                                                    chk, 1e-10);
         }
       else if (what == "walls-3d")
         {
@@ -636,9 +507,9 @@ int main(int argc, char **argv)
         }
       else if (what == "mpi-open-2d")
         // GMRES + block ILU depend on the partition (see "mpi"): 1e-10
-        compare_ranks<2, physics::GranularGas<2>>("2D granular box with walls and outflow, AMR",
-                                                  parse_scene(granular_2d_open, "granular_2d_open"), chk,
-                                                  1e-10);
+        compare_ranks<2, physics::GranularGas<2>>(
+          "2D granular box with walls and outflow, AMR",
+          parse_scene(scene_file("granular_2d_open.prm"), "granular_2d_open"), chk, 1e-10);
       else if (what == "mpi-3d")
         {
           compare_ranks<3, physics::IdealGas<3>>("3D blast with AMR (bit for bit)",

@@ -38,7 +38,7 @@ namespace
         const auto S = sim.state_si(c);
         mine.insert(mine.end(), S.begin(), S.end());
       }
-    const auto all = Utilities::MPI::gather(comm, mine, 0);
+    const auto                 all = Utilities::MPI::gather(comm, mine, 0);
     StateMap<dim, Description> out;
     for (const auto &v : all)
       for (std::size_t i = 0; i < v.size(); i += dim + 5)
@@ -76,25 +76,26 @@ namespace
   void compare_box(const std::string &name, const std::string &text, const std::string &mesh,
                    const unsigned int refinements, Checker &chk, const double cross_rank_tolerance = 0)
   {
-    const MPI_Comm world = MPI_COMM_WORLD;
-    const Scene generated = parse_scene(text, "<generated box>");
-    const Scene from_file = parse_scene(text + "subsection Domain\n  set Mesh file = " + mesh +
-                                          "\n  set Mesh refinements = " + std::to_string(refinements) +
-                                          "\nend\n",
-                                        "<box from file>");
-    const auto a = run<dim, Description>(generated, world);
-    const auto b = run<dim, Description>(from_file, world);
+    const MPI_Comm world     = MPI_COMM_WORLD;
+    const Scene    generated = parse_scene(text, "<generated box>");
+    const Scene    from_file =
+      parse_scene(text + "subsection Domain\n  set Mesh file = " + mesh +
+                    "\n  set Mesh refinements = " + std::to_string(refinements) + "\nend\n",
+                  "<box from file>");
+    const auto         a      = run<dim, Description>(generated, world);
+    const auto         b      = run<dim, Description>(from_file, world);
     const unsigned int nranks = Utilities::MPI::n_mpi_processes(world);
     if (Utilities::MPI::this_mpi_process(world) != 0)
       return;
-    const double d = max_difference<dim, Description>(a, b);
+    const double       d = max_difference<dim, Description>(a, b);
     std::ostringstream os;
-    os << name << ": " << a.size() << " cells, " << nranks << " rank(s), file vs generated: max relative difference " << d;
+    os << name << ": " << a.size() << " cells, " << nranks
+       << " rank(s), file vs generated: max relative difference " << d;
     chk.check(d == 0, os.str());
     if (nranks > 1)
       {
-        const auto   c  = run<dim, Description>(generated, MPI_COMM_SELF);
-        const double d1 = max_difference<dim, Description>(c, b);
+        const auto         c  = run<dim, Description>(generated, MPI_COMM_SELF);
+        const double       d1 = max_difference<dim, Description>(c, b);
         std::ostringstream os1;
         os1 << name << ": file on " << nranks << " ranks vs generated on 1 rank: max relative difference "
             << d1 << " (allowed " << cross_rank_tolerance << ")";
@@ -105,63 +106,28 @@ namespace
   std::string blast_text(const unsigned int dim, const std::array<std::string, 6> &boundary)
   {
     SceneSpec s;
-    s.dim      = dim;
-    s.cells    = dim == 2 ? std::array<unsigned int, 3>{{32, 24, 1}} : std::array<unsigned int, 3>{{16, 12, 8}};
-    s.upper    = {{1, 0.75, 0.5}};
-    s.boundary = boundary;
-    s.end_time = 0.05;
+    s.dim   = dim;
+    s.cells = dim == 2 ? std::array<unsigned int, 3>{{32, 24, 1}} : std::array<unsigned int, 3>{{16, 12, 8}};
+    s.upper = {{1, 0.75, 0.5}};
+    s.boundary    = boundary;
+    s.end_time    = 0.05;
     std::string t = scene_text(s);
     // a blast off-centre, moving, so that every wall sees a shock
     t += "subsection Initial state\n  set Packing fraction = 0.5 * (0.125 + 0.875 * "
-         "(((x-0.3)^2 + (y-0.4)^2" + std::string(dim == 3 ? " + (z-0.2)^2" : "") + ") < 0.05))\n"
+         "(((x-0.3)^2 + (y-0.4)^2" +
+         std::string(dim == 3 ? " + (z-0.2)^2" : "") +
+         ") < 0.05))\n"
          "  set Temperature = 0.1 + 49.9 * (((x-0.3)^2 + (y-0.4)^2" +
-         std::string(dim == 3 ? " + (z-0.2)^2" : "") + ") < 0.05)\n  set Velocity = " +
-         (dim == 3 ? "0.3; -0.2; 0.1" : "0.3; -0.2") + "\n  set Quadrature points = 2\nend\n";
+         std::string(dim == 3 ? " + (z-0.2)^2" : "") +
+         ") < 0.05)\n  set Velocity = " + (dim == 3 ? "0.3; -0.2; 0.1" : "0.3; -0.2") +
+         "\n  set Quadrature points = 2\nend\n";
     return t;
   }
 
   std::string granular_text()
   {
-    // 2D granular gas in a box of 1 m x 0.75 m, grains of 1 cm: gravity, no-slip walls, the
-    // lid moving, dissipative floor and right wall (diffusion step with wall heat flux)
-    return R"(set Dimension = 2
-subsection Domain
-  set Lower corner = 0, 0
-  set Upper corner = 1, 0.75
-  set Cells = 32, 24
-  set Boundary x- = no-slip wall
-  set Boundary x+ = no-slip wall
-  set Boundary y- = no-slip wall
-  set Boundary y+ = no-slip wall
-  set Wall velocity y+ = 0.5, 0
-  set Wall restitution y- = 0.8
-  set Wall restitution x+ = 0.9
-end
-subsection Material
-  set Model = granular
-  set Grain diameter = 0.01
-  set Material density = 2600
-  set Restitution coefficient = 0.9
-end
-subsection Effects
-  set Gravity = 0, -9.81
-end
-subsection Initial state
-  set Packing fraction = 0.1 + 0.1 * exp(-((x - 0.4)^2 + (y - 0.3)^2) / 0.02)
-  set Velocity = 0.2 * sin(3 * y); 0
-  set Temperature = 1e-3
-  set Quadrature points = 2
-end
-subsection Time
-  set End time = 1
-  set Maximum steps = 8
-end
-subsection Output
-  set Write VTU = false
-  set Write profiles = false
-  set Verbose = false
-end
-)";
+    // 2D granular gas in a box, no-slip + moving + dissipative walls (the file beside this source)
+    return read_text_file(std::string(GRANHYDRO_TEST_DIR) + "/granular_box_2d.prm");
   }
 
   using Sim3 = Simulation<3, physics::GranularGas<3>>;
@@ -180,29 +146,34 @@ int main(int argc, char **argv)
   chk.root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
   if (argc != 3)
     {
-      std::cerr << "usage: test_mesh_files box <tests/data> | closed <silo-ci.prm> | discharge <silo-ci.prm>\n";
+      std::cerr
+        << "usage: test_mesh_files box <tests/data> | closed <silo-ci.prm> | discharge <silo-ci.prm>\n";
       return 2;
     }
   const std::string mode = argv[1], arg = argv[2];
   if (mode == "box")
     {
       compare_box<2, physics::IdealGas<2>>(
-        "2D blast, slip walls, gmsh", blast_text(2, {{"slip wall", "slip wall", "slip wall", "slip wall", "", ""}}),
-        arg + "/box_2d.msh", 3, chk);
+        "2D blast, slip walls, gmsh",
+        blast_text(2, {{"slip wall", "slip wall", "slip wall", "slip wall", "", ""}}), arg + "/box_2d.msh", 3,
+        chk);
       compare_box<2, physics::IdealGas<2>>(
         "2D blast, slip/outflow/no-slip, ucd",
-        blast_text(2, {{"slip wall", "outflow", "no-slip wall", "slip wall", "", ""}}), arg + "/box_2d.inp", 3, chk);
+        blast_text(2, {{"slip wall", "outflow", "no-slip wall", "slip wall", "", ""}}), arg + "/box_2d.inp",
+        3, chk);
       compare_box<3, physics::IdealGas<3>>(
         "3D blast, slip/outflow/no-slip, gmsh",
         blast_text(3, {{"slip wall", "outflow", "no-slip wall", "slip wall", "slip wall", "no-slip wall"}}),
         arg + "/box_3d.msh", 2, chk);
-      compare_box<2, physics::GranularGas<2>>("2D granular gas, gravity, no-slip + moving + dissipative walls, gmsh",
-                                              granular_text(), arg + "/box_2d.msh", 3, chk, 1e-12);
+      compare_box<2, physics::GranularGas<2>>(
+        "2D granular gas, gravity, no-slip + moving + dissipative walls, gmsh", granular_text(),
+        arg + "/box_2d.msh", 3, chk, 1e-12);
     }
   else if (mode == "closed" || mode == "discharge")
     {
-      std::string text = read_text_file(arg) + "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
-                                      "  set Verbose = false\nend\n";
+      std::string text = read_text_file(arg) +
+                         "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
+                         "  set Verbose = false\nend\n";
       if (mode == "closed") // outlet bottom closed by a no-slip wall; 40 steps
         text += "subsection Domain\n  set Boundary y- = no-slip wall\nend\nsubsection Time\n"
                 "  set Maximum steps = 40\nend\n";
@@ -221,7 +192,8 @@ int main(int argc, char **argv)
         chk.check(std::abs(M1 - M0) <= 1e-12 * M0, "closed silo: mass conserved to 1e-12 relative");
       else
         {
-          chk.check(std::abs(summary.time_si - scene.end_time) < 1e-12 * scene.end_time, "the run reaches its end time");
+          chk.check(std::abs(summary.time_si - scene.end_time) < 1e-12 * scene.end_time,
+                    "the run reaches its end time");
           // Upper bound: the grains leave through the outlet bottom, 8 mm x 10 mm. Nothing
           // in the silo moves faster than free fall from the top of the bed (y = 40 mm) to
           // the outlet bottom (y = 0), v <= sqrt(2 g h) with h = 0.04 m (pressure gradients
@@ -230,7 +202,8 @@ int main(int argc, char **argv)
           // for the whole run: a generous bound (most of the run the outlet holds a
           // dilute jet that has not reached free-fall speed).
           const double A = 0.008 * 0.010, g = 9.81, h = 0.04, t = scene.end_time;
-          const double bound = scene.material_density * scene.phi_close_packing * A * std::sqrt(2 * g * h) * t;
+          const double bound =
+            scene.material_density * scene.phi_close_packing * A * std::sqrt(2 * g * h) * t;
           // Lower bound: the outlet starts with phi = 1e-3 over 8 x 8 x 10 mm; it empties
           // in free fall within sqrt(2 * 8 mm / g) = 40 ms, and the bed above the orifice
           // follows. Require at least the initial content of the outlet channel.
