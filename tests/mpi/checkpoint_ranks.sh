@@ -19,9 +19,11 @@ mpiexec=("$@")
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
 fail() { echo "FAIL: $*"; exit 1; }
 run() { local np=$1; shift; if [ ${#mpiexec[@]} -gt 0 ]; then "${mpiexec[@]}" -n "$np" "$exe" "$@"; else "$exe" "$@"; fi; }
-info() { "$exe" --checkpoint-info "$1"; }
-digest() { info "$1" | sed -n 's/.*state digest //p'; }
-field() { info "$1" | sed -n "s/.* $2 \([0-9]*\).*/\1/p" | head -1; }
+# --checkpoint-info of a checkpoint once into <name>_info.txt (each start of granhydro costs
+# its MPI start-up); digest and fields are read from that text
+info() { "$exe" --checkpoint-info "$1" > "$2_info.txt"; }
+digest() { sed -n 's/.*state digest //p' "$1_info.txt"; }
+field() { sed -n "s/.* $2 \([0-9]*\).*/\1/p" "$1_info.txt" | head -1; }
 
 if [ -n "${CHECKPOINT_RANKS_REFERENCE:-}" ]; then
   # the uninterrupted 1-rank run of the same scene by the same executable, made once by
@@ -33,29 +35,32 @@ else
   run 1 -p "Output/Directory=full" "$scene" > full.log 2>&1 || { cat full.log; fail "uninterrupted run"; }
   full=full/solution.checkpoint
 fi
-a=$(digest "$full"); s=$(field "$full" step)
+info "$full" full || { cat full_info.txt; fail "the uninterrupted run's checkpoint does not verify"; }
+a=$(digest full); s=$(field full step)
 k=$((s / 2))
 GRANHYDRO_SIGTERM_AT_STEP=$k run "$W" -p "Output/Directory=int" "$scene" > int.log 2>&1
 rc=$?
 [ $rc -eq 143 ] || { cat int.log; fail "interrupted run on $W ranks: exit $rc, expected 143"; }
 c=int/solution.checkpoint
-info $c > int_info.txt || { cat int_info.txt; fail "the $W-rank checkpoint does not verify"; }
-[ "$(field $c parts)" = "$W" ] || { cat int_info.txt; fail "the $W-rank checkpoint does not have $W parts"; }
-[ "$(field $c step)" = "$k" ] || { cat int_info.txt; fail "the checkpoint is not at step $k"; }
 cp $c int.checkpoint
-b=$(digest int.checkpoint)
+info int.checkpoint int || { cat int_info.txt; fail "the $W-rank checkpoint does not verify"; }
+[ "$(field int parts)" = "$W" ] || { cat int_info.txt; fail "the $W-rank checkpoint does not have $W parts"; }
+[ "$(field int step)" = "$k" ] || { cat int_info.txt; fail "the checkpoint is not at step $k"; }
+b=$(digest int)
 
 run "$R" -p "Output/Directory=trip" -p "Time/Maximum steps=$k" -p "Initial state/Checkpoint=int.checkpoint" \
   "$scene" > trip.log 2>&1 || { cat trip.log; fail "restart on $R ranks (no step)"; }
-t=$(digest trip/solution.checkpoint)
-echo "step $k: written on $W ranks $b, read on $R ranks and written again $t ($(field trip/solution.checkpoint parts) parts)"
+info trip/solution.checkpoint trip || { cat trip_info.txt; fail "the $R-rank checkpoint does not verify"; }
+t=$(digest trip)
+echo "step $k: written on $W ranks $b, read on $R ranks and written again $t ($(field trip parts) parts)"
 [ -n "$b" ] && [ "$b" = "$t" ] || fail "the state read on $R ranks is not the state written on $W ranks"
-[ "$(field trip/solution.checkpoint parts)" = "$R" ] || fail "the $R-rank checkpoint does not have $R parts"
+[ "$(field trip parts)" = "$R" ] || fail "the $R-rank checkpoint does not have $R parts"
 
 if [ "$cont" = yes ]; then
   run "$R" -p "Output/Directory=cont" -p "Initial state/Checkpoint=int.checkpoint" "$scene" > cont.log 2>&1 ||
     { cat cont.log; fail "restart on $R ranks"; }
-  e=$(digest cont/solution.checkpoint)
+  info cont/solution.checkpoint cont || { cat cont_info.txt; fail "the continued run's checkpoint does not verify"; }
+  e=$(digest cont)
   echo "final state: uninterrupted (1 rank) $a, stopped on $W ranks + restarted on $R ranks $e"
   [ -n "$a" ] && [ "$a" = "$e" ] || fail "the restarted run does not end in the uninterrupted state"
 fi
