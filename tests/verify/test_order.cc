@@ -8,22 +8,26 @@
 //    order approximation of the face-averaged flux).
 // The 3D vortex has its axis along (1,1,1)/sqrt(3), so all three directions and
 // both transverse reconstruction stages carry the solution.
-//   test_order [1d|2d|3d|all] [--study]   (--study: longer ladders, no assertions)
-#include "common/test_common.h"
-
+//   test_order [1d|2d|3d|all] [--study]   (--study: longer ladders, no assertions; with
+//   --study, GRANHYDRO_ORDER_LADDER=16,24,32 replaces the ladder of each dimension run and
+//   GRANHYDRO_ORDER_END_TIME the vortex's end time 1)
 #include <deal.II/base/quadrature_lib.h>
+
+#include "common/test_common.h"
 
 #include <chrono>
 #include <iomanip>
+#include <sstream>
 
 using namespace granhydro;
 using namespace granhydro::testing;
 
 namespace
 {
-  constexpr double gamma_a = 5. / 3.;
-  constexpr double L       = 10.;  // vortex box edge
-  constexpr double beta    = 5.;   // vortex strength (Shu's standard vortex)
+  constexpr double gamma_a    = 5. / 3.;
+  constexpr double L          = 10.;   // vortex box edge
+  constexpr double beta       = 5.;    // vortex strength (Shu's standard vortex)
+  bool             study_mode = false; // the GRANHYDRO_ORDER_* variables are read only then
 
   /// density wave: rho = 1 + 0.2 sin(2 pi (x - t)), u = 1, p = 1 (exact: advected)
   physics::State<1> density_wave(const double x, const double t)
@@ -41,7 +45,7 @@ namespace
   {
     const double a[3] = {dim == 3 ? 1 / std::sqrt(3.) : 0, dim == 3 ? 1 / std::sqrt(3.) : 0,
                          dim == 3 ? 1 / std::sqrt(3.) : 1};
-    const double v[3] = {1, dim == 3 ? -1. : 1., 0}; // perpendicular to a in 3D
+    const double v[3]  = {1, dim == 3 ? -1. : 1., 0}; // perpendicular to a in 3D
     double       du[3] = {0, 0, 0}, dT = 0;
     // distinct image lines: shifts by L(i, j, 0); in 3D a shift along (1,1,1) maps the
     // axis onto itself, so (i, j, 0) with |i|,|j| <= 3 covers every line within
@@ -51,7 +55,7 @@ namespace
       for (int j = -K; j <= K; ++j)
         for (int k = 0; k <= 0; ++k)
           {
-            double y[3] = {0, 0, 0};
+            double    y[3]     = {0, 0, 0};
             const int shift[3] = {i, j, k};
             for (int d = 0; d < 3; ++d)
               y[d] = (d < dim ? x[d] : 0.) - L / 2 - v[d] * t + L * shift[d];
@@ -85,8 +89,8 @@ namespace
   Result run(const unsigned int N, const std::string &quadrature, const MPI_Comm comm)
   {
     SceneSpec s;
-    s.dim        = dim;
-    s.quadrature = quadrature;
+    s.dim            = dim;
+    s.quadrature     = quadrature;
     const double len = dim == 1 ? 1. : L;
     const double h   = len / N;
     for (unsigned int d = 0; d < 3; ++d)
@@ -107,6 +111,8 @@ namespace
     else
       {
         t_end = 1.0;
+        if (const char *e = study_mode ? std::getenv("GRANHYDRO_ORDER_END_TIME") : nullptr)
+          t_end = std::atof(e);
         // CFL-limited at h = 0.5, then dt ~ h^(4/3)
         s.fixed_dt = (dim == 2 ? 0.08 : 0.05) * h * std::pow(h / 0.5, 1. / 3.);
       }
@@ -168,8 +174,15 @@ namespace
   /// total midpoint error reaches its asymptotic order 2 only once the WENO5
   /// error, large on coarse meshes, has fallen below it: h/R < 0.07 in the 2D study)
   template <int dim>
-  Orders ladder(const std::vector<unsigned int> &Ns, const MPI_Comm comm, const bool root)
+  Orders ladder(std::vector<unsigned int> Ns, const MPI_Comm comm, const bool root)
   {
+    if (const char *l = study_mode ? std::getenv("GRANHYDRO_ORDER_LADDER") : nullptr)
+      {
+        Ns.clear();
+        std::stringstream ss(l);
+        for (std::string n; std::getline(ss, n, ',');)
+          Ns.push_back(std::stoul(n));
+      }
     std::vector<double> eg, em, eq;
     for (const unsigned int N : Ns)
       {
@@ -182,8 +195,8 @@ namespace
         eg.push_back(g.error);
         em.push_back(m.error);
         eq.push_back(q);
-        const std::size_t n = eg.size();
-        auto order = [&](const std::vector<double> &e) {
+        const std::size_t n     = eg.size();
+        auto              order = [&](const std::vector<double> &e) {
           return n > 1 ? std::log(e[n - 2] / e[n - 1]) / std::log(double(N) / Ns[n - 2]) : 0.;
         };
         if (root)
@@ -193,9 +206,9 @@ namespace
                       << std::setprecision(2) << order(eg) << ", " << g.wall << " s)";
             if (dim > 1)
               std::cout << std::scientific << std::setprecision(3) << "  L1 midpoint " << m.error
-                        << " (order " << std::fixed << std::setprecision(2) << order(em) << ", "
-                        << m.wall << " s)  L1(mid - gauss) " << std::scientific << std::setprecision(3)
-                        << q << " (order " << std::fixed << std::setprecision(2) << order(eq) << ")";
+                        << " (order " << std::fixed << std::setprecision(2) << order(em) << ", " << m.wall
+                        << " s)  L1(mid - gauss) " << std::scientific << std::setprecision(3) << q
+                        << " (order " << std::fixed << std::setprecision(2) << order(eq) << ")";
             std::cout << std::defaultfloat << std::endl;
           }
       }
@@ -211,23 +224,24 @@ int main(int argc, char **argv)
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   const MPI_Comm                           comm = MPI_COMM_WORLD;
   Checker                                  chk;
-  chk.root        = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+  chk.root          = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
   std::string which = "all";
   bool        study = false;
   for (int i = 1; i < argc; ++i)
     {
       const std::string a = argv[i];
       if (a == "--study")
-        study = true;
+        study = study_mode = true;
       else
         which = a;
     }
   if (which == "1d" || which == "all")
     {
-      const auto o = ladder<1>(study ? std::vector<unsigned>{20, 40, 80, 160, 320} :
-                                       std::vector<unsigned>{40, 80, 160},
-                               comm, chk.root);
-      chk.check(study || o.gauss >= 4.5, "1D density wave, WENO5: order " + std::to_string(o.gauss) + " >= 4.5");
+      const auto o =
+        ladder<1>(study ? std::vector<unsigned>{20, 40, 80, 160, 320} : std::vector<unsigned>{40, 80, 160},
+                  comm, chk.root);
+      chk.check(study || o.gauss >= 4.5,
+                "1D density wave, WENO5: order " + std::to_string(o.gauss) + " >= 4.5");
     }
   auto vortex_checks = [&](const std::string &name, const Orders &o) {
     chk.check(study || o.gauss >= 3.5,
@@ -240,10 +254,12 @@ int main(int argc, char **argv)
                 " clearly below the Gauss order (pre-asymptotic on these meshes, tends to 2)");
   };
   if (which == "2d" || which == "all")
-    vortex_checks("2D", ladder<2>(study ? std::vector<unsigned>{20, 40, 80, 160} : std::vector<unsigned>{40, 80},
-                                  comm, chk.root));
+    vortex_checks("2D",
+                  ladder<2>(study ? std::vector<unsigned>{20, 40, 80, 160} : std::vector<unsigned>{40, 80},
+                            comm, chk.root));
   if (which == "3d" || which == "all")
-    vortex_checks("3D", ladder<3>(study ? std::vector<unsigned>{16, 24, 32, 48} : std::vector<unsigned>{32, 48},
-                                  comm, chk.root));
+    vortex_checks("3D",
+                  ladder<3>(study ? std::vector<unsigned>{16, 24, 32, 48} : std::vector<unsigned>{32, 48},
+                            comm, chk.root));
   return chk.failed != 0;
 }
