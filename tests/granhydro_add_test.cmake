@@ -15,18 +15,20 @@
 # ARGS: the arguments after the executable or the command.
 # RANKS <n>: the executable runs under ${DEAL_II_MPIEXEC} -n <n> (--oversubscribe above 2).
 # MPI: the command starts mpiexec itself (a driver given DEAL_II_MPIEXEC).
-# Every test gets GRANHYDRO_TEST_ENV (below); with RANKS or MPI also MPIEXEC_ENV (mpirun
-# as root, oversubscription) and PROCESSORS min(<n>, 2) (2 cores reserved for a 2-rank
-# run; more ranks oversubscribe); PROCESSORS <n> overrides that. ENVIRONMENT adds to the environment, PROPERTIES sets any
+# Without RANKS or MPI a test gets GRANHYDRO_SINGLETON_ENV (below); with them MPIEXEC_ENV
+# (mpirun as root, oversubscription) and PROCESSORS min(<n>, 2) (2 cores reserved for a
+# 2-rank run; more ranks oversubscribe); PROCESSORS <n> overrides that. ENVIRONMENT adds
+# to the environment, PROPERTIES sets any
 # further test property (PASS_REGULAR_EXPRESSION, SKIP_RETURN_CODE, ...).
 
 set(MPIEXEC_ENV OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1)
-# every test: a granhydro started without mpiexec (a singleton) does not start Open MPI's
-# supporting daemon, which it would use only to spawn processes (granhydro never does);
-# its start-up was about a quarter of the wall time of each of the suite's many short runs
-# (--check, --checkpoint-info, refused scenes; 0.25 of 1 s measured). Other MPI
-# implementations ignore the variable.
-set(GRANHYDRO_TEST_ENV OMPI_MCA_ess_singleton_isolated=1)
+# tests without mpiexec: granhydro started alone (an Open MPI singleton) does not start
+# Open MPI's supporting daemon, which it would use only to spawn processes (granhydro never
+# does); its start-up was about a quarter of the wall time of each of the suite's many
+# short runs (--check, refused scenes; 0.25 of 1 s measured). Such singletons share one
+# session directory, so each test gets its own (as tools/fuzz_scenes.py gives each case).
+# Other MPI implementations ignore the variables.
+set(GRANHYDRO_SINGLETON_ENV OMPI_MCA_ess_singleton_isolated=1)
 
 function(granhydro_add_test)
   # PARSE_ARGV keeps a ';' inside one argument (a -D list for a cmake -P driver)
@@ -63,7 +65,11 @@ function(granhydro_add_test)
   else()
     set(command "${T_COMMAND}") # quoted: an escaped ';' stays inside its argument
   endif()
-  set(environment ${GRANHYDRO_TEST_ENV} ${T_ENVIRONMENT})
+  set(environment ${T_ENVIRONMENT})
+  if(NOT T_RANKS AND NOT T_MPI)
+    list(PREPEND environment ${GRANHYDRO_SINGLETON_ENV}
+         OMPI_MCA_orte_tmpdir_base=${CMAKE_CURRENT_BINARY_DIR}/ompi_session/${T_NAME})
+  endif()
   set(processors 1)
   if(T_RANKS)
     set(launcher ${DEAL_II_MPIEXEC} -n ${T_RANKS})
