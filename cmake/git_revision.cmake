@@ -11,7 +11,7 @@
 #
 # OUTPUT: a header defining GRANHYDRO_GIT_REVISION, rewritten only when the value
 # changes (the build runs this every time; an unchanged commit recompiles nothing).
-# Without OUTPUT the revision is printed (tests/run_records.cmake compares both ways).
+# Without OUTPUT the revision is printed (tests/output/run_records.cmake compares both ways).
 
 set(revision "unknown")
 if(GIT_EXECUTABLE AND EXISTS "${GIT_EXECUTABLE}")

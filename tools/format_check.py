@@ -7,7 +7,7 @@ Every C++ file (.h, .cc) under include/, source/, tests/, tools/ and benchmarks/
 differs from REV (default: the commit that added .clang-format), including uncommitted
 and new files, must be exactly what clang-format makes of it with the repository's
 .clang-format. Files nobody touched since then keep their old layout until they are
-changed: formatting a file is part of changing it. With FILE arguments only those files
+changed (a file only moved, same content, too): formatting a file is part of changing it. With FILE arguments only those files
 are checked. --fix rewrites the files in place.
 
 Exit codes: 0 all formatted, 1 some file is not (the first differences are printed),
@@ -49,10 +49,15 @@ def changed_files(since):
         r = git("log", "--diff-filter=A", "--format=%H", "--", ".clang-format")
         commits = r.stdout.split()
         base = commits[-1] if commits else "HEAD"  # not committed yet: the working tree's changes
-    r = git("diff", "--name-only", base)
+    # a file only moved (a rename with the same content, R100) keeps its layout
+    r = git("diff", "--name-status", "-M", base)
     if r.returncode != 0:
         return None, base
-    names = set(r.stdout.split())
+    names = set()
+    for line in r.stdout.splitlines():
+        fields = line.split("\t")
+        if fields[0] != "R100":
+            names.add(fields[-1])
     names |= set(git("ls-files", "--others", "--exclude-standard").stdout.split())
     files = [n for n in sorted(names)
              if n.startswith(FOLDERS) and n.endswith((".h", ".cc")) and (ROOT / n).is_file()]

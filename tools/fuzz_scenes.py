@@ -33,8 +33,8 @@ slower than --slow-base seconds are not run (the check phase still covers them).
 
 Report: <out>/report.json (counts; every defect with its reproducer diff and stderr),
 <out>/cases.csv (one row per case) and <out>/repro/<case>/ (reproducer scene trees of
-the defects).  Mutation classes: see CLASSES below and tests/fuzz/README.md.
-tests/fuzz/fuzz_corpus.py reuses the generator (corpus_cases()) for the ctest corpus.
+the defects).  Mutation classes: see CLASSES below and tests/input/fuzz/README.md.
+tests/input/fuzz/fuzz_corpus.py reuses the generator (corpus_cases()) for the ctest corpus.
 """
 from __future__ import annotations
 
@@ -396,7 +396,7 @@ KNOWN_PATHS = {tuple(s.split('/')) for s in SECTIONS}
 
 # =====================================================================================
 # Validator: what granhydro must refuse ('invalid') and what is merely odd ('dubious').
-# Derived from the parameter documentation, the deal.II patterns and tests/bad_input.
+# Derived from the parameter documentation, the deal.II patterns and tests/input/bad_input.
 # =====================================================================================
 def _num(s):
     s = s.strip()

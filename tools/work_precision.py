@@ -14,11 +14,11 @@ target error.
 Problems (references in brackets):
   sod     1D Sod shock tube, ideal-gas (elastic dilute) limit, the physical data of
           parameters/sod_1d.prm with the end time at which it is Toro's nondimensional
-          Sod problem at t = 0.2 (the problem of tests/test_riemann.cc)
+          Sod problem at t = 0.2 (the problem of tests/verify/test_riemann.cc)
           [exact Riemann solution: cell averages of a Python port of tests/common/exact_riemann.h].
           L1 error of rho/rho_L per unit length.  Families: reconstruction x flux.
   vortex  2D isentropic vortex (Shu), periodic 10 x 10 box, advected by (1, 1) to t = 1
-          (the 2D problem of tests/test_order.cc, nonlinear flux, so the face quadrature
+          (the 2D problem of tests/verify/test_order.cc, nonlinear flux, so the face quadrature
           matters) [exact: the translated vortex, cell averages by 6x6 Gauss points].
           L1 error of rho per unit area from the checkpoint.  Families: reconstruction x
           face quadrature.
@@ -40,7 +40,7 @@ and the smallest CPU time is kept.
 
 Cross-checks: the Python exact Riemann solver reproduces tests/common/exact_riemann.h bit for
 bit (p*, u*, cell averages of Sod, Lax, 123); the vortex error at 40^2 and 80^2 with
-tests/test_order.cc's time step reproduces its L1 errors to 4 digits; the Sod L1
+tests/verify/test_order.cc's time step reproduces its L1 errors to 4 digits; the Sod L1
 errors at 200 cells reproduce `tests/test_riemann --study` for first order and MUSCL;
 WENO3/WENO5 and MUSTA-4 differed by 1-10 % because their results then depended on the
 internal units (doc/performance.md, "Work-precision study").
@@ -279,14 +279,14 @@ def haff_temperature(T0, zeta0_T0, t):
 
 
 # ---------------------------------------------------------------------------
-# isentropic vortex (tests/test_order.cc, 2D): box [0, 10]^2, advected by (1, 1)
+# isentropic vortex (tests/verify/test_order.cc, 2D): box [0, 10]^2, advected by (1, 1)
 # ---------------------------------------------------------------------------
 VORTEX_L, VORTEX_BETA, VORTEX_GAMMA, VORTEX_T_END = 10.0, 5.0, 5.0 / 3.0, 1.0
 
 
 def vortex_density(x, y, t):
     """Exact density of the periodic vortex (sum over the 3 x 3 nearest images, as
-    tests/test_order.cc; the overlap of images is below 1e-13).  numpy arrays in."""
+    tests/verify/test_order.cc; the overlap of images is below 1e-13).  numpy arrays in."""
     import numpy as np
     L, b, g = VORTEX_L, VORTEX_BETA, VORTEX_GAMMA
     dT = np.zeros_like(x)
@@ -346,11 +346,11 @@ GRAIN_MASS = RHO_S * math.pi * SIGMA ** 3 / 6
 
 # Sod: parameters/sod_1d.prm (phi 0.01 | 0.00125, T 1e-8 | 8e-9 J, 0.2 m) is Toro's Sod
 # problem (1, 0, 1 | 0.125, 0, 0.1) in units rho_L, length 0.2 m and sqrt(p_L/rho_L) =
-# sqrt(T_L/m); its end time is chosen as nondimensional t = 0.2 (tests/test_riemann.cc).
+# sqrt(T_L/m); its end time is chosen as nondimensional t = 0.2 (tests/verify/test_riemann.cc).
 SOD_LENGTH, SOD_PHI_L, SOD_T_L = 0.2, 0.01, 1e-8
 SOD_T_END = 0.2 * SOD_LENGTH / math.sqrt(SOD_T_L / GRAIN_MASS)
 
-# Haff: the densest, most inelastic case of tests/test_haff.cc (phi 0.5, eps 0.7; zeta0(T0)
+# Haff: the densest, most inelastic case of tests/verify/test_haff.cc (phi 0.5, eps 0.7; zeta0(T0)
 # t_end = 13); 1000 cells (all equal) so that the cost per step is measurable
 HAFF_PHI, HAFF_EPS, HAFF_T0, HAFF_CELLS = 0.5, 0.7, 1e-8, 1000
 HAFF_ZETA0, HAFF_NU0 = haff_rates(HAFF_PHI, HAFF_EPS, HAFF_T0, SIGMA, RHO_S)
@@ -362,8 +362,8 @@ COLUMN_T_END = 0.08  # the floor layer passes phi_min = 0.5 of the closure at ~0
 def sod2d_scene(base, levels, rundir):
     """Sod (gamma 5/3, t = 0.2) along the diagonal of the unit square, units sigma = m = V0 =
     1 (rho = n): uniform base^2 (levels = 0) or adaptive base^2 + levels (jumps of n and p,
-    refine 0.2, coarsen 0.05, buffer 1, every 4 steps; tests/test_amr.cc's settings)."""
-    return """# Sod along the diagonal (tests/test_amr.cc sod 2), work-precision study
+    refine 0.2, coarsen 0.05, buffer 1, every 4 steps; tests/verify/test_amr.cc's settings)."""
+    return """# Sod along the diagonal (tests/verify/test_amr.cc sod 2), work-precision study
 set Dimension = 2
 subsection Domain
   set Lower corner = 0, 0
@@ -477,7 +477,7 @@ end
 
 def vortex_scene(N, rec, quad, rundir):
     phi, vel, T = vortex_expressions()
-    return """# 2D isentropic vortex (tests/test_order.cc), units sigma = 1 m, m = 1 kg, V0 = 1 m/s
+    return """# 2D isentropic vortex (tests/verify/test_order.cc), units sigma = 1 m, m = 1 kg, V0 = 1 m/s
 set Dimension = 2
 subsection Domain
   set Lower corner = 0, 0
