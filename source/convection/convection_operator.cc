@@ -1,6 +1,6 @@
-#include <granhydro/physics/models.h>
 #include <granhydro/convection/convection_operator.h>
 #include <granhydro/physics/granular_gas.h>
+#include <granhydro/physics/models.h>
 
 #include <deal.II/base/array_view.h>
 #include <deal.II/base/mpi.h>
@@ -28,7 +28,6 @@ namespace granhydro::convection
     , transverse(dim > 1 && settings.reconstruction != ReconstructionType::first_order)
     , P(settings.face_quadrature == FaceQuadrature::gauss ? 2 : 1)
     , no_slip_pressure_flux(settings.no_slip_pressure_flux)
-    , boundary_type(settings.boundary)
     , no_wall_tension(settings.no_wall_tension)
   {
     length_unit = settings.length_unit;
@@ -124,14 +123,13 @@ namespace granhydro::convection
      */
     template <class V, class Recon, int dim>
     __attribute__((always_inline)) inline void
-    reconstruct_stage(const Recon &rec, const CartesianPatch<dim> &patch,
-                      const SlotRange &list, const unsigned int dir,
-                      const double *in, const unsigned int m, const unsigned int NC,
+    reconstruct_stage(const Recon &rec, const CartesianPatch<dim> &patch, const SlotRange &list,
+                      const unsigned int dir, const double *in, const unsigned int m, const unsigned int NC,
                       const unsigned int p, double *outbase)
     {
-      constexpr int      r  = Recon::r;
-      constexpr int      w  = 2 * r + 1;
-      constexpr unsigned L  = has_lanes<Recon> ? sizeof(V) / sizeof(double) : 1;
+      constexpr int      r = Recon::r;
+      constexpr int      w = 2 * r + 1;
+      constexpr unsigned L = has_lanes<Recon> ? sizeof(V) / sizeof(double) : 1;
       double             lo[4 * 5], hi[4 * 5];
       const double      *src[w];
       for (const unsigned int s : list)
@@ -165,8 +163,8 @@ namespace granhydro::convection
     template <class V, int dim, class Description>
     __attribute__((always_inline)) inline void
     face_fluxes_impl(const NumericalFlux<dim, Description> &numflux, const CartesianPatch<dim> &patch,
-                     const unsigned int d, const double *fin, const unsigned int npts,
-                     const double wq, double *F, FluxStatistics &stats)
+                     const unsigned int d, const double *fin, const unsigned int npts, const double wq,
+                     double *F, FluxStatistics &stats)
     {
       constexpr unsigned int NC    = dim + 2;
       const auto            &faces = patch.faces(d);
@@ -180,8 +178,8 @@ namespace granhydro::convection
         {
           const unsigned int sl = faces[k].l, sr = faces[k].r;
           FluxStatistics    &counted = sl < n_owned || (sr < n_owned && !patch.is_cell(sl)) ? stats : shared;
-          const double      *vl = fin + (std::size_t(sl) * 2 + 1) * npts * NC;
-          const double      *vr = fin + (std::size_t(sr) * 2 + 0) * npts * NC;
+          const double      *vl      = fin + (std::size_t(sl) * 2 + 1) * npts * NC;
+          const double      *vr      = fin + (std::size_t(sr) * 2 + 0) * npts * NC;
           // a hanging (fine sub-) face: the coarse side's Gauss point in this sub-face
           const int  cp      = npts > 1 ? faces[k].coarse_point : -1;
           const bool l_fixed = cp >= 0 && patch.level(sl) < patch.level(sr);
@@ -214,8 +212,8 @@ namespace granhydro::convection
     template <int dim, class Description>
     __attribute__((target("avx2"), flatten)) void
     face_fluxes_avx2(const NumericalFlux<dim, Description> &numflux, const CartesianPatch<dim> &patch,
-                     const unsigned int d, const double *fin, const unsigned int npts,
-                     const double wq, double *F, FluxStatistics &stats)
+                     const unsigned int d, const double *fin, const unsigned int npts, const double wq,
+                     double *F, FluxStatistics &stats)
     {
       face_fluxes_impl<v4d>(numflux, patch, d, fin, npts, wq, F, stats);
     }
@@ -223,8 +221,8 @@ namespace granhydro::convection
 
     template <int dim, class Description>
     void face_fluxes(const NumericalFlux<dim, Description> &numflux, const CartesianPatch<dim> &patch,
-                     const unsigned int d, const double *fin, const unsigned int npts,
-                     const double wq, double *F, FluxStatistics &stats)
+                     const unsigned int d, const double *fin, const unsigned int npts, const double wq,
+                     double *F, FluxStatistics &stats)
     {
 #if defined(__x86_64__) || defined(__i386__)
       if (Description::vector_lanes && use_avx2())
@@ -239,19 +237,17 @@ namespace granhydro::convection
     /// every lane is the same IEEE operation sequence as on the default target)
     template <class Recon, int dim>
     __attribute__((target("avx2"))) void
-    reconstruct_stage_avx2(const Recon &rec, const CartesianPatch<dim> &patch,
-                           const SlotRange &list, const unsigned int dir,
-                           const double *in, const unsigned int m, const unsigned int NC,
-                           const unsigned int p, double *outbase)
+    reconstruct_stage_avx2(const Recon &rec, const CartesianPatch<dim> &patch, const SlotRange &list,
+                           const unsigned int dir, const double *in, const unsigned int m,
+                           const unsigned int NC, const unsigned int p, double *outbase)
     {
       reconstruct_stage<v4d>(rec, patch, list, dir, in, m, NC, p, outbase);
     }
 #endif
 
     template <class Recon, int dim>
-    void reconstruct(const Recon &rec, const CartesianPatch<dim> &patch,
-                     const SlotRange &list, const unsigned int dir,
-                     const double *in, const unsigned int m, const unsigned int NC,
+    void reconstruct(const Recon &rec, const CartesianPatch<dim> &patch, const SlotRange &list,
+                     const unsigned int dir, const double *in, const unsigned int m, const unsigned int NC,
                      const unsigned int p, double *outbase)
     {
 #if defined(__x86_64__) || defined(__i386__)
@@ -269,7 +265,7 @@ namespace granhydro::convection
     const int r = stencil_half_width(rtype);
     AssertThrow(patch.ghost_width() >= unsigned(r) + 1, ExcMessage("ghost width too small"));
     const unsigned int n_owned = patch.n_owned();
-    auto nb = [&](unsigned int s, unsigned int d, int o) {
+    auto               nb      = [&](unsigned int s, unsigned int d, int o) {
       const int t = patch.neighbor(s, d, o);
       AssertThrow(t >= 0, ExcMessage("stencil leaves the ghost patch (internal error)"));
       return unsigned(t);
@@ -285,7 +281,7 @@ namespace granhydro::convection
     // owners, who compute every stage of every owned cell: the same formula on the same
     // inputs, so the result is bitwise that of one rank, and no rank redoes the
     // reconstructions of the cells next to its partition boundary
-    halo_exchange = Utilities::MPI::n_mpi_processes(patch.communicator()) > 1;
+    halo_exchange                       = Utilities::MPI::n_mpi_processes(patch.communicator()) > 1;
     const unsigned int         ghost_lo = n_owned, ghost_hi = n_owned + patch.n_mpi_ghosts();
     std::vector<std::uint16_t> need(patch.n_mpi_ghosts(), 0); // channels per MPI ghost
     for (unsigned int d = 0; d < dim; ++d)
@@ -294,14 +290,10 @@ namespace granhydro::convection
         wall[d].resize(faces.size());
         for (std::size_t k = 0; k < faces.size(); ++k)
           {
-            const unsigned int l = faces[k].l, r = faces[k].r;
-            wall[d][k]           = patch.wall_face(l, r, d);
-            if (wall[d][k] && no_slip_pressure_flux)
-              {
-                const int id = patch.is_cell(l) ? patch.face_boundary_id(l, 2 * d + 1) : patch.face_boundary_id(r, 2 * d);
-                if (id >= 0 && boundary_type[id] == BoundaryType::no_slip_wall)
-                  wall[d][k] = 2;
-              }
+            const int id = patch.wall_id(faces[k].l, faces[k].r, d);
+            wall[d][k]   = id < 0 ?
+                             char(boundary::not_a_wall) :
+                             boundary::convective_wall_kind(patch.wall_settings(id), no_slip_pressure_flux);
           }
         // face cells (their neighbourhoods are uniform, partly virtual on adaptive meshes)
         std::vector<unsigned int> fin;
@@ -337,7 +329,7 @@ namespace granhydro::convection
         for (auto *l : L)
           l->clear();
         const unsigned int ns = n_stages();
-        *L[ns - 1] = fin;
+        *L[ns - 1]            = fin;
         strip(*L[ns - 1], ns - 1);
         for (int j = int(ns) - 2; j >= 0; --j)
           {
@@ -360,8 +352,10 @@ namespace granhydro::convection
             {
               std::fill(sent.begin(), sent.end(), 0);
               halo.mark_sent(channel(d, j), sent);
-              auto &l = j == 0 ? listA[d] : (j == 1 ? listB[d] : listC[d]);
-              split[d][j] = std::stable_partition(l.begin(), l.end(), [&](const unsigned int s) { return sent[s] != 0; }) - l.begin();
+              auto &l     = j == 0 ? listA[d] : (j == 1 ? listB[d] : listC[d]);
+              split[d][j] = std::stable_partition(l.begin(), l.end(),
+                                                  [&](const unsigned int s) { return sent[s] != 0; }) -
+                            l.begin();
             }
       }
     else
@@ -398,11 +392,10 @@ namespace granhydro::convection
 
   template <int dim, class Description>
   template <class Recon>
-  void ConvectionOperator<dim, Description>::apply_impl(const Recon &rec, const double *Wp,
-                                                        double *rhs) const
+  void ConvectionOperator<dim, Description>::apply_impl(const Recon &rec, const double *Wp, double *rhs) const
   {
-    constexpr int      r = Recon::r;
-    constexpr int      w = 2 * r + 1;
+    constexpr int      r       = Recon::r;
+    constexpr int      w       = 2 * r + 1;
     const unsigned int n_owned = patch.n_owned();
     ++stats.rhs_evaluations;
     stats.cell_updates += n_owned;
@@ -462,11 +455,11 @@ namespace granhydro::convection
       return j == 0 ? A.data() : (j == 1 ? B.data() : C.data());
     };
     auto run_stage = [&](const unsigned int d, const unsigned int j, const unsigned int part) {
-      const auto        &L   = j == 0 ? listA[d] : (j == 1 ? listB[d] : listC[d]);
-      const unsigned int t   = stage_direction(d, j);
-      double *const      out = stage_array(j);
-      const SlotRange    range = part == 0 ? SlotRange(L.data(), split[d][j])
-                                           : SlotRange(L.data() + split[d][j], L.size() - split[d][j]);
+      const auto        &L     = j == 0 ? listA[d] : (j == 1 ? listB[d] : listC[d]);
+      const unsigned int t     = stage_direction(d, j);
+      double *const      out   = stage_array(j);
+      const SlotRange    range = part == 0 ? SlotRange(L.data(), split[d][j]) :
+                                             SlotRange(L.data() + split[d][j], L.size() - split[d][j]);
       if (j == 0)
         reconstruct(rec, patch, range, d, Wp, NC, NC, 0, out);
       else if (P == 2)
@@ -554,15 +547,15 @@ namespace granhydro::convection
   {
     ConvectionStatistics g;
     const MPI_Comm       comm = patch.communicator();
-    g.flux.points    = Utilities::MPI::sum(stats.flux.points, comm);
-    g.flux.stages    = Utilities::MPI::sum(stats.flux.stages, comm);
-    g.flux.fallbacks = Utilities::MPI::sum(stats.flux.fallbacks, comm);
-    g.flux.early_stops = Utilities::MPI::sum(stats.flux.early_stops, comm);
-    g.limited_cells  = Utilities::MPI::sum(stats.limited_cells, comm);
-    g.fallback_cells = Utilities::MPI::sum(stats.fallback_cells, comm);
-    g.cell_updates   = Utilities::MPI::sum(stats.cell_updates, comm);
-    g.rhs_evaluations = stats.rhs_evaluations;
-    g.wall_tension_bounded = Utilities::MPI::sum(stats.wall_tension_bounded, comm);
+    g.flux.points             = Utilities::MPI::sum(stats.flux.points, comm);
+    g.flux.stages             = Utilities::MPI::sum(stats.flux.stages, comm);
+    g.flux.fallbacks          = Utilities::MPI::sum(stats.flux.fallbacks, comm);
+    g.flux.early_stops        = Utilities::MPI::sum(stats.flux.early_stops, comm);
+    g.limited_cells           = Utilities::MPI::sum(stats.limited_cells, comm);
+    g.fallback_cells          = Utilities::MPI::sum(stats.fallback_cells, comm);
+    g.cell_updates            = Utilities::MPI::sum(stats.cell_updates, comm);
+    g.rhs_evaluations         = stats.rhs_evaluations;
+    g.wall_tension_bounded    = Utilities::MPI::sum(stats.wall_tension_bounded, comm);
     return g;
   }
 

@@ -1,3 +1,4 @@
+#include <granhydro/boundary/ghost_state.h>
 #include <granhydro/diffusion/diffusion_operator.h>
 #include <granhydro/physics/diffusive_flux.h>
 
@@ -45,8 +46,7 @@ namespace granhydro::diffusion
   template <int dim>
   DiffusionOperator<dim>::DiffusionOperator(const CartesianPatch<dim>       &patch,
                                             const physics::GranularGas<dim> &desc,
-                                            const DiffusionSettings         &settings,
-                                            const double                     length_unit)
+                                            const DiffusionSettings &settings, const double length_unit)
     : patch(patch)
     , desc(desc)
     , settings(settings)
@@ -68,7 +68,8 @@ namespace granhydro::diffusion
         const auto &faces = patch.faces(d);
         inv_dist[d].resize(faces.size());
         for (std::size_t k = 0; k < faces.size(); ++k)
-          inv_dist[d][k] = length_unit / (0.5 * (patch.cell_size(faces[k].l, d) + patch.cell_size(faces[k].r, d)));
+          inv_dist[d][k] =
+            length_unit / (0.5 * (patch.cell_size(faces[k].l, d) + patch.cell_size(faces[k].r, d)));
       }
     // scaled cell volumes (the product of the edges, as 1 / prod inv_h)
     cell_volume.assign(n_owned, 1.);
@@ -83,11 +84,7 @@ namespace granhydro::diffusion
     for (const auto &g : patch.boundary_ghosts())
       {
         src[g.slot]  = g.source;
-        // sign of each velocity component after all reflections (exact for walls at rest)
-        unsigned int m = 0;
-        for (unsigned int w = 0; w < g.n_walls; ++w)
-          m ^= g.wall_no_slip[w] ? (1u << dim) - 1 : 1u << g.wall_dir[w];
-        flip[g.slot] = g.no_slip ? m : g.flip_mask;
+        flip[g.slot] = boundary::ghost_velocity_signs<dim>(g); // the wall's rule
       }
     // each face counted once over the ranks: by the owner of its low cell, or of its
     // only cell at a wall (FaceFluxCounts)
@@ -102,22 +99,14 @@ namespace granhydro::diffusion
           }
       }
     // dissipative walls: a face between a cell and a boundary ghost whose cell face has a
-    // wall id with eps_w < 1; the sign is that of the wall's outward normal along d, from
-    // the geometry (which side the cell is on), not from the id (mesh files)
+    // wall id with eps_w < 1 (boundary/dissipative_wall.h)
     for (unsigned int d = 0; d < dim; ++d)
       {
         const auto &faces = patch.faces(d);
         walls[d].assign(faces.size(), WallFace());
         for (std::size_t k = 0; k < faces.size(); ++k)
-          {
-            const unsigned int l = faces[k].l, r = faces[k].r;
-            if (!patch.wall_face(l, r, d))
-              continue;
-            const bool cell_low = patch.is_cell(l);
-            const int  id = cell_low ? patch.face_boundary_id(l, 2 * d + 1) : patch.face_boundary_id(r, 2 * d);
-            if (settings.wall_restitution[id] < 1)
-              walls[d][k] = {settings.wall_restitution[id], cell_low ? +1 : -1};
-          }
+          if (const int id = patch.wall_id(faces[k].l, faces[k].r, d); id >= 0)
+            walls[d][k] = boundary::dissipative_wall_face(patch.wall_settings(id), patch.is_cell(faces[k].l));
       }
   }
 
@@ -151,14 +140,11 @@ namespace granhydro::diffusion
   void DiffusionOperator<dim>::face_flux_lanes(const double *W, const unsigned int d, const V ihn,
                                                const unsigned int *l, const unsigned int *r,
                                                const std::array<V, dim + 2> &UL,
-                                               const std::array<V, dim + 2> &UR,
-                                               std::array<V, dim + 2>       &F,
-                                               std::array<V, dim + 2>       *friction,
-                                               V                            *bounded,
-                                               V                            *capped,
-                                               V                            *cold) const
+                                               const std::array<V, dim + 2> &UR, std::array<V, dim + 2> &F,
+                                               std::array<V, dim + 2> *friction, V *bounded, V *capped,
+                                               V *cold) const
   {
-    namespace lanes        = physics::lanes;
+    namespace lanes = physics::lanes;
     using lanes::constant;
     constexpr unsigned int L = lanes::width<V>;
     using SV                 = std::array<V, NC>;
@@ -174,8 +160,8 @@ namespace granhydro::diffusion
     // physics::primitive_gradients(..., dw_dn) is the pointwise form of the same
     // correction. Without a closure U* = U and nothing changes. The contact energy has
     // branches and pow: it is evaluated lane by lane.
-    SV                                  Uf, SL, SR;
-    physics::StateGradient<dim, V>      dU;
+    SV                             Uf, SL, SR;
+    physics::StateGradient<dim, V> dU;
     thermal_state<dim, V>(desc, UL, SL);
     thermal_state<dim, V>(desc, UR, SR);
     for (unsigned int c = 0; c < NC; ++c)
@@ -193,16 +179,17 @@ namespace granhydro::diffusion
           // neighbours (central on a uniform mesh; one-sided next to a finer region)
           for (const unsigned int *side : {l, r})
             {
-              SV                       up, um;
-              V                        w{};
-              lanes::Mask<V>           use{};
+              SV             up, um;
+              V              w{};
+              lanes::Mask<V> use{};
               for (unsigned int i = 0; i < L; ++i)
                 {
                   const unsigned int s = side[i];
                   const int    p = patch.gradient_neighbor(s, j, 1), m = patch.gradient_neighbor(s, j, 0);
                   const double span = (p >= 0 ? patch.gradient_offset(s, j, 1) : 0.) -
                                       (m >= 0 ? patch.gradient_offset(s, j, 0) : 0.);
-                  const double *wp = W + std::size_t(p >= 0 ? p : s) * NC, *wm = W + std::size_t(m >= 0 ? m : s) * NC;
+                  const double *wp = W + std::size_t(p >= 0 ? p : s) * NC,
+                               *wm = W + std::size_t(m >= 0 ? m : s) * NC;
                   for (unsigned int c = 0; c < NC; ++c)
                     {
                       lanes::ref(up[c], i) = wp[c];
@@ -229,12 +216,12 @@ namespace granhydro::diffusion
             }
         }
     // the face state's granular temperature (its contact energy is already removed: nw = 0)
-    const V                                   nf = Uf[0], Tf = desc.temperature(Uf, V{});
+    const V nf = Uf[0], Tf = desc.temperature(Uf, V{});
     if (cold)
       *cold = Tf < V{} ? constant<V>(1.) : V{};
-    const physics::PrimitiveGradients<dim, V> g  = physics::primitive_gradients<dim, V>(Uf, dU, 1.);
+    const physics::PrimitiveGradients<dim, V> g = physics::primitive_gradients<dim, V>(Uf, dU, 1.);
     F = physics::viscous_flux_primitive<dim>(Uf, g, coefficients(nf, Tf), 1., d);
-    V tf{}; // the frictional normal stress tau_f,dd (for the no-tension bound)
+    V  tf{}; // the frictional normal stress tau_f,dd (for the no-tension bound)
     SV Ff{};
     V  pc{}; // the contact pressure p_f at the face state, lane by lane (pow, branches)
     if (desc.contact.active && (friction_active || settings.no_tension))
@@ -256,7 +243,7 @@ namespace granhydro::diffusion
         physics::strain_rate_invariants<dim, V>(g.grad_u, div, SS);
         for (unsigned int i = 0; i < L; ++i)
           {
-            bool c = false;
+            bool c                = false;
             lanes::ref(cf.eta, i) = desc.contact.friction.viscosity(lanes::get(pc, i), lanes::get(div, i),
                                                                     lanes::get(SS, i), lanes::get(Tf, i), &c);
             if (capped)
@@ -273,9 +260,9 @@ namespace granhydro::diffusion
         // p - tau_dd, stays compressive. A tensile viscous normal stress tau_dd (kinetic plus
         // frictional) above the face's pressure p = n T Z + p_f is scaled down to p, and its
         // work tau_dd u_d with it, so the face flux stays conservative (energy to round-off).
-        const V Tp = Tf < V{} ? V{} : Tf;
-        const V p  = nf * Tp * desc.model.Z(nf * constant<V>(physics::GranularGas<dim>::phi_per_n)) + pc;
-        const V t  = F[1 + d];
+        const V    Tp = Tf < V{} ? V{} : Tf;
+        const V    p  = nf * Tp * desc.model.Z(nf * constant<V>(physics::GranularGas<dim>::phi_per_n)) + pc;
+        const V    t  = F[1 + d];
         const auto tensile = t > p;
         if (lanes::any(tensile))
           {
@@ -285,7 +272,7 @@ namespace granhydro::diffusion
             F[1 + d]    = sc * t;
             F[dim + 1] -= (one - sc) * (t - tf) * ud; // the kinetic stress's work
             Ff[1 + d] = sc * tf;
-            Ff[dim + 1] -= (one - sc) * tf * ud;     // the frictional work flux
+            Ff[dim + 1] -= (one - sc) * tf * ud; // the frictional work flux
           }
         if (bounded)
           *bounded = tensile ? constant<V>(1.) : V{};
@@ -301,11 +288,9 @@ namespace granhydro::diffusion
 
   template <int dim>
   void DiffusionOperator<dim>::face_flux(const double *W, const unsigned int d, const double ihn,
-                                         const unsigned int l, const unsigned int r,
-                                         const State<dim> &UL, const State<dim> &UR,
-                                         const WallFace &wall, State<dim> &F,
-                                         State<dim> *friction, bool *bounded, bool *capped,
-                                         bool *cold) const
+                                         const unsigned int l, const unsigned int r, const State<dim> &UL,
+                                         const State<dim> &UR, const WallFace &wall, State<dim> &F,
+                                         State<dim> *friction, bool *bounded, bool *capped, bool *cold) const
   {
     double b = 0, c = 0, t = 0;
     face_flux_lanes<double>(W, d, ihn, &l, &r, UL, UR, F, friction, &b, &c, &t);
@@ -315,23 +300,19 @@ namespace granhydro::diffusion
       *capped = c > 0;
     if (cold)
       *cold = t > 0;
-    if (wall.sign != 0)
-      {
-        // energy into the wall (doc/physics.md 5.2, contact theorem, m = 1). The cell update
-        // is (F_e - F_w)/dx: a loss through the upper wall (the cell's east face) needs
-        // F^E -= q_w, through the lower wall (west face) F^E += q_w
-        F[dim + 1] -= wall.sign * desc.wall_heat_flux(wall.sign > 0 ? UL : UR, wall.eps_w);
-      }
+    if (wall.sign != 0) // energy into the wall (doc/physics.md 5.2)
+      boundary::add_wall_heat_flux(wall, desc, wall.sign > 0 ? UL : UR, F[dim + 1]);
   }
 
   template <int dim>
   template <class V>
-  __attribute__((always_inline)) inline void DiffusionOperator<dim>::face_fluxes(const double *W, const unsigned int d) const
+  __attribute__((always_inline)) inline void DiffusionOperator<dim>::face_fluxes(const double      *W,
+                                                                                 const unsigned int d) const
   {
-    namespace lanes        = physics::lanes;
+    namespace lanes          = physics::lanes;
     constexpr unsigned int L = lanes::width<V>;
     using SV                 = std::array<V, NC>;
-    const auto &faces        = patch.faces(d);
+    const auto       &faces  = patch.faces(d);
     const std::size_t nf     = faces.size();
     std::size_t       k      = 0;
     for (; k + L <= nf; k += L)
@@ -341,8 +322,8 @@ namespace granhydro::diffusion
         V            ihn;
         for (unsigned int i = 0; i < L; ++i)
           {
-            l[i] = faces[k + i].l;
-            r[i] = faces[k + i].r;
+            l[i]               = faces[k + i].l;
+            r[i]               = faces[k + i].r;
             lanes::ref(ihn, i) = inv_dist[d][k + i];
             for (unsigned int c = 0; c < NC; ++c)
               {
@@ -351,11 +332,13 @@ namespace granhydro::diffusion
               }
           }
         V bounded, capped, cold;
-        face_flux_lanes<V>(W, d, ihn, l, r, UL, UR, F, friction_active ? &G : nullptr, &bounded, &capped, &cold);
+        face_flux_lanes<V>(W, d, ihn, l, r, UL, UR, F, friction_active ? &G : nullptr, &bounded, &capped,
+                           &cold);
         for (unsigned int i = 0; i < L; ++i)
           {
             if (counted_[d][k + i])
-              count_face(d, k + i, lanes::get(bounded, i) > 0, lanes::get(capped, i) > 0, lanes::get(cold, i) > 0);
+              count_face(d, k + i, lanes::get(bounded, i) > 0, lanes::get(capped, i) > 0,
+                         lanes::get(cold, i) > 0);
             double *Fk = &Fp[d][(k + i) * NC];
             for (unsigned int c = 0; c < NC; ++c)
               Fk[c] = lanes::get(F[c], i);
@@ -364,7 +347,8 @@ namespace granhydro::diffusion
                 Ff[d][(k + i) * NC + c] = lanes::get(G[c], i);
             const WallFace &wall = walls[d][k + i];
             if (wall.sign != 0) // as in face_flux()
-              Fk[dim + 1] -= wall.sign * desc.wall_heat_flux(wall.sign > 0 ? state<dim>(W, l[i]) : state<dim>(W, r[i]), wall.eps_w);
+              boundary::add_wall_heat_flux(
+                wall, desc, wall.sign > 0 ? state<dim>(W, l[i]) : state<dim>(W, r[i]), Fk[dim + 1]);
           }
       }
     for (; k < nf; ++k)
@@ -383,8 +367,8 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
-  inline void DiffusionOperator<dim>::count_face(const unsigned int d, const std::size_t k, const bool bounded,
-                                                 const bool capped, const bool cold) const
+  inline void DiffusionOperator<dim>::count_face(const unsigned int d, const std::size_t k,
+                                                 const bool bounded, const bool capped, const bool cold) const
   {
     ++counts_.faces;
     if (cold)
@@ -405,7 +389,7 @@ namespace granhydro::diffusion
   {
     namespace lanes = physics::lanes;
     S.fill(V{});
-    if (settings.body.active())
+    if (settings.body.active() || settings.container_motion.active())
       physics::BodyForce::add_source<dim, V>(body_force(), U.data(), S.data());
     if (settings.cooling && desc.model.effective_restitution() < 1)
       {
@@ -414,7 +398,7 @@ namespace granhydro::diffusion
           for (unsigned int i = 0; i < lanes::width<V>; ++i)
             lanes::ref(nw, i) = desc.contact.energy_density(lanes::get(U[0], i));
         const V n = U[0], T0 = desc.temperature(U, nw), T = T0 < V{} ? V{} : T0; // max(T, 0)
-        S[dim + 1] -= 1.5 * n * T * desc.model.zeta0(n, T, 1., 1.); // doc/physics.md 3.5
+        S[dim + 1] -= 1.5 * n * T * desc.model.zeta0(n, T, 1., 1.);              // doc/physics.md 3.5
       }
   }
 
@@ -429,7 +413,7 @@ namespace granhydro::diffusion
   __attribute__((always_inline)) inline void
   DiffusionOperator<dim>::cell_residuals(const double *W, const unsigned int s0, double *f) const
   {
-    namespace lanes        = physics::lanes;
+    namespace lanes          = physics::lanes;
     constexpr unsigned int L = lanes::width<V>;
     using SV                 = std::array<V, NC>;
     SV U, S;
@@ -437,7 +421,7 @@ namespace granhydro::diffusion
       for (unsigned int c = 0; c < NC; ++c)
         lanes::ref(U[c], i) = W[std::size_t(s0 + i) * NC + c];
     source_lanes<V>(U, S);
-    SV div_tf{}; // div of (frictional work flux, frictional momentum flux)
+    SV div_tf{};                           // div of (frictional work flux, frictional momentum flux)
     for (unsigned int d = 0; d < dim; ++d) // d_i F_i^v, fixed order: partition independent
       {
         SV fw, fe, gw, ge;
@@ -489,7 +473,8 @@ namespace granhydro::diffusion
 
   template <int dim>
   template <class V>
-  __attribute__((always_inline)) inline void DiffusionOperator<dim>::residual_lanes(const double *W, double *f) const
+  __attribute__((always_inline)) inline void DiffusionOperator<dim>::residual_lanes(const double *W,
+                                                                                    double       *f) const
   {
     const unsigned int n_owned = patch.n_owned();
     for (unsigned int d = 0; d < dim; ++d)
@@ -519,7 +504,8 @@ namespace granhydro::diffusion
   // the same operations compiled for AVX2 (4 doubles per instruction, 16 vector registers
   // of 4: fewer spills); no FMA, so every lane is still the scalar IEEE result
   template <int dim>
-  __attribute__((target("avx2"), flatten)) void DiffusionOperator<dim>::residual_avx2(const double *W, double *f) const
+  __attribute__((target("avx2"), flatten)) void DiffusionOperator<dim>::residual_avx2(const double *W,
+                                                                                      double       *f) const
   {
     residual_lanes<v4d>(W, f);
   }
@@ -572,7 +558,7 @@ namespace granhydro::diffusion
         if (friction_active)
           c.eta += desc.contact.viscosity(n);
         // momentum diffusivity (gamma/eta + 4/3) eta/(m n), thermal 2 kappa/(3 n) (doc/physics.md 4.4)
-        const double D = std::max((c.gamma + 4. / 3. * c.eta) / n, 2. * c.kappa / (3. * n));
+        const double D    = std::max((c.gamma + 4. / 3. * c.eta) / n, 2. * c.kappa / (3. * n));
         double       rate = wall_rate[s];
         for (unsigned int d = 0; d < dim; ++d)
           rate += 2 * D * inv_h[d][s] * inv_h[d][s];

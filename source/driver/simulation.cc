@@ -183,13 +183,6 @@ namespace granhydro
   physics::BodyForce Simulation<dim, Description>::body_force() const
   {
     physics::BodyForce f;
-    // vibrated container, scaled: A / L0, omega t0
-    if (scene.vibration_amplitude > 0 && scene.vibration_frequency > 0)
-      {
-        f.amplitude = scene.vibration_amplitude / units_.length;
-        f.omega     = 2 * M_PI * scene.vibration_frequency * units_.time();
-        f.direction = scene.vibration_direction;
-      }
     for (unsigned int d = 0; d < dim; ++d) // scaled: g L0 / V0^2
       f.gravity[d] = scene.gravity[d] * units_.length / (units_.velocity * units_.velocity);
     return f;
@@ -215,7 +208,7 @@ namespace granhydro
           ds.diagonal_only    = scene.diagonal_flux;
           ds.max_free_path    = scene.max_free_path / units_.length;
           ds.no_tension       = scene.cohesionless;
-          ds.wall_restitution = scene.wall_restitution;
+          ds.container_motion = scene.moving_frame().scaled(units_.length, units_.time());
           ds.body             = body_force();
           diff = std::make_unique<diffusion::DiffusionOperator<dim>>(*patch_, desc, ds, units_.length);
           diff->setup();

@@ -7,14 +7,15 @@
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/data_postprocessor.h>
 
+#include <sys/statvfs.h>
+
 #include <cerrno>
 #include <cmath>
 #include <cstring>
-#include <sys/statvfs.h>
-#include <iostream>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <iostream>
 #include <limits>
 #include <map>
 #include <type_traits>
@@ -41,7 +42,8 @@ namespace granhydro::io
     {
       if (message.find("An input/output error has occurred") == std::string::npos)
         return message;
-      struct statvfs fs{};
+      struct statvfs fs
+      {};
       if (::statvfs(directory.empty() ? "." : directory.c_str(), &fs) == 0 && fs.f_bavail == 0)
         return std::strerror(ENOSPC);
       if (error != 0)
@@ -84,7 +86,7 @@ namespace granhydro::io
       }
 
       void evaluate_vector_field(const DataPostprocessorInputs::Vector<dim> &in,
-                                 std::vector<Vector<double>> &out) const override
+                                 std::vector<Vector<double>>                &out) const override
       {
         for (unsigned int q = 0; q < in.solution_values.size(); ++q)
           {
@@ -93,9 +95,9 @@ namespace granhydro::io
               U[c] = in.solution_values[q][c];
             const double n = U[0], p = desc.pressure(U), T = desc.temperature(U);
             unsigned int k = 0;
-            out[q][k++] = physics::packing_fraction(n);
-            out[q][k++] = n * units.number_density();
-            out[q][k++] = n * units.number_density() * units.mass;
+            out[q][k++]    = physics::packing_fraction(n);
+            out[q][k++]    = n * units.number_density();
+            out[q][k++]    = n * units.number_density() * units.mass;
             for (unsigned int d = 0; d < dim; ++d)
               out[q][k++] = U[1 + d] / n * units.velocity + frame_velocity[d];
             out[q][k++] = T * units.energy();
@@ -104,10 +106,10 @@ namespace granhydro::io
             // nE = kinetic + thermal + contact; kinetic and total in the lab frame like
             // the velocity (thermal and contact energy do not depend on the frame)
             const double lab = lab_frame_energy<dim>(n, &U[1], frame_velocity_scaled);
-            out[q][k++] = (desc.kinetic_energy(U) + lab) * units.pressure();
-            out[q][k++] = desc.heat_capacity() * n * T * units.pressure();
-            out[q][k++] = contact_energy_density<dim>(desc, n) * units.pressure();
-            out[q][k++] = (U[dim + 1] + lab) * units.pressure();
+            out[q][k++]      = (desc.kinetic_energy(U) + lab) * units.pressure();
+            out[q][k++]      = desc.heat_capacity() * n * T * units.pressure();
+            out[q][k++]      = contact_energy_density<dim>(desc, n) * units.pressure();
+            out[q][k++]      = (U[dim + 1] + lab) * units.pressure();
           }
       }
 
@@ -138,10 +140,10 @@ namespace granhydro::io
       UpdateFlags get_needed_update_flags() const override { return update_values; }
 
     private:
-      Units                          units;
-      const Description &desc;
-      std::array<double, 3>          frame_velocity; // lab frame = container frame + ds/dt [m/s]
-      std::array<double, 3>          frame_velocity_scaled; // the same in scaled units
+      Units                 units;
+      const Description    &desc;
+      std::array<double, 3> frame_velocity;        // lab frame = container frame + ds/dt [m/s]
+      std::array<double, 3> frame_velocity_scaled; // the same in scaled units
     };
   } // namespace
 
@@ -161,8 +163,8 @@ namespace granhydro::io
         std::error_code ec;
         std::filesystem::create_directories(settings.directory, ec);
         if (ec || !std::filesystem::is_directory(settings.directory))
-          err = "parameter 'Output/Directory': cannot create directory '" +
-                settings.directory + "'" + (ec ? ": " + ec.message() : std::string());
+          err = "parameter 'Output/Directory': cannot create directory '" + settings.directory + "'" +
+                (ec ? ": " + ec.message() : std::string());
         else
           {
             // a folder we cannot write into (read-only file system): refuse now, not at the
@@ -182,14 +184,8 @@ namespace granhydro::io
   template <int dim, class Description>
   std::array<double, 3> Output<dim, Description>::frame_velocity(const double time_si) const
   {
-    // vibrated container (doc/physics.md 5.3): s(t) = A sin(w t) e_s, ds/dt = A w cos(w t) e_s
-    std::array<double, 3> v{{0, 0, 0}};
-    if (settings.vibration_amplitude > 0)
-      {
-        const double w = 2 * M_PI * settings.vibration_frequency;
-        v[settings.vibration_direction] = settings.vibration_amplitude * w * std::cos(w * time_si);
-      }
-    return v;
+    // vibrated container (doc/physics.md 5.3): ds/dt of the frame (boundary/moving_frame.h)
+    return settings.container_motion.velocity(time_si);
   }
 
   template <int dim, class Description>
@@ -278,7 +274,7 @@ namespace granhydro::io
   void Output<dim, Description>::write_vtu(const Vector &U, const double time_si, const unsigned int step)
   {
     Fields<dim, Description> fields(units, desc, frame_velocity(time_si));
-    DataOut<dim> data_out;
+    DataOut<dim>             data_out;
     data_out.attach_dof_handler(patch.dof_handler());
     U.update_ghost_values();
     data_out.add_data_vector(U, fields);
@@ -319,12 +315,12 @@ namespace granhydro::io
   template <int dim, class Description>
   void Output<dim, Description>::write_profiles(const Vector &U, const double time_si)
   {
-    const unsigned int pd   = settings.profile_direction < 0 ? dim - 1 : settings.profile_direction;
+    const unsigned int pd = settings.profile_direction < 0 ? dim - 1 : settings.profile_direction;
     // layers of the finest lattice; a cell adds to each layer it spans with the weight
     // of its volume there (on a uniform mesh: one layer, weight 1)
-    const unsigned int nl   = patch.cells(pd) << patch.max_level();
-    constexpr unsigned NC   = dim + 2;
-    const unsigned int ncol = NC + 5; // conserved, phi, T, kinetic, thermal, contact energy
+    const unsigned int  nl   = patch.cells(pd) << patch.max_level();
+    constexpr unsigned  NC   = dim + 2;
+    const unsigned int  ncol = NC + 5; // conserved, phi, T, kinetic, thermal, contact energy
     std::vector<double> sum(std::size_t(nl) * ncol, 0.), count(nl, 0.);
     for (unsigned int s = 0; s < patch.n_owned(); ++s)
       {
@@ -341,7 +337,7 @@ namespace granhydro::io
           {
             for (unsigned int c = 0; c < NC; ++c)
               sum[l * ncol + c] += w * S[c];
-            sum[l * ncol + NC]     += physics::packing_fraction(w * S[0]);
+            sum[l * ncol + NC] += physics::packing_fraction(w * S[0]);
             sum[l * ncol + NC + 1] += w * T;
             sum[l * ncol + NC + 2] += w * ke;
             sum[l * ncol + NC + 3] += w * th;
@@ -354,8 +350,8 @@ namespace granhydro::io
     if (Utilities::MPI::this_mpi_process(patch.communicator()) != 0)
       return;
     const std::string fname = settings.file("_profiles.csv");
-    std::ofstream out(fname, profiles_started ? std::ios::app : std::ios::trunc);
-    const char *ax = "xyz";
+    std::ofstream     out(fname, profiles_started ? std::ios::app : std::ios::trunc);
+    const char       *ax = "xyz";
     if (!profiles_started)
       {
         // the VTU fields' names (units: doc/user-guide.md, "Profiles and cross-sections")
@@ -366,8 +362,8 @@ namespace granhydro::io
                "kinetic_energy_density,thermal_energy_density,contact_energy_density\n";
         profiles_started = true;
       }
-    const double nu = units.number_density();
-    std::array<double, 3> v = frame_velocity(time_si); // scaled units
+    const double          nu = units.number_density();
+    std::array<double, 3> v  = frame_velocity(time_si); // scaled units
     for (double &vd : v)
       vd /= units.velocity;
     // the energy densities with all digits, so that the parts add up to the total in the
@@ -383,8 +379,8 @@ namespace granhydro::io
         const double  k = count[l];
         if (k == 0) // a layer of solid lattice points (mesh file)
           continue;
-        out << time_si << ',' << patch.lower(pd) + (l + 0.5) * patch.cell_size(pd) / (1u << patch.max_level()) << ','
-            << a[0] / k * nu;
+        out << time_si << ',' << patch.lower(pd) + (l + 0.5) * patch.cell_size(pd) / (1u << patch.max_level())
+            << ',' << a[0] / k * nu;
         for (unsigned int d = 0; d < dim; ++d)
           out << ',' << a[1 + d] / k * nu * units.velocity + a[0] / k * nu * frame_velocity(time_si)[d];
         const double lab = lab_frame_energy<dim>(a[0], &a[1], v);
@@ -410,22 +406,23 @@ namespace granhydro::io
         const unsigned int na = patch.cells(ia) << ml, nb = patch.cells(ib) << ml;
         // n, n u (3), phi, T, count, nE, kinetic, thermal, contact energy (container frame)
         constexpr unsigned int ncol = 11;
-        std::vector<double> sum(std::size_t(na) * nb * ncol, 0.);
-        const auto          fv = frame_velocity(time_si);
+        std::vector<double>    sum(std::size_t(na) * nb * ncol, 0.);
+        const auto             fv = frame_velocity(time_si);
         for (unsigned int s = 0; s < patch.n_owned(); ++s)
           {
             physics::State<3> S;
             for (unsigned int c = 0; c < 5; ++c)
               S[c] = U.local_element(std::size_t(s) * 5 + c);
             const unsigned int span = patch.fine_span(s);
-            const double       T    = desc.temperature(S), w = span;
+            const double       T = desc.temperature(S), w = span;
             const double       ke = desc.kinetic_energy(S), th = desc.heat_capacity() * S[0] * T,
                          nw = contact_energy_density<3>(desc, S[0]);
             for (unsigned int j = 0; j < span; ++j)
               for (unsigned int i = 0; i < span; ++i)
                 {
                   double *v = &sum[(std::size_t(patch.fine_begin(s, ia) + i) +
-                                    std::size_t(na) * (patch.fine_begin(s, ib) + j)) * ncol];
+                                    std::size_t(na) * (patch.fine_begin(s, ib) + j)) *
+                                   ncol];
                   v[0] += w * S[0];
                   for (unsigned int d = 0; d < 3; ++d)
                     v[1 + d] += w * S[1 + d];
@@ -443,7 +440,7 @@ namespace granhydro::io
           return;
         std::ofstream out(settings.file("_cross_section.csv"),
                           section_started ? std::ios::app : std::ios::trunc);
-        const char *ax = "xyz";
+        const char   *ax = "xyz";
         if (!section_started)
           {
             // the VTU fields' names (units: doc/user-guide.md, "Profiles and cross-sections")
@@ -468,7 +465,8 @@ namespace granhydro::io
               if (k == 0) // only solid lattice points (mesh file)
                 continue;
               out << time_si << ',' << patch.lower(ia) + (i + 0.5) * patch.cell_size(ia) / (1u << ml) << ','
-                  << patch.lower(ib) + (j + 0.5) * patch.cell_size(ib) / (1u << ml) << ',' << n * units.number_density();
+                  << patch.lower(ib) + (j + 0.5) * patch.cell_size(ib) / (1u << ml) << ','
+                  << n * units.number_density();
               for (unsigned int d = 0; d < 3; ++d)
                 out << ',' << v[1 + d] / k / n * units.velocity + fv[d];
               out << ',' << v[4] / k << ',' << v[5] / k * units.energy() << ','

@@ -1,3 +1,4 @@
+#include <granhydro/boundary/ghost_state.h>
 #include <granhydro/mesh/cartesian_patch.h>
 
 #include <deal.II/distributed/tria.h>
@@ -51,21 +52,19 @@ namespace granhydro
 
 
   template <int dim>
-  bool CartesianPatch<dim>::wall_face(const unsigned int l, const unsigned int r, const unsigned int d) const
+  int CartesianPatch<dim>::wall_id(const unsigned int l, const unsigned int r, const unsigned int d) const
   {
     if (is_cell(l) == is_cell(r))
-      return false;
+      return -1;
     const int id = is_cell(l) ? face_boundary_id(l, 2 * d + 1) : face_boundary_id(r, 2 * d);
-    return id >= 0 &&
-           (walls_.type[id] == BoundaryType::slip_wall || walls_.type[id] == BoundaryType::no_slip_wall);
+    return id >= 0 && boundary::is_wall(walls_.settings[id].type) ? id : -1;
   }
 
   template <int dim>
   void CartesianPatch<dim>::build(const MeshSettings &settings, const unsigned int ghost_width)
   {
     tables_.ghost_width  = ghost_width;
-    walls_.type          = settings.boundary;
-    walls_.velocity      = settings.wall_velocity;
+    walls_.settings      = settings.walls;
     walls_.velocity_unit = settings.velocity_unit;
     subset_              = !settings.mesh_file.empty();
     max_level_           = subset_ ? 0 : settings.max_level;
@@ -250,38 +249,7 @@ namespace granhydro
       {
         const double *in  = &W[std::size_t(g.source) * NC];
         double       *out = &W[std::size_t(g.slot) * NC];
-        if (g.no_slip)
-          {
-            // compose the wall reflections; n and the internal energy are copied
-            const double n    = in[0];
-            double       u[3] = {0, 0, 0}, ke = 0, keg = 0;
-            for (unsigned int k = 0; k < dim; ++k)
-              {
-                u[k] = in[1 + k] / n;
-                ke += 0.5 * n * u[k] * u[k];
-              }
-            for (unsigned int w = 0; w < g.n_walls; ++w)
-              if (g.wall_no_slip[w])
-                for (unsigned int k = 0; k < dim; ++k)
-                  u[k] = 2 * g.wall_velocity[w][k] - u[k];
-              else
-                u[g.wall_dir[w]] = -u[g.wall_dir[w]];
-            out[0] = n;
-            for (unsigned int k = 0; k < dim; ++k)
-              {
-                out[1 + k] = n * u[k];
-                keg += 0.5 * n * u[k] * u[k];
-              }
-            out[dim + 1] = in[dim + 1] - ke + keg;
-          }
-        else
-          for (unsigned int c = 0; c < NC; ++c)
-            {
-              double v = in[c];
-              if (c >= 1 && c <= dim && (g.flip_mask >> (c - 1) & 1u))
-                v = -v;
-              out[c] = v;
-            }
+        boundary::ghost_state<dim>(g, in, out); // the wall's rule: mirror, copy or no-slip
       }
   }
 

@@ -13,8 +13,8 @@ namespace granhydro
 
   template <int dim>
   Lattice<dim>::Lattice(const std::array<unsigned int, 3> &N, const std::array<bool, 3> &periodic,
-                        const unsigned int max_level, const unsigned int ghost_width, const WallTable &walls,
-                        const bool subset)
+                        const unsigned int max_level, const unsigned int ghost_width,
+                        const boundary::WallTable &walls, const bool subset)
     : cells_(N)
     , periodic(periodic)
     , max_level_(max_level)
@@ -261,7 +261,7 @@ namespace granhydro
                                                        BoundaryGhost &bg) const
   {
     const Position f = nearest_fluid(k, p);
-    Position       q = mirror_across_walls<dim>(
+    Position       q = boundary::mirror_across_walls<dim>(
       p, f, [&](const unsigned int lf) { return face_id(k, f, lf); }, walls, bg);
     // the mirror point may lie beyond the lattice (a box thinner than the ghost layer:
     // clamp it) or be solid (a concave corner of a lattice subset: f itself)

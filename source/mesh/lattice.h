@@ -16,8 +16,8 @@
  * farthest position looked at lies 2 G outside). Wall ghosts are registered as they
  * are met, with the mirror of the wall mirror rule (boundary/wall_mirror.h).
  */
+#include <granhydro/boundary/boundary_ghost.h>
 #include <granhydro/boundary/wall_mirror.h>
-#include <granhydro/mesh/boundary_ghost.h>
 
 #include <deal.II/dofs/dof_handler.h>
 
@@ -47,7 +47,7 @@ namespace granhydro
   class Lattice
   {
   public:
-    using BoundaryGhost = granhydro::BoundaryGhost;
+    using BoundaryGhost = boundary::BoundaryGhost;
     using Position      = std::array<long long, 3>;
     /// a wall ghost: its reflections, the leaf whose state it takes, its position
     struct WallGhost
@@ -61,7 +61,7 @@ namespace granhydro
     /// N: level-0 points per direction; subset: a mesh file's lattice (solid points,
     /// boundary ids from the mesh) rather than a box (colorized boundary ids)
     Lattice(const std::array<unsigned int, 3> &N, const std::array<bool, 3> &periodic,
-            const unsigned int max_level, const unsigned int ghost_width, const WallTable &walls,
+            const unsigned int max_level, const unsigned int ghost_width, const boundary::WallTable &walls,
             const bool subset);
 
     /**
@@ -196,7 +196,7 @@ namespace granhydro
     std::array<unsigned int, 3> cells_; ///< N: level-0 points per direction
     std::array<bool, 3>         periodic;
     unsigned int                max_level_, ghost_width_; ///< m and G
-    WallTable                   walls;
+    boundary::WallTable         walls;
     bool                        subset_;
     std::array<long long, 3>    fine_cells_{{1, 1, 1}}; ///< fine-lattice points per direction, N << m
     long long                   margin_;                ///< E = 2 G + 2: how far outside positions have keys

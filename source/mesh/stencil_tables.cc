@@ -65,9 +65,9 @@ namespace granhydro
     for (const long long t : needed)
       if (t < 0)
         {
-          BoundaryGhost bg = lattice.ghost(t).bg;
-          bg.slot          = index.slot_of.at(t);
-          bg.source        = index.slot_of.at(lattice.ghost(t).source_key);
+          boundary::BoundaryGhost bg = lattice.ghost(t).bg;
+          bg.slot                    = index.slot_of.at(t);
+          bg.source                  = index.slot_of.at(lattice.ghost(t).source_key);
           tables.boundary_ghosts.push_back(bg);
         }
     index.first_virtual = tables.positions.size();
@@ -82,9 +82,9 @@ namespace granhydro
     for (unsigned int i = 0; i < vcells.size(); ++i)
       if (vcells[i].ghost)
         {
-          BoundaryGhost bg = vcells[i].bg;
-          bg.slot          = index.first_virtual + i;
-          bg.source        = index.first_virtual + vcells[i].mirror;
+          boundary::BoundaryGhost bg = vcells[i].bg;
+          bg.slot                    = index.first_virtual + i;
+          bg.source                  = index.first_virtual + vcells[i].mirror;
           tables.boundary_ghosts.push_back(bg);
         }
       else

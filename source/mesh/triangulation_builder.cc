@@ -30,7 +30,7 @@ namespace granhydro
         geometry.cells[d]     = d < dim ? settings.cells[d] : 1;
         geometry.lower[d]     = d < dim ? settings.lower[d] : 0;
         geometry.cell_size[d] = d < dim ? (settings.upper[d] - settings.lower[d]) / geometry.cells[d] : 1;
-        geometry.periodic[d]  = d < dim ? settings.boundary[2 * d] == BoundaryType::periodic : true;
+        geometry.periodic[d]  = d < dim ? settings.walls[2 * d].type == BoundaryType::periodic : true;
       }
     unsigned int L = 0;
     if (dim > 1)

@@ -24,7 +24,6 @@ namespace granhydro
     c.musta_local_cfl       = musta_local_cfl;
     c.no_slip_pressure_flux = no_slip_pressure_flux;
     c.no_wall_tension       = model == Model::granular && cohesionless;
-    c.boundary              = boundary;
     c.length_unit           = units().length;
     return c;
   }
@@ -38,28 +37,38 @@ namespace granhydro
     m.upper            = upper;
     m.cells            = cells;
     m.max_level        = max_level;
-    m.boundary         = boundary;
-    m.wall_velocity    = wall_velocity;
-    m.velocity_unit    = units().velocity;
+    for (unsigned int i = 0; i < m.walls.size(); ++i)
+      m.walls[i] = {boundary[i], wall_velocity[i], wall_restitution[i]};
+    m.velocity_unit = units().velocity;
     return m;
   }
 
   io::OutputSettings Scene::output_settings() const
   {
     io::OutputSettings o;
-    o.directory           = output_directory;
-    o.base_name           = base_name;
-    o.write_vtu           = write_vtu;
-    o.write_profiles      = write_profiles;
-    o.write_checkpoint    = write_checkpoint;
-    o.vtu_files           = vtu_files_per_output;
-    o.profile_direction   = profile_direction;
-    o.section_direction   = section_direction;
-    o.units               = units();
-    o.vibration_amplitude = vibration_amplitude;
-    o.vibration_frequency = vibration_frequency;
-    o.vibration_direction = vibration_direction;
+    o.directory         = output_directory;
+    o.base_name         = base_name;
+    o.write_vtu         = write_vtu;
+    o.write_profiles    = write_profiles;
+    o.write_checkpoint  = write_checkpoint;
+    o.vtu_files         = vtu_files_per_output;
+    o.profile_direction = profile_direction;
+    o.section_direction = section_direction;
+    o.units             = units();
+    o.container_motion  = moving_frame();
     return o;
+  }
+
+  boundary::MovingFrame Scene::moving_frame() const
+  {
+    boundary::MovingFrame f;
+    if (vibration_amplitude > 0 && vibration_frequency > 0)
+      {
+        f.amplitude = vibration_amplitude;
+        f.omega     = 2 * M_PI * vibration_frequency;
+        f.direction = vibration_direction;
+      }
+    return f;
   }
 
   Units Scene::units() const

@@ -292,11 +292,14 @@ namespace
   template <int dim>
   void balance_rounds(Checker &chk, const MPI_Comm comm)
   {
-    MeshSettings ms;
+    const BoundaryType sides[6] = {BoundaryType::periodic,  BoundaryType::periodic,
+                                   BoundaryType::slip_wall, BoundaryType::no_slip_wall,
+                                   BoundaryType::slip_wall, BoundaryType::outflow};
+    MeshSettings       ms;
     ms.cells     = {{5, 4, 3}};
     ms.max_level = 3;
-    ms.boundary  = {{BoundaryType::periodic, BoundaryType::periodic, BoundaryType::slip_wall,
-                     BoundaryType::no_slip_wall, BoundaryType::slip_wall, BoundaryType::outflow}};
+    for (unsigned int i = 0; i < 6; ++i)
+      ms.walls[i].type = sides[i];
     CartesianPatch<dim> patch(comm);
     patch.build(ms, 3);
     constexpr unsigned int NC      = dim + 2;

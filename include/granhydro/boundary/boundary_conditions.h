@@ -8,7 +8,7 @@
 
 #include <array>
 
-namespace granhydro
+namespace granhydro::boundary
 {
   enum class BoundaryType
   {
@@ -25,4 +25,16 @@ namespace granhydro
       EnumName{BoundaryType::no_slip_wall, "no-slip wall"}, EnumName{BoundaryType::outflow, "outflow"});
   }
   static_assert(check_enum_names(enum_names(BoundaryType{})));
+
+  /// a wall (slip or no-slip): the mass and energy fluxes through it are 0, its ghosts mirror
+  constexpr bool is_wall(const BoundaryType t)
+  {
+    return t == BoundaryType::slip_wall || t == BoundaryType::no_slip_wall;
+  }
+} // namespace granhydro::boundary
+
+namespace granhydro
+{
+  /// the boundary kinds are named all over the scene and the tests: granhydro::BoundaryType
+  using boundary::BoundaryType;
 } // namespace granhydro

@@ -11,34 +11,25 @@
  * wall. For a box, f is e clamped into the box, and the rule is the composed
  * reflection at faces, edges and corners.
  */
-#include <granhydro/boundary/boundary_conditions.h>
+#include <granhydro/boundary/wall_settings.h>
 
 #include <deal.II/base/exceptions.h>
 
 #include <array>
 
-namespace granhydro
+namespace granhydro::boundary
 {
-  /// the walls' kinds and velocities, per boundary id
-  struct WallTable
-  {
-    std::array<BoundaryType, 6>           type{};
-    std::array<std::array<double, 3>, 6> velocity{}; ///< [m/s]
-    double                                velocity_unit = 1; ///< [m/s]
-  };
-
   /**
    * The mirror point of e across the faces of the fluid cell f towards e (src above).
    * face_id(lf) is the boundary id of f's lattice face lf = 2 d + upper. The walls
-   * crossed are recorded in ghost (a CartesianPatch::BoundaryGhost) in the order of the
-   * directions: n_walls, wall_dir, wall_id, wall_no_slip, wall_velocity (scaled), no_slip
+   * crossed are recorded in ghost (a BoundaryGhost) in the order of the
+   * directions (boundary/boundary_ghost.h): n_walls, wall_dir, wall_id, wall_no_slip, wall_velocity (scaled), no_slip
    * and flip_mask.
    */
   template <int dim, typename Ghost, typename FaceId>
   std::array<long long, 3> mirror_across_walls(const std::array<long long, 3> &e,
-                                               const std::array<long long, 3> &f,
-                                               const FaceId &face_id, const WallTable &walls,
-                                               Ghost &ghost)
+                                               const std::array<long long, 3> &f, const FaceId &face_id,
+                                               const WallTable &walls, Ghost &ghost)
   {
     std::array<long long, 3> src  = e;
     unsigned int             flip = 0;
@@ -50,7 +41,7 @@ namespace granhydro
         const int sgn = delta > 0 ? 1 : -1;
         const int id  = face_id(2 * d + (delta > 0 ? 0 : 1));
         AssertThrow(id >= 0, dealii::ExcMessage("a boundary ghost faces a cell face without boundary id"));
-        const BoundaryType t = walls.type[id];
+        const BoundaryType t = walls.settings[id].type;
         if (t == BoundaryType::slip_wall || t == BoundaryType::no_slip_wall)
           {
             src[d] = 2 * f[d] - sgn - e[d];
@@ -63,7 +54,7 @@ namespace granhydro
               {
                 ghost.no_slip = true;
                 for (unsigned int k = 0; k < 3; ++k)
-                  ghost.wall_velocity[w][k] = walls.velocity[id][k] / walls.velocity_unit;
+                  ghost.wall_velocity[w][k] = walls.settings[id].velocity[k] / walls.velocity_unit;
               }
           }
         else
@@ -72,4 +63,4 @@ namespace granhydro
     ghost.flip_mask = flip;
     return src;
   }
-} // namespace granhydro
+} // namespace granhydro::boundary

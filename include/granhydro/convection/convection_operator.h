@@ -24,6 +24,7 @@
  *
  * Hot loops run over flat slot lists with precomputed neighbour indices.
  */
+#include <granhydro/boundary/convective_wall_flux.h>
 #include <granhydro/convection/numerical_flux.h>
 #include <granhydro/convection/reconstruction.h>
 #include <granhydro/mesh/cartesian_patch.h>
@@ -37,7 +38,7 @@ namespace granhydro::convection
 {
   struct ConvectionStatistics
   {
-    FluxStatistics     flux;
+    FluxStatistics flux;
     /// cells x directions x stages whose reconstruction fell back to the cell average
     unsigned long long limited_cells = 0;
     /// cells x stages whose update was redone with first-order Rusanov fluxes (a posteriori)
@@ -91,28 +92,27 @@ namespace granhydro::convection
     double vote_seconds() const { return vote_seconds_; }
 
     /// where the last rejected SSP-RK3 step failed (this rank; empty if elsewhere)
-    const std::string &failure() const { return last_failure; }
+    const std::string   &failure() const { return last_failure; }
     ConvectionStatistics global_statistics() const;
 
   private:
     template <class Recon>
     void apply_impl(const Recon &rec, const double *W, double *rhs) const;
     void assemble_rhs(double *rhs) const;
-    bool stage_update(Vector &U, const double a, const double b, const double den,
-                      const double dt) const;
+    bool stage_update(Vector &U, const double a, const double b, const double den, const double dt) const;
 
-    const CartesianPatch<dim> &patch;
-    const Description         &desc;
+    const CartesianPatch<dim>      &patch;
+    const Description              &desc;
     NumericalFlux<dim, Description> numflux;
-    ReconstructionType         rtype;
-    bool                       transverse; // transverse reconstruction stages B (and C in 3D)
-    unsigned int               P;          // points per transverse direction: 2 Gauss, 1 centre
-    double                     length_unit;
-    std::vector<double>        inv_h[dim]; // 1/dx_d of each owned cell in scaled units
-    FirstOrder                 rec1;
-    Muscl                      rec_muscl;
-    Weno3                      rec3;
-    Weno5                      rec5;
+    ReconstructionType              rtype;
+    bool                            transverse; // transverse reconstruction stages B (and C in 3D)
+    unsigned int                    P;          // points per transverse direction: 2 Gauss, 1 centre
+    double                          length_unit;
+    std::vector<double>             inv_h[dim]; // 1/dx_d of each owned cell in scaled units
+    FirstOrder                      rec1;
+    Muscl                           rec_muscl;
+    Weno3                           rec3;
+    Weno5                           rec5;
 
     // slot lists per direction (on several ranks without the MPI ghosts, whose stage
     // values come from their owners through halo)
@@ -131,31 +131,17 @@ namespace granhydro::convection
     {
       return j == 0 ? d : (dim == 3 ? (d + j) % 3 : 1 - d);
     }
-    /// per face of patch.faces(d): 1 if it lies on a (slip or no-slip) wall; walls do not move normally, so
-    /// the mass and energy fluxes there are exactly 0 whatever the ghost state (at concave
-    /// corners of a mesh file the nearest-fluid ghost is not an exact mirror for every
-    /// stencil): closed domains conserve mass to round-off. 2: a no-slip wall with the
-    /// paper's pressure flux (Numerics/No-slip wall flux = pressure): the tangential
-    /// momentum flux is 0 too, only the wall pressure acts (paper eq. 6.1a)
+    /// per face of patch.faces(d): its boundary::ConvectiveWallKind (0: not a wall; the
+    /// rule: boundary/convective_wall_flux.h)
     std::vector<char> wall[dim];
     bool              no_slip_pressure_flux = false;
-    std::array<BoundaryType, 6> boundary_type;
-    bool              no_wall_tension = false;
-    /// zero the flux components a wall face does not carry (see wall above); with
-    /// no_wall_tension a negative wall pressure becomes 0. Counted in stats when owned.
+    bool              no_wall_tension       = false;
+    /// the wall flux rule on the flux F of a wall face; a negative wall pressure set to 0
+    /// counted in stats when owned
     void wall_flux(const char kind, const unsigned int d, double *F, const bool owned) const
     {
-      F[0] = F[NC - 1] = 0.;
-      if (kind == 2)
-        for (unsigned int j = 0; j < dim; ++j)
-          if (j != d)
-            F[1 + j] = 0.;
-      if (no_wall_tension && F[1 + d] < 0)
-        {
-          F[1 + d] = 0.;
-          if (owned)
-            ++stats.wall_tension_bounded;
-        }
+      if (boundary::apply_convective_wall_flux<dim>(kind, d, F, no_wall_tension) && owned)
+        ++stats.wall_tension_bounded;
     }
     /// whether the wall face k normal to d belongs to an owned cell
     bool owned_wall_face(const unsigned int d, const std::size_t k) const
@@ -164,11 +150,11 @@ namespace granhydro::convection
       return (patch.is_cell(f.l) ? f.l : f.r) < patch.n_owned();
     }
 
-    mutable std::vector<double> A, B, C; // stage arrays (one direction at a time)
-    mutable std::vector<double> Fp[dim];  // flux per face of patch.faces(d)
-    mutable std::vector<double> cand;
-    mutable Vector              flags;
-    mutable std::vector<double> W, rhs0, U0;
+    mutable std::vector<double>  A, B, C; // stage arrays (one direction at a time)
+    mutable std::vector<double>  Fp[dim]; // flux per face of patch.faces(d)
+    mutable std::vector<double>  cand;
+    mutable Vector               flags;
+    mutable std::vector<double>  W, rhs0, U0;
     mutable ConvectionStatistics stats;
     mutable double               busy_seconds_ = 0, halo_wait_seconds_ = 0, vote_seconds_ = 0;
     mutable std::string          last_failure;

@@ -2,12 +2,11 @@
 /**
  * @file settings.h
  * What the convective step needs to know, and nothing else: the reconstruction, the
- * face quadrature, the numerical flux with its MUSTA parameters, and the boundary
- * kinds. scene/ fills it (Scene::convection_settings()); the convection kernel never
+ * face quadrature, the numerical flux with its MUSTA parameters, and the wall-flux
+ * choices (the walls themselves are the mesh's, CartesianPatch::wall_settings()). scene/ fills it (Scene::convection_settings()); the convection kernel never
  * sees the scene.
  */
 #include <granhydro/base/enum_names.h>
-#include <granhydro/boundary/boundary_conditions.h>
 
 #include <array>
 
@@ -71,15 +70,11 @@ namespace granhydro::convection
     double       musta_tolerance  = 0.01;
     double       musta_local_cfl  = 0.9;
     /// no-slip walls: only the wall pressure in the normal momentum (paper eq. 6.1a)
-    /// instead of the mirror-ghost flux
+    /// instead of the mirror-ghost flux (boundary/convective_wall_flux.h)
     bool no_slip_pressure_flux = false;
     /// cohesionless grains: a wall pushes, never pulls - the normal momentum flux (wall
-    /// pressure) of a wall face is at least 0 (a cell receding from the wall faster than
-    /// the flux's wave speeds allow cavitates instead of being sucked back)
+    /// pressure) of a wall face is at least 0 (boundary/convective_wall_flux.h)
     bool no_wall_tension = false;
-    /// boundary[2 d] lower and boundary[2 d + 1] upper side of direction d (mesh files:
-    /// by boundary id)
-    std::array<BoundaryType, 6> boundary{};
     /// the length unit of the scaled units [m] (messages in metres)
     double length_unit = 1;
   };

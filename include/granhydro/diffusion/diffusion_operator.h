@@ -42,8 +42,9 @@
  * (the fully coupled variant; 19-point stencil in 3D), which the integrator
  * uses when the lagged iteration stalls (near-vacuum, doc/physics.md P14).
  */
+#include <granhydro/boundary/dissipative_wall.h>
+#include <granhydro/boundary/moving_frame.h>
 #include <granhydro/mesh/cartesian_patch.h>
-#include <granhydro/physics/body_force.h>
 #include <granhydro/physics/granular_gas.h>
 
 #include <deal.II/lac/trilinos_sparse_matrix.h>
@@ -56,15 +57,15 @@ namespace granhydro::diffusion
 {
   struct DiffusionSettings
   {
-    bool                  viscous = true, heat = true, cooling = true;
-    bool                  diagonal_only = false;
+    bool viscous = true, heat = true, cooling = true;
+    bool diagonal_only = false;
     /// Knudsen cap (scaled, grain diameters; 0 = off): eta, gamma, kappa, mu times
     /// min(1, L / l) with the dilute mean free path l = 1/(sqrt(2) pi n)
-    double                max_free_path = 0;
-    /// gravity and the container's motion, when the body force acts in this step (scaled)
+    double max_free_path = 0;
+    /// gravity, when the body force acts in this step (scaled)
     physics::BodyForce body;
-    /// grain-wall restitution per boundary id (2 d + upper for a box); < 1: dissipative wall heat flux
-    std::array<double, 6> wall_restitution{{1, 1, 1, 1, 1, 1}};
+    /// the vibrated container's motion: the inertial force of its frame joins gravity (scaled)
+    boundary::MovingFrame container_motion;
     /// cohesionless grains: the tensile viscous normal stress at a face is bounded by the
     /// pressure there (doc/physics.md 4.7)
     bool no_tension = true;
@@ -74,12 +75,12 @@ namespace granhydro::diffusion
   /// owns (a face belongs to the rank owning its low cell, or its only cell at a wall)
   struct FaceFluxCounts
   {
-    unsigned long long faces = 0;            ///< face flux evaluations
-    unsigned long long tension_bounded = 0;  ///< tensile normal stress bounded by the pressure
+    unsigned long long faces                 = 0; ///< face flux evaluations
+    unsigned long long tension_bounded       = 0; ///< tensile normal stress bounded by the pressure
     unsigned long long tension_bounded_walls = 0; ///< of which on wall faces
-    unsigned long long friction_capped = 0;
+    unsigned long long friction_capped       = 0;
     /// face state with T < 0, taken as 0 in the coefficients (and the wall heat flux)
-    unsigned long long negative_temperature = 0;  ///< frictional viscosity held at the Newtonian bound
+    unsigned long long negative_temperature = 0; ///< frictional viscosity held at the Newtonian bound
   };
 
   template <int dim>
@@ -88,10 +89,8 @@ namespace granhydro::diffusion
   public:
     static constexpr unsigned int NC = dim + 2;
 
-    DiffusionOperator(const CartesianPatch<dim>          &patch,
-                      const physics::GranularGas<dim>    &desc,
-                      const DiffusionSettings            &settings,
-                      const double                        length_unit);
+    DiffusionOperator(const CartesianPatch<dim> &patch, const physics::GranularGas<dim> &desc,
+                      const DiffusionSettings &settings, const double length_unit);
 
     void setup();
 
@@ -107,16 +106,17 @@ namespace granhydro::diffusion
     /// NC x NC blocks df_s/dU_t of the cells t of its stencil (t in the partitioner's local
     /// cell numbering: owned, then MPI ghosts; each t once). Face neighbours always; with
     /// cross_terms also the gradient (edge) neighbours of the tangential derivatives.
-    using JacobianBlocks = std::vector<std::vector<std::pair<unsigned int, std::array<double, (dim + 2) * (dim + 2)>>>>;
+    using JacobianBlocks =
+      std::vector<std::vector<std::pair<unsigned int, std::array<double, (dim + 2) * (dim + 2)>>>>;
     void jacobian(const double *W, JacobianBlocks &J, const bool cross_terms = false) const;
 
     /**
      * M = I - dt (A (x) J) for the Butcher matrix A (stages x stages) with J = df/dU
      * at the slot array W, assembled into M (built on make_sparsity()).
      */
-    void assemble_newton_matrix(const double *W, const std::vector<std::vector<double>> &A,
-                                const double dt, dealii::TrilinosWrappers::SparseMatrix &M,
-                                const bool cross_terms = false) const;
+    void assemble_newton_matrix(const double *W, const std::vector<std::vector<double>> &A, const double dt,
+                                dealii::TrilinosWrappers::SparseMatrix &M,
+                                const bool                              cross_terms = false) const;
 
     /// largest explicit diffusion rate max(2 D / dx^2 summed over directions) on owned cells
     double explicit_rate(const double *W) const;
@@ -146,29 +146,25 @@ namespace granhydro::diffusion
     void set_time(const double t) const
     {
       time  = t;
-      force = settings.body.at(t); // once per time, not per cell
+      force = boundary::effective_body_force(settings.body, settings.container_motion,
+                                             t); // once per time, not per cell
     }
 
     /// the body force per unit mass at the current time (scaled units)
     const std::array<double, 3> &body_force() const { return force; }
 
   private:
-    /// a face on a dissipative wall: eps_w and the sign of the wall's outward normal
-    /// along d (-1 lower wall: interior on the right; +1 upper wall); sign 0: no wall
-    struct WallFace
-    {
-      double eps_w = 1;
-      int    sign  = 0;
-    };
+    /// a face on a dissipative wall (boundary/dissipative_wall.h; the grain-wall
+    /// restitution of a wall is the mesh's, CartesianPatch::wall_settings())
+    using WallFace = boundary::DissipativeWallFace;
     /// flux through a face normal to d between slots l and r; ihn: 1/(centre distance).
     /// With the frictional viscosity on, F holds its momentum flux but not its work, and
     /// friction (if given) receives (work flux tau_f.u, frictional momentum flux, 0).
     /// bounded, capped, cold (if given): the tensile normal stress was bounded by the
     /// pressure, the frictional viscosity held at its bound, the face state's T < 0.
     void face_flux(const double *W, const unsigned int d, const double ihn, const unsigned int l,
-                   const unsigned int r, const physics::State<dim> &UL,
-                   const physics::State<dim> &UR, const WallFace &wall,
-                   physics::State<dim> &F, physics::State<dim> *friction = nullptr,
+                   const unsigned int r, const physics::State<dim> &UL, const physics::State<dim> &UR,
+                   const WallFace &wall, physics::State<dim> &F, physics::State<dim> *friction = nullptr,
                    bool *bounded = nullptr, bool *capped = nullptr, bool *cold = nullptr) const;
     void source(const physics::State<dim> &U, physics::State<dim> &S) const;
     /// kinetic-theory coefficients at (n, T) with the Knudsen cap and the switches; V is
@@ -184,8 +180,8 @@ namespace granhydro::diffusion
     void face_flux_lanes(const double *W, const unsigned int d, const V ihn, const unsigned int *l,
                          const unsigned int *r, const std::array<V, dim + 2> &UL,
                          const std::array<V, dim + 2> &UR, std::array<V, dim + 2> &F,
-                         std::array<V, dim + 2> *friction, V *bounded = nullptr,
-                         V *capped = nullptr, V *cold = nullptr) const;
+                         std::array<V, dim + 2> *friction, V *bounded = nullptr, V *capped = nullptr,
+                         V *cold = nullptr) const;
 
     /// residual() with V-wide lanes, compiled for the default target and for AVX2
     template <class V>
@@ -215,19 +211,19 @@ namespace granhydro::diffusion
     double                           length_unit;
     std::vector<double>              inv_h[dim];    ///< 1/dx_d of each owned cell (scaled)
     std::vector<double>              inv_dist[dim]; ///< per face: 1/(centre distance) (scaled)
-    std::vector<WallFace> walls[dim]; ///< parallel to patch.faces(d)
-    std::vector<unsigned int> src;  ///< slot -> real slot carrying its data
-    std::vector<unsigned int> flip; ///< slot -> momentum sign flips relative to src
-    mutable std::vector<double> Fp[dim];
-    mutable std::vector<double> Ff[dim]; ///< per face: frictional work flux and momentum flux
-    mutable double              time = 0;
-    mutable std::array<double, 3> force{{0, 0, 0}}; ///< settings.body.at(time)
-    mutable double              friction_power_ = 0;
-    mutable FaceFluxCounts      counts_;
+    std::vector<WallFace>            walls[dim];    ///< parallel to patch.faces(d)
+    std::vector<unsigned int>        src;           ///< slot -> real slot carrying its data
+    std::vector<unsigned int>        flip;          ///< slot -> momentum sign flips relative to src
+    mutable std::vector<double>      Fp[dim];
+    mutable std::vector<double>      Ff[dim]; ///< per face: frictional work flux and momentum flux
+    mutable double                   time = 0;
+    mutable std::array<double, 3>    force{{0, 0, 0}}; ///< the body force at time (gravity and frame)
+    mutable double                   friction_power_ = 0;
+    mutable FaceFluxCounts           counts_;
     /// whether face k of direction d is counted on this rank (FaceFluxCounts): 0 no, 1 yes,
     /// 2 yes and it is a wall face
-    std::vector<unsigned char>  counted_[dim];
-    std::vector<double>         cell_volume; ///< scaled volume of each owned cell
-    bool                        friction_active = false;
+    std::vector<unsigned char> counted_[dim];
+    std::vector<double>        cell_volume; ///< scaled volume of each owned cell
+    bool                       friction_active = false;
   };
 } // namespace granhydro::diffusion

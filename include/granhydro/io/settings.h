@@ -6,6 +6,7 @@
  * (Scene::output_settings()); io never sees the scene.
  */
 #include <granhydro/base/units.h>
+#include <granhydro/boundary/moving_frame.h>
 
 #include <string>
 
@@ -20,12 +21,12 @@ namespace granhydro::io
     bool        write_vtu = true, write_profiles = true, write_checkpoint = true;
     /// VTU files per output time: 0 = one per rank, else at most this many (ranks are
     /// grouped round robin: rank r writes into file r mod K)
-    unsigned int vtu_files = 16;
-    int         profile_direction = -1; ///< -1: the last dimension
-    int         section_direction = -1; ///< 3D: average along it into a 2D map; -1: off
-    Units       units;
-    /// container motion s(t) = A sin(2 pi f t) e_direction (lab-frame velocities)
-    double       vibration_amplitude = 0, vibration_frequency = 0; // [m], [Hz]
-    unsigned int vibration_direction = 1;
+    unsigned int vtu_files         = 16;
+    int          profile_direction = -1; ///< -1: the last dimension
+    int          section_direction = -1; ///< 3D: average along it into a 2D map; -1: off
+    Units        units;
+    /// the vibrated container's motion s(t) = A sin(w t) e_s [m], [rad/s] (lab-frame
+    /// velocities add its velocity)
+    boundary::MovingFrame container_motion;
   };
 } // namespace granhydro::io

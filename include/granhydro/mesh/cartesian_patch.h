@@ -60,8 +60,8 @@
  * dimensions. No rank holds the whole fine lattice: the leaves a rank's
  * tables reach come from a directory distributed by level-0 block (source/mesh/lattice.h).
  */
-#include <granhydro/boundary/wall_mirror.h>
-#include <granhydro/mesh/boundary_ghost.h>
+#include <granhydro/boundary/boundary_ghost.h>
+#include <granhydro/boundary/wall_settings.h>
 #include <granhydro/mesh/patch_tables.h>
 #include <granhydro/mesh/settings.h>
 
@@ -92,8 +92,8 @@ namespace granhydro
   public:
     static constexpr unsigned int n_components = dim + 2;
 
-    /// a boundary-ghost slot (mesh/boundary_ghost.h)
-    using BoundaryGhost = granhydro::BoundaryGhost;
+    /// a boundary-ghost slot (boundary/boundary_ghost.h)
+    using BoundaryGhost = boundary::BoundaryGhost;
 
     CartesianPatch(const MPI_Comm comm);
     ~CartesianPatch();
@@ -236,11 +236,19 @@ namespace granhydro
     }
 
     /// the boundary condition of boundary id i
-    BoundaryType boundary_type(const unsigned int i) const { return walls_.type[i]; }
+    BoundaryType boundary_type(const unsigned int i) const { return walls_.settings[i].type; }
 
     /// true if the face between slots l (low side) and r along d is a wall (slip or
     /// no-slip): one real cell, one boundary ghost, and the cell's face has a wall id
-    bool wall_face(const unsigned int l, const unsigned int r, const unsigned int d) const;
+    bool wall_face(const unsigned int l, const unsigned int r, const unsigned int d) const
+    {
+      return wall_id(l, r, d) >= 0;
+    }
+    /// the boundary id of the wall face between slots l (low side) and r along d, -1 if
+    /// it is not a wall face
+    int wall_id(const unsigned int l, const unsigned int r, const unsigned int d) const;
+    /// the settings of the boundary with id i (wall velocities in [m/s])
+    const boundary::WallSettings &wall_settings(const unsigned int i) const { return walls_.settings[i]; }
 
     /// extended lattice coordinates of a slot (may lie outside [0,N) for boundary ghosts)
     const std::array<int, 3>         &lattice(const unsigned int s) const { return tables_.positions[s]; }
@@ -291,8 +299,8 @@ namespace granhydro
     bool            subset_    = false; ///< a mesh file's lattice (solid points, boundary ids from the file)
     unsigned int    max_level_ = 0;
     /// the boundary kinds and wall velocities per boundary id (velocities in [m/s])
-    WallTable          walls_;
-    unsigned long long n_global_ = 0;
+    boundary::WallTable walls_;
+    unsigned long long  n_global_ = 0;
     /// the slots' tables, held here so that the inline accessors index them directly
     SlotTables                        tables_;
     mutable std::vector<unsigned int> active_index_;

@@ -7,7 +7,7 @@
  * inline accessors, so the operators' hot loops index the vectors directly. Slot
  * numbering and the meaning of each table: cartesian_patch.h.
  */
-#include <granhydro/mesh/boundary_ghost.h>
+#include <granhydro/boundary/boundary_ghost.h>
 
 #include <array>
 #include <utility>
@@ -69,9 +69,9 @@ namespace granhydro
     std::vector<int> neighbors;
     /// gradient neighbour of s along j on side (0 lower, 1 upper): entry (s dim + j) 2 +
     /// side, or -1; and its offset from s's centre [m]
-    std::vector<int>           gradient_neighbors;
-    std::vector<double>        gradient_offsets;
-    std::vector<BoundaryGhost> boundary_ghosts;
+    std::vector<int>                     gradient_neighbors;
+    std::vector<double>                  gradient_offsets;
+    std::vector<boundary::BoundaryGhost> boundary_ghosts;
     /// boundary id of face 2 d + upper of each real-cell slot (2 dim per slot), -1 interior
     std::vector<signed char> face_boundary_ids;
     std::vector<VirtualSlot> virtual_cells;

@@ -2,10 +2,10 @@
 /**
  * @file settings.h
  * What the mesh needs to know: the box or the mesh file, the refinement levels and the
- * boundary kinds with their wall velocities. scene/ fills it (Scene::mesh_settings());
+ * boundaries (their kinds and wall velocities). scene/ fills it (Scene::mesh_settings());
  * the mesh never sees the scene.
  */
-#include <granhydro/boundary/boundary_conditions.h>
+#include <granhydro/boundary/wall_settings.h>
 
 #include <array>
 #include <string>
@@ -22,11 +22,10 @@ namespace granhydro
     std::array<unsigned int, 3> cells{{1, 1, 1}};
     /// refinement levels above `cells` (adaptive boxes; 0 = uniform)
     unsigned int max_level = 0;
-    /// boundary[2 d] lower side, boundary[2 d + 1] upper side of direction d; with a mesh
-    /// file, boundary[i] applies to the faces with boundary id i
-    std::array<BoundaryType, 6> boundary{};
-    /// wall velocity per boundary [m/s] (no-slip walls)
-    std::array<std::array<double, 3>, 6> wall_velocity{};
+    /// walls[2 d] lower side, walls[2 d + 1] upper side of direction d; with a mesh file,
+    /// walls[i] applies to the faces with boundary id i (the mesh reads the kinds and the
+    /// wall velocities [m/s])
+    boundary::WallSettingsTable walls{};
     /// the velocity unit [m/s] (wall velocities are stored scaled)
     double velocity_unit = 1;
   };

@@ -8,6 +8,7 @@
 #include <granhydro/base/errors.h>
 #include <granhydro/base/units.h>
 #include <granhydro/boundary/boundary_conditions.h>
+#include <granhydro/boundary/moving_frame.h>
 #include <granhydro/convection/settings.h>
 #include <granhydro/io/settings.h>
 #include <granhydro/mesh/settings.h>
@@ -67,6 +68,9 @@ namespace granhydro
     MeshSettings mesh_settings() const;
     /// what the output needs (io/settings.h)
     io::OutputSettings output_settings() const;
+    /// the vibrated container's motion in SI units (boundary/moving_frame.h; at rest
+    /// without a vibration)
+    boundary::MovingFrame moving_frame() const;
   };
 
   /// declare every parameter with its default, pattern and documentation

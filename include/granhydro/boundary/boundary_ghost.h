@@ -3,12 +3,12 @@
  * @file boundary_ghost.h
  * A boundary-ghost slot of a CartesianPatch (mesh/cartesian_patch.h): the slot
  * behind a wall or outflow face whose state is a mirror or a copy of an interior
- * cell's. Its own header so that the parts of the patch (source/mesh: the lattice,
- * the virtual cells, the table builders) name it without including the facade.
+ * cell's. The mirror rule (boundary/wall_mirror.h) fills in the walls it lies
+ * behind, the ghost-state rules (boundary/ghost_state.h) make its state.
  */
 #include <array>
 
-namespace granhydro
+namespace granhydro::boundary
 {
   /// a boundary-ghost slot: copy of slot source, momentum components with bit d of
   /// flip_mask set change sign (mirror at a slip wall normal to d)
@@ -28,4 +28,4 @@ namespace granhydro
     std::array<bool, 3>                  wall_no_slip{{false, false, false}};
     std::array<std::array<double, 3>, 3> wall_velocity{};
   };
-} // namespace granhydro
+} // namespace granhydro::boundary
