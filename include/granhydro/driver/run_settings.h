@@ -8,6 +8,7 @@
  * fills them once from the Scene; no other part of the driver reads the Scene, so what
  * a part depends on is written here. SI units.
  */
+#include <granhydro/io/settings.h>
 #include <granhydro/mesh/settings.h>
 
 #include <array>
@@ -53,7 +54,7 @@ namespace granhydro
     unsigned int history_steps   = 0;
     double       history_seconds = 0;
 
-    std::string file(const std::string &suffix) const { return directory + "/" + base_name + suffix; }
+    std::string file(const std::string &suffix) const { return io::run_file(directory, base_name, suffix); }
   };
 
   /// what the run report and the run records say about the run
