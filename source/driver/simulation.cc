@@ -249,14 +249,14 @@ namespace granhydro
     is.source           = scene.source;
     InitialState<dim, Description> state(is, desc, units_);
     const auto                     initial_state = [&state](const Point<dim> &x) { return state(x); };
-    set_initial_state(initial_state, scene.initial_quadrature);
+    set_initial_state(initial_state, is.quadrature);
     // initial refinement: adapt to the initial state, then evaluate it anew on the finer
     // cells (no interpolation), up to the maximum level
     for (unsigned int k = 0; k < scene.max_level; ++k)
       {
         if (!adapt_mesh(true))
           break;
-        set_initial_state(initial_state, scene.initial_quadrature);
+        set_initial_state(initial_state, is.quadrature);
       }
     if (scene.max_level > 0)
       pcout << "  initial refinement: " << patch_->n_global_cells() << " cells, levels 0.." << scene.max_level
