@@ -59,8 +59,7 @@ namespace
     "defaults: --cells 48 --steps 10 --reconstruction weno5 --quadrature gauss --flux musta "
     "--repeat 3\n";
 
-  unsigned int parse_positive(const std::string &option, const std::string &value,
-                              const unsigned long max)
+  unsigned int parse_positive(const std::string &option, const std::string &value, const unsigned long max)
   {
     std::size_t   pos = 0;
     unsigned long v   = 0;
@@ -76,8 +75,8 @@ namespace
           ok = false;
         }
     if (!ok)
-      throw UsageError{"option '" + option + "' needs a whole number between 1 and " +
-                       std::to_string(max) + ", got '" + value + "'"};
+      throw UsageError{"option '" + option + "' needs a whole number between 1 and " + std::to_string(max) +
+                       ", got '" + value + "'"};
     return static_cast<unsigned int>(v);
   }
 
@@ -89,8 +88,7 @@ namespace
         std::string list;
         for (const auto &a : allowed)
           list += (list.empty() ? "" : "|") + a;
-        throw UsageError{"option '" + option + "' must be one of " + list + ", got '" + value +
-                         "'"};
+        throw UsageError{"option '" + option + "' must be one of " + list + ", got '" + value + "'"};
       }
     return value;
   }
@@ -110,8 +108,8 @@ namespace
             a         = a.substr(0, eq);
             has_value = true;
           }
-        const bool known = a == "--cells" || a == "--steps" || a == "--repeat" ||
-                           a == "--reconstruction" || a == "--quadrature" || a == "--flux";
+        const bool known = a == "--cells" || a == "--steps" || a == "--repeat" || a == "--reconstruction" ||
+                           a == "--quadrature" || a == "--flux";
         if (!known)
           throw UsageError{"unknown option '" + std::string(argv[i]) + "'"};
         if (!has_value)
@@ -150,7 +148,7 @@ namespace
   /// density and velocity wave plus a spherical blast (pressure ratio ~40)
   std::string scene_text(const Options &o)
   {
-    const std::string N = std::to_string(o.cells);
+    const std::string  N = std::to_string(o.cells);
     std::ostringstream s;
     s << "set Dimension = 3\n"
          "subsection Domain\n"
@@ -212,9 +210,9 @@ namespace
 int main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  const MPI_Comm     comm   = MPI_COMM_WORLD;
-  const bool         root   = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
-  const unsigned int nranks = dealii::Utilities::MPI::n_mpi_processes(comm);
+  const MPI_Comm                           comm   = MPI_COMM_WORLD;
+  const bool                               root   = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+  const unsigned int                       nranks = dealii::Utilities::MPI::n_mpi_processes(comm);
 
   Options o;
   try
@@ -235,16 +233,16 @@ int main(int argc, char **argv)
 
   try
     {
-      const granhydro::Scene scene = granhydro::parse_scene(scene_text(o), "<benchmark scene>");
+      const granhydro::scene::Scene scene = granhydro::scene::parse_scene(scene_text(o), "<benchmark scene>");
 
       std::vector<double> rate, seconds_per_step, musta_stages;
       unsigned long long  rejected = 0, fallbacks = 0, limited = 0;
       for (unsigned int rep = 0; rep < o.repeat; ++rep)
         {
-          granhydro::Simulation<3> sim(scene, comm, std::cout);
+          granhydro::driver::Simulation<3> sim(scene, comm, std::cout);
           sim.setup(); // not timed
           MPI_Barrier(comm);
-          const granhydro::RunSummary s = sim.run();
+          const granhydro::driver::RunSummary s = sim.run();
           if (s.steps != o.steps)
             throw granhydro::RunError("run stopped after " + std::to_string(s.steps) + " of " +
                                       std::to_string(o.steps) + " steps");
@@ -263,25 +261,22 @@ int main(int argc, char **argv)
           char line[256];
           std::cout << "# granhydro convection benchmark: 3D periodic box, ideal gas, density wave "
                        "+ blast, SSP-RK3, "
-                    << o.steps << " steps, median of " << o.repeat
-                    << (o.repeat == 1 ? " run\n" : " runs\n");
-          std::snprintf(line, sizeof line, "%-8s %5s  %-30s %22s %12s %14s\n", "cells", "ranks",
-                        "config", "updates/s/stage/core", "s/step", "MUSTA_st/point");
+                    << o.steps << " steps, median of " << o.repeat << (o.repeat == 1 ? " run\n" : " runs\n");
+          std::snprintf(line, sizeof line, "%-8s %5s  %-30s %22s %12s %14s\n", "cells", "ranks", "config",
+                        "updates/s/stage/core", "s/step", "MUSTA_st/point");
           std::cout << line;
           const std::string cells = std::to_string(o.cells) + "^3";
-          char musta[32];
+          char              musta[32];
           if (o.flux == "musta")
             std::snprintf(musta, sizeof musta, "%.3f", median(musta_stages));
           else
             std::snprintf(musta, sizeof musta, "-");
-          std::snprintf(line, sizeof line, "%-8s %5u  %-30s %22.4e %12.4e %14s\n", cells.c_str(),
-                        nranks, config_name(o).c_str(), median(rate), median(seconds_per_step),
-                        musta);
+          std::snprintf(line, sizeof line, "%-8s %5u  %-30s %22.4e %12.4e %14s\n", cells.c_str(), nranks,
+                        config_name(o).c_str(), median(rate), median(seconds_per_step), musta);
           std::cout << line << std::flush;
           if (rejected > 0 || fallbacks > 0 || limited > 0)
-            std::cerr << "granhydro_benchmark: note (all runs): " << rejected
-                      << " rejected (retried) steps, " << fallbacks
-                      << " MUSTA fallbacks to Rusanov, " << limited
+            std::cerr << "granhydro_benchmark: note (all runs): " << rejected << " rejected (retried) steps, "
+                      << fallbacks << " MUSTA fallbacks to Rusanov, " << limited
                       << " positivity fallbacks to first order\n";
         }
       return 0;

@@ -63,12 +63,12 @@ namespace
   /// compact part of that share), and every rank on this node (MPI_COMM_TYPE_SHARED)
   /// against this node's available memory. (No rank holds a map of the whole fine lattice:
   /// each knows the leaves near its own, see source/mesh/lattice.h.)
-  void check_memory(const granhydro::Scene &s, const MPI_Comm comm)
+  void check_memory(const granhydro::scene::Scene &s, const MPI_Comm comm)
   {
     double cells = 1;
     if (!s.mesh_file.empty())
       {
-        cells = granhydro::check_mesh_file(s.mesh_file, s.dimension).n_cells;
+        cells = granhydro::mesh::check_mesh_file(s.mesh_file, s.dimension).n_cells;
         for (unsigned int r = 0; r < s.mesh_refinements; ++r)
           cells *= 1u << s.dimension;
       }
@@ -82,9 +82,9 @@ namespace
     const double ranks = dealii::Utilities::MPI::n_mpi_processes(comm);
     const double share = std::ceil(cells / ranks);
     // the halo: ghost width (WENO5 3, MUSCL/WENO3 2, first order 1) plus the gradient's layer
-    const double layers = s.reconstruction == granhydro::ReconstructionType::weno5       ? 4 :
-                          s.reconstruction == granhydro::ReconstructionType::first_order ? 2 :
-                                                                                           3;
+    const double layers = s.reconstruction == granhydro::convection::ReconstructionType::weno5       ? 4 :
+                          s.reconstruction == granhydro::convection::ReconstructionType::first_order ? 2 :
+                                                                                                       3;
     const double halo   = ranks > 1 ?
                             std::min(cells - share, 2. * s.dimension * layers *
                                                       std::pow(share, (s.dimension - 1.) / s.dimension)) :
@@ -177,10 +177,10 @@ namespace
     if (file.empty())
       throw granhydro::SceneError("--resume needs a scene file (its Output/Directory and Output/Base "
                                   "name give the checkpoint to continue from)");
-    const granhydro::Scene first = granhydro::read_scene(file, overrides);
-    const std::string      cp    = first.output_file(".checkpoint");
-    std::error_code        ec;
-    const bool             root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+    const granhydro::scene::Scene first = granhydro::scene::read_scene(file, overrides);
+    const std::string             cp    = first.output_file(".checkpoint");
+    std::error_code               ec;
+    const bool                    root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
     if (dealii::Utilities::MPI::broadcast(comm, root && std::filesystem::is_regular_file(cp, ec), 0))
       {
         overrides.push_back("Initial state/Checkpoint=" + cp);
@@ -313,9 +313,9 @@ int main(int argc, char **argv)
     }
   // the run's records (<base>_parameters.prm, <base>.log), once the scene is read: the
   // messages of a run that stops go into its log too
-  std::unique_ptr<granhydro::RunRecords> records;
-  std::string                            summary_file; // once the run has started one
-  const auto                             stopped = [&](const std::string &what, const std::string &status) {
+  std::unique_ptr<granhydro::driver::RunRecords> records;
+  std::string                                    summary_file; // once the run has started one
+  const auto stopped = [&](const std::string &what, const std::string &status) {
     if (root)
       std::cerr << "granhydro: run stopped: " << what << std::endl;
     if (records)
@@ -329,13 +329,13 @@ int main(int argc, char **argv)
       if (print_only)
         {
           // every rank reads the scene (the same exit code everywhere); rank 0 prints it
-          const std::string text = granhydro::expanded_scene_text(file, overrides);
+          const std::string text = granhydro::scene::expanded_scene_text(file, overrides);
           if (root)
             std::cout << text;
           return 0;
         }
-      const std::string      resume_note = resume ? resume_from_own_checkpoint(file, overrides, comm) : "";
-      const granhydro::Scene scene       = granhydro::read_scene(file, overrides);
+      const std::string resume_note       = resume ? resume_from_own_checkpoint(file, overrides, comm) : "";
+      const granhydro::scene::Scene scene = granhydro::scene::read_scene(file, overrides);
       check_memory(scene, comm);
       if (check_only)
         {
@@ -346,14 +346,14 @@ int main(int argc, char **argv)
       // a full disk or a file size limit makes a write fail with an error we report
       // (exit 3), not a SIGXFSZ that kills the process
       std::signal(SIGXFSZ, SIG_IGN);
-      granhydro::install_stop_signal_handlers();
-      const granhydro::RunSettings run = granhydro::run_settings(scene, scene.dimension);
-      records = std::make_unique<granhydro::RunRecords>(run.files, run.report, comm, std::cout);
+      granhydro::driver::install_stop_signal_handlers();
+      const granhydro::driver::RunSettings run = granhydro::driver::run_settings(scene, scene.dimension);
+      records = std::make_unique<granhydro::driver::RunRecords>(run.files, run.report, comm, std::cout);
       if (scene.write_summary)
         summary_file = scene.output_file("_summary.csv");
       if (!resume_note.empty() && root)
         records->log() << resume_note << "\n";
-      return granhydro::run_scene(scene, comm, *records);
+      return granhydro::driver::run_scene(scene, comm, *records);
     }
   catch (const granhydro::SceneError &e)
     {

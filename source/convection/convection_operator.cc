@@ -16,9 +16,9 @@ namespace granhydro::convection
   using namespace dealii;
 
   template <int dim, class Description>
-  ConvectionOperator<dim, Description>::ConvectionOperator(const CartesianPatch<dim> &patch,
-                                                           const Description         &desc,
-                                                           const ConvectionSettings  &settings)
+  ConvectionOperator<dim, Description>::ConvectionOperator(const mesh::CartesianPatch<dim> &patch,
+                                                           const Description               &desc,
+                                                           const ConvectionSettings        &settings)
     : patch(patch)
     , desc(desc)
     , numflux(desc, settings)
@@ -123,7 +123,7 @@ namespace granhydro::convection
      */
     template <class V, class Recon, int dim>
     __attribute__((always_inline)) inline void
-    reconstruct_stage(const Recon &rec, const CartesianPatch<dim> &patch, const SlotRange &list,
+    reconstruct_stage(const Recon &rec, const mesh::CartesianPatch<dim> &patch, const SlotRange &list,
                       const unsigned int dir, const double *in, const unsigned int m, const unsigned int NC,
                       const unsigned int p, double *outbase)
     {
@@ -162,7 +162,7 @@ namespace granhydro::convection
      */
     template <class V, int dim, class Description>
     __attribute__((always_inline)) inline void
-    face_fluxes_impl(const NumericalFlux<dim, Description> &numflux, const CartesianPatch<dim> &patch,
+    face_fluxes_impl(const NumericalFlux<dim, Description> &numflux, const mesh::CartesianPatch<dim> &patch,
                      const unsigned int d, const double *fin, const unsigned int npts, const double wq,
                      double *F, FluxStatistics &stats)
     {
@@ -211,7 +211,7 @@ namespace granhydro::convection
     /// default target, with another calling convention for such vectors)
     template <int dim, class Description>
     __attribute__((target("avx2"), flatten)) void
-    face_fluxes_avx2(const NumericalFlux<dim, Description> &numflux, const CartesianPatch<dim> &patch,
+    face_fluxes_avx2(const NumericalFlux<dim, Description> &numflux, const mesh::CartesianPatch<dim> &patch,
                      const unsigned int d, const double *fin, const unsigned int npts, const double wq,
                      double *F, FluxStatistics &stats)
     {
@@ -220,7 +220,7 @@ namespace granhydro::convection
 #endif
 
     template <int dim, class Description>
-    void face_fluxes(const NumericalFlux<dim, Description> &numflux, const CartesianPatch<dim> &patch,
+    void face_fluxes(const NumericalFlux<dim, Description> &numflux, const mesh::CartesianPatch<dim> &patch,
                      const unsigned int d, const double *fin, const unsigned int npts, const double wq,
                      double *F, FluxStatistics &stats)
     {
@@ -237,7 +237,7 @@ namespace granhydro::convection
     /// every lane is the same IEEE operation sequence as on the default target)
     template <class Recon, int dim>
     __attribute__((target("avx2"))) void
-    reconstruct_stage_avx2(const Recon &rec, const CartesianPatch<dim> &patch, const SlotRange &list,
+    reconstruct_stage_avx2(const Recon &rec, const mesh::CartesianPatch<dim> &patch, const SlotRange &list,
                            const unsigned int dir, const double *in, const unsigned int m,
                            const unsigned int NC, const unsigned int p, double *outbase)
     {
@@ -246,7 +246,7 @@ namespace granhydro::convection
 #endif
 
     template <class Recon, int dim>
-    void reconstruct(const Recon &rec, const CartesianPatch<dim> &patch, const SlotRange &list,
+    void reconstruct(const Recon &rec, const mesh::CartesianPatch<dim> &patch, const SlotRange &list,
                      const unsigned int dir, const double *in, const unsigned int m, const unsigned int NC,
                      const unsigned int p, double *outbase)
     {

@@ -44,7 +44,7 @@ namespace granhydro::diffusion
   } // namespace
 
   template <int dim>
-  DiffusionOperator<dim>::DiffusionOperator(const CartesianPatch<dim>       &patch,
+  DiffusionOperator<dim>::DiffusionOperator(const mesh::CartesianPatch<dim> &patch,
                                             const physics::GranularGas<dim> &desc,
                                             const DiffusionSettings &settings, const double length_unit)
     : patch(patch)

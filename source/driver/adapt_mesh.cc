@@ -12,17 +12,17 @@
 #include <numeric>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::driver
 {
   using namespace dealii;
 
   template <int dim, class Description>
   bool Simulation<dim, Description>::adapt_mesh(const bool initial)
   {
-    constexpr unsigned int     NC      = dim + 2;
-    const CartesianPatch<dim> &P       = *patch_;
-    const unsigned int         n_owned = P.n_owned();
-    std::vector<double>        W;
+    constexpr unsigned int           NC      = dim + 2;
+    const mesh::CartesianPatch<dim> &P       = *patch_;
+    const unsigned int               n_owned = P.n_owned();
+    std::vector<double>              W;
     P.gather(U, W);
     // the indicator's fields: n and p on every slot
     std::vector<double> n(P.n_slots()), p(P.n_slots());
@@ -33,7 +33,7 @@ namespace granhydro
         n[s] = S[0];
         p[s] = desc.pressure(S);
       }
-    const std::vector<signed char> flags = refinement_flags(P, n, p, adaptation.indicator, initial);
+    const std::vector<signed char> flags = mesh::refinement_flags(P, n, p, adaptation.indicator, initial);
     // new children: limited linear prolongation where all siblings stay admissible
     const auto admissible = [this](const double *u) {
       State S;
@@ -71,4 +71,4 @@ namespace granhydro
   }
 
   GRANHYDRO_SIMULATION_INSTANCES
-} // namespace granhydro
+} // namespace granhydro::driver

@@ -12,7 +12,7 @@
 #include <cstdio>
 #include <memory>
 
-namespace granhydro
+namespace granhydro::driver
 {
   using namespace dealii;
 
@@ -25,8 +25,8 @@ namespace granhydro
   {}
 
   template <int dim>
-  void Checkpointing<dim>::write(const std::string &file, const CartesianPatch<dim> &patch, const Vector &U,
-                                 const Contents &c) const
+  void Checkpointing<dim>::write(const std::string &file, const mesh::CartesianPatch<dim> &patch,
+                                 const Vector &U, const Contents &c) const
   {
     constexpr unsigned int    NC      = dim + 2;
     const History            &history = c.history;
@@ -78,7 +78,7 @@ namespace granhydro
 
   template <int dim>
   typename Checkpointing<dim>::Restart
-  Checkpointing<dim>::read(const std::string &file, CartesianPatch<dim> &patch, Vector &U,
+  Checkpointing<dim>::read(const std::string &file, mesh::CartesianPatch<dim> &patch, Vector &U,
                            const bool keep_history, const std::function<void()> &mesh_changed) const
   {
     constexpr unsigned int NC = dim + 2;
@@ -168,4 +168,4 @@ namespace granhydro
   template class Checkpointing<1>;
   template class Checkpointing<2>;
   template class Checkpointing<3>;
-} // namespace granhydro
+} // namespace granhydro::driver

@@ -12,7 +12,7 @@
 
 #include <type_traits>
 
-namespace granhydro
+namespace granhydro::driver
 {
   using namespace dealii;
 
@@ -85,7 +85,7 @@ namespace granhydro
   }
 
   template <int dim>
-  void set_cell_averages(const CartesianPatch<dim>                                    &patch,
+  void set_cell_averages(const mesh::CartesianPatch<dim>                              &patch,
                          const std::function<physics::State<dim>(const Point<dim> &)> &f,
                          const unsigned int nq, const Units &units,
                          LinearAlgebra::distributed::Vector<double> &U)
@@ -125,16 +125,16 @@ namespace granhydro
 
 #define GRANHYDRO_INITIAL_STATE_INSTANCE(d, D) template class InitialState<d, D>;
   GRANHYDRO_FOR_EACH_MODEL(GRANHYDRO_INITIAL_STATE_INSTANCE)
-  template void set_cell_averages<1>(const CartesianPatch<1> &,
+  template void set_cell_averages<1>(const mesh::CartesianPatch<1> &,
                                      const std::function<physics::State<1>(const Point<1> &)> &,
                                      const unsigned int, const Units &,
                                      LinearAlgebra::distributed::Vector<double> &);
-  template void set_cell_averages<2>(const CartesianPatch<2> &,
+  template void set_cell_averages<2>(const mesh::CartesianPatch<2> &,
                                      const std::function<physics::State<2>(const Point<2> &)> &,
                                      const unsigned int, const Units &,
                                      LinearAlgebra::distributed::Vector<double> &);
-  template void set_cell_averages<3>(const CartesianPatch<3> &,
+  template void set_cell_averages<3>(const mesh::CartesianPatch<3> &,
                                      const std::function<physics::State<3>(const Point<3> &)> &,
                                      const unsigned int, const Units &,
                                      LinearAlgebra::distributed::Vector<double> &);
-} // namespace granhydro
+} // namespace granhydro::driver

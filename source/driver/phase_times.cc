@@ -13,7 +13,7 @@
 #include <algorithm>
 #include <cstdio>
 
-namespace granhydro
+namespace granhydro::driver
 {
   using namespace dealii;
 
@@ -51,8 +51,9 @@ namespace granhydro
   {
     const double wall = phases.empty() ? 0 : phases.front().avg;
     char         line[160];
-    std::snprintf(line, sizeof line, "  wall time by phase over %u rank%s [s]:\n    %-32s %10s %10s %10s %10s\n",
-                  ranks, ranks == 1 ? "" : "s", "phase", "min", "avg", "max", "% of wall");
+    std::snprintf(line, sizeof line,
+                  "  wall time by phase over %u rank%s [s]:\n    %-32s %10s %10s %10s %10s\n", ranks,
+                  ranks == 1 ? "" : "s", "phase", "min", "avg", "max", "% of wall");
     std::string table = line;
     for (const auto &p : phases)
       if (p.max > 0 || p.min < 0 || p.key == "wall")
@@ -86,17 +87,24 @@ namespace granhydro
     };
     const double convection = section("convection"), diffusion = section("diffusion"),
                  adaptation = section("adaptation"), out = section("output");
-    const diffusion::IntegratorStatistics ds = integrator ? integrator->statistics() :
-                                                            diffusion::IntegratorStatistics();
-    const std::vector<double> local = {sum.wall_seconds,       convection,
-                                       conv->halo_wait_seconds(), conv->vote_seconds(),
-                                       diffusion,              ds.jacobian_seconds,
-                                       ds.preconditioner_seconds, ds.linear_seconds,
-                                       adaptation,             out,
+    const diffusion::IntegratorStatistics ds =
+      integrator ? integrator->statistics() : diffusion::IntegratorStatistics();
+    const std::vector<double> local = {sum.wall_seconds,
+                                       convection,
+                                       conv->halo_wait_seconds(),
+                                       conv->vote_seconds(),
+                                       diffusion,
+                                       ds.jacobian_seconds,
+                                       ds.preconditioner_seconds,
+                                       ds.linear_seconds,
+                                       adaptation,
+                                       out,
                                        sum.wall_seconds - convection - diffusion - adaptation - out};
-    sum.phases = reduce_phase_times(local, comm);
-    const auto largest = [&](const char *key) {
-      return std::find_if(sum.phases.begin(), sum.phases.end(), [&](const PhaseTime &p) { return p.key == key; })->max;
+    sum.phases                      = reduce_phase_times(local, comm);
+    const auto largest              = [&](const char *key) {
+      return std::find_if(sum.phases.begin(), sum.phases.end(),
+                                       [&](const PhaseTime &p) { return p.key == key; })
+        ->max;
     };
     // the rows scripts read (the largest rank, as before; the Jacobian, preconditioner and
     // GMRES rows were rank 0's)
@@ -112,4 +120,4 @@ namespace granhydro
   }
 
   GRANHYDRO_SIMULATION_INSTANCES
-} // namespace granhydro
+} // namespace granhydro::driver

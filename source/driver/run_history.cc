@@ -12,7 +12,7 @@
 #include <type_traits>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::driver
 {
   template <int dim, class Description>
   void Simulation<dim, Description>::start_history(TimeLoopState &L, const bool fresh,
@@ -99,4 +99,4 @@ namespace granhydro
   }
 
   GRANHYDRO_SIMULATION_INSTANCES
-} // namespace granhydro
+} // namespace granhydro::driver

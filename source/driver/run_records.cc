@@ -14,7 +14,7 @@
 #include <fstream>
 #include <streambuf>
 
-namespace granhydro
+namespace granhydro::driver
 {
   /// a stream buffer that passes everything to the terminal and keeps a copy: in memory
   /// until open(), then in the log file, flushed at every line end so that the file can
@@ -159,4 +159,4 @@ namespace granhydro
     if (tee && tee->is_open())
       tee->write_to_file(line + "\n");
   }
-} // namespace granhydro
+} // namespace granhydro::driver

@@ -17,7 +17,7 @@
 #include <cmath>
 #include <functional>
 
-namespace granhydro
+namespace granhydro::driver
 {
   using namespace dealii;
 
@@ -421,4 +421,4 @@ namespace granhydro
             {"ranks", N(Utilities::MPI::n_mpi_processes(comm))},
             {"start_time", started_utc_}};
   }
-} // namespace granhydro
+} // namespace granhydro::driver

@@ -20,11 +20,11 @@
 #include <type_traits>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::driver
 {
   using namespace dealii;
 
-  RunSettings run_settings(const Scene &scene, const unsigned int dim)
+  RunSettings run_settings(const scene::Scene &scene, const unsigned int dim)
   {
     RunSettings       r;
     TimeLoopSettings &l = r.loop;
@@ -64,7 +64,7 @@ namespace granhydro
     p.expanded_text      = scene.expanded_text;
     p.verbose            = scene.verbose;
     p.integrator         = to_string(scene.integrator);
-    p.musta              = scene.flux == FluxType::musta;
+    p.musta              = scene.flux == convection::FluxType::musta;
     p.adaptive           = scene.max_level > 0;
     p.load_balance       = to_string(scene.load_balance);
 
@@ -80,13 +80,13 @@ namespace granhydro
     a.indicator.refine_threshold   = scene.refine_threshold;
     a.indicator.coarsen_threshold  = scene.coarsen_threshold;
     a.indicator.buffer             = scene.adapt_buffer;
-    a.indicator.second_differences = scene.adapt_indicator == RefinementIndicator::second_differences;
+    a.indicator.second_differences = scene.adapt_indicator == scene::RefinementIndicator::second_differences;
     a.balance_by_cost              = scene.balance_by_measured_cost(scene.diffusion_active());
     return r;
   }
 
   template <int dim, class Description>
-  Simulation<dim, Description>::Simulation(const Scene &scene, const MPI_Comm comm, std::ostream &log)
+  Simulation<dim, Description>::Simulation(const scene::Scene &scene, const MPI_Comm comm, std::ostream &log)
     : scene(scene)
     , comm(comm)
     , pcout(log, Utilities::MPI::this_mpi_process(comm) == 0 && scene.verbose)
@@ -109,7 +109,7 @@ namespace granhydro
                                                    scene.phi_close_packing, scene.guard_delta));
         if (scene.friction > 0) // mu = 0 leaves the smooth model untouched
           desc.model.set_friction(scene.friction);
-        if (scene.dense_closure != DenseClosure::none) // scaled units: pressure p0, time t0
+        if (scene.dense_closure != scene::DenseClosure::none) // scaled units: pressure p0, time t0
           {
             physics::FrictionalStress friction;
             friction.law     = scene.frictional_stress;
@@ -153,7 +153,7 @@ namespace granhydro
                   std::string())
             << ")\n";
     pcout << "  active effects (only these operators are built and run):\n";
-    for (const auto &[effect, why] : active_effects(scene))
+    for (const auto &[effect, why] : scene::active_effects(scene))
       pcout << "    " << effect << "  [" << why << "]\n";
     if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
       pcout << "  diffusion step: "
@@ -166,7 +166,7 @@ namespace granhydro
             << "\n";
     pcout << "  numerics: " << to_string(scene.reconstruction) << " reconstruction, "
           << to_string(scene.face_quadrature) << " face quadrature, " << to_string(scene.flux) << " flux";
-    if (scene.flux == FluxType::musta)
+    if (scene.flux == convection::FluxType::musta)
       pcout << " (" << scene.musta_min_stages << " to " << scene.musta_max_stages << " stages, tol "
             << scene.musta_tolerance << ")";
     pcout << ", SSP-RK3, CFL " << scene.cfl << "\n  boundaries:";
@@ -193,7 +193,7 @@ namespace granhydro
   {
     const unsigned int r =
       convection::ConvectionOperator<dim, Description>::stencil_half_width(scene.reconstruction);
-    patch_ = std::make_unique<CartesianPatch<dim>>(comm);
+    patch_ = std::make_unique<mesh::CartesianPatch<dim>>(comm);
     patch_->build(scene.mesh_settings(), r + 1);
     conv = std::make_unique<convection::ConvectionOperator<dim, Description>>(*patch_, desc,
                                                                               scene.convection_settings());
@@ -219,8 +219,8 @@ namespace granhydro
           is.linear_tolerance      = scene.linear_tolerance;
           is.inexact_newton        = scene.inexact_newton;
           is.reuse_matrix          = scene.reuse_matrix;
-          is.amg                   = scene.preconditioner == Preconditioner::amg;
-          is.block_ilu             = scene.preconditioner == Preconditioner::block_ilu;
+          is.amg                   = scene.preconditioner == scene::Preconditioner::amg;
+          is.block_ilu             = scene.preconditioner == scene::Preconditioner::block_ilu;
           is.full_jacobian         = scene.full_jacobian;
           integrator               = std::make_unique<diffusion::ImplicitIntegrator<dim>>(*diff, desc, is);
         }
@@ -242,7 +242,7 @@ namespace granhydro
     is.packing_fraction = scene.initial_packing_fraction;
     is.temperature      = scene.initial_temperature;
     is.velocity         = scene.initial_velocity;
-    is.constants        = expression_constants(scene);
+    is.constants        = scene::expression_constants(scene);
     is.grain_mass       = scene.grain_mass();
     is.grain_diameter   = scene.grain_diameter;
     is.quadrature       = scene.initial_quadrature;
@@ -320,7 +320,7 @@ namespace granhydro
     /// the scene on `dim` dimensions with the model it names; started() runs once the
     /// mesh and the initial state are set up, before the first step
     template <int dim, class Description>
-    int run_model(const Scene &scene, const MPI_Comm comm, std::ostream &log,
+    int run_model(const scene::Scene &scene, const MPI_Comm comm, std::ostream &log,
                   const std::function<void()> &started)
     {
       Simulation<dim, Description> sim(scene, comm, log);
@@ -330,10 +330,10 @@ namespace granhydro
       return sig ? 128 + sig : 0;
     }
 
-    int run_any(const Scene &scene, const MPI_Comm comm, std::ostream &log,
+    int run_any(const scene::Scene &scene, const MPI_Comm comm, std::ostream &log,
                 const std::function<void()> &started)
     {
-      const bool granular = scene.model == Model::granular;
+      const bool granular = scene.model == physics::Model::granular;
       switch (scene.dimension)
         {
           case 1:
@@ -349,15 +349,15 @@ namespace granhydro
     }
   } // namespace
 
-  int run_scene(const Scene &scene, const MPI_Comm comm, std::ostream &log)
+  int run_scene(const scene::Scene &scene, const MPI_Comm comm, std::ostream &log)
   {
     return run_any(scene, comm, log, [] {});
   }
 
-  int run_scene(const Scene &scene, const MPI_Comm comm, RunRecords &records)
+  int run_scene(const scene::Scene &scene, const MPI_Comm comm, RunRecords &records)
   {
     return run_any(scene, comm, records.log(), [&records] { records.start(); });
   }
 
   GRANHYDRO_SIMULATION_INSTANCES
-} // namespace granhydro
+} // namespace granhydro::driver

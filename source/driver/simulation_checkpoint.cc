@@ -7,7 +7,7 @@
  */
 #include <granhydro/driver/simulation_instances.h>
 
-namespace granhydro
+namespace granhydro::driver
 {
   using namespace dealii;
 
@@ -55,4 +55,4 @@ namespace granhydro
   }
 
   GRANHYDRO_SIMULATION_INSTANCES
-} // namespace granhydro
+} // namespace granhydro::driver

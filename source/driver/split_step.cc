@@ -10,7 +10,7 @@
 #include <cmath>
 #include <type_traits>
 
-namespace granhydro
+namespace granhydro::driver
 {
   template <int dim, class Description>
   SplitStep<dim, Description>::SplitStep(const Description &desc, const bool convection,
@@ -24,7 +24,7 @@ namespace granhydro
   {}
 
   template <int dim, class Description>
-  void SplitStep<dim, Description>::set_operators(const CartesianPatch<dim>                        &patch,
+  void SplitStep<dim, Description>::set_operators(const mesh::CartesianPatch<dim>                  &patch,
                                                   convection::ConvectionOperator<dim, Description> &conv,
                                                   diffusion::ImplicitIntegrator<dim> *integrator)
   {
@@ -130,4 +130,4 @@ namespace granhydro
 
 #define GRANHYDRO_SPLIT_STEP_INSTANCE(d, D) template class SplitStep<d, D>;
   GRANHYDRO_FOR_EACH_MODEL(GRANHYDRO_SPLIT_STEP_INSTANCE)
-} // namespace granhydro
+} // namespace granhydro::driver

@@ -25,7 +25,7 @@
 #include <sstream>
 #include <type_traits>
 
-namespace granhydro
+namespace granhydro::driver
 {
   using namespace dealii;
 
@@ -538,4 +538,4 @@ namespace granhydro
   }
 
   GRANHYDRO_SIMULATION_INSTANCES
-} // namespace granhydro
+} // namespace granhydro::driver

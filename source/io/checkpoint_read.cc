@@ -178,14 +178,14 @@ namespace granhydro::io
         throw CheckpointError("has a corrupted header (material model name)");
       // the models granhydro writes (Material/Model): a re-sealed header with another name
       // was reported valid by --checkpoint-info
-      if (Model m; !enum_from_name(std::string(h.model), m))
+      if (physics::Model m; !enum_from_name(std::string(h.model), m))
         {
           std::string name(h.model);
           for (char &ch : name)
             if (ch < 32 || ch > 126)
               ch = '?';
           throw CheckpointError("has a corrupted header (unknown material model '" + name +
-                                "'; granhydro writes " + enum_alternatives<Model>() + ")");
+                                "'; granhydro writes " + enum_alternatives<physics::Model>() + ")");
         }
       const auto &hs = h.history;
       if (hs.rkl2_blocked < 0 || hs.rkl2_blocked > 1000 || hs.matrix_age < 0 ||

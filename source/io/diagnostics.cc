@@ -3,20 +3,19 @@
 #include <granhydro/physics/models.h>
 #include <granhydro/physics/packing_fraction.h>
 
-#include <mpi.h>
-
-#include <cmath>
-#include <type_traits>
-#include <vector>
-
 #include <deal.II/base/mpi.h>
 
+#include <mpi.h>
+
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <type_traits>
+#include <vector>
 
 namespace granhydro::io
 {
@@ -29,13 +28,12 @@ namespace granhydro::io
     /// roundings): every value as an integer multiple of 2^-k, k from the column's largest
     /// value (95 bits of headroom below it, so 2^31 cells per rank cannot overflow), summed
     /// exactly in 128-bit integers, across ranks in 32-bit limbs
-    void exact_sums(const std::vector<double> &rows, const unsigned int n, const MPI_Comm comm,
-                    double *sum)
+    void exact_sums(const std::vector<double> &rows, const unsigned int n, const MPI_Comm comm, double *sum)
     {
       __extension__ typedef __int128          i128; // GCC's 128-bit integers
       __extension__ typedef unsigned __int128 u128;
-      const std::size_t   m = n ? rows.size() / n : 0;
-      std::vector<double> largest(n, 0.);
+      const std::size_t                       m = n ? rows.size() / n : 0;
+      std::vector<double>                     largest(n, 0.);
       for (std::size_t r = 0; r < m; ++r)
         for (unsigned int c = 0; c < n; ++c)
           largest[c] = std::max(largest[c], std::abs(rows[r * n + c]));
@@ -77,19 +75,18 @@ namespace granhydro::io
   } // namespace
 
   template <int dim, class Description>
-  StateTotals<dim> state_totals(const CartesianPatch<dim>                              &patch,
-                                const LinearAlgebra::distributed::Vector<double> &V,
-                                const Description &desc, const double length, const MPI_Comm comm)
+  StateTotals<dim> state_totals(const mesh::CartesianPatch<dim>                  &patch,
+                                const LinearAlgebra::distributed::Vector<double> &V, const Description &desc,
+                                const double length, const MPI_Comm comm)
   {
     constexpr unsigned int NC = dim + 2;
     // sums: n, n u (dim), nE, kinetic, thermal, contact, n x (dim)
-    constexpr unsigned int NS = 2 * dim + 5;
+    constexpr unsigned int NS      = 2 * dim + 5;
     double                 sum[NS] = {};
     std::vector<double>    rows(std::size_t(patch.n_owned()) * NS); // each cell's terms
     // maxima: phi, -T, |u|
-    double             ext[3] = {-std::numeric_limits<double>::infinity(),
-                                 -std::numeric_limits<double>::infinity(), 0.};
-    const double       scale  = std::pow(length, dim);
+    double ext[3] = {-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(), 0.};
+    const double        scale = std::pow(length, dim);
     physics::State<dim> S;
     for (unsigned int s = 0; s < patch.n_owned(); ++s)
       {
@@ -99,13 +96,13 @@ namespace granhydro::io
           S[c] = u[c];
         double *row = rows.data() + std::size_t(s) * NS;
         row[0]      = u[0] * v;
-        double m2 = 0;
+        double m2   = 0;
         for (unsigned int d = 0; d < dim; ++d)
           {
             row[1 + d] = u[1 + d] * v;
             m2 += u[1 + d] * u[1 + d];
           }
-        row[dim + 1] = u[dim + 1] * v;
+        row[dim + 1]   = u[dim + 1] * v;
         const double w = physics::contact_energy_density<dim>(desc, u[0]);
         double       T;
         if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
@@ -142,9 +139,9 @@ namespace granhydro::io
   }
 
   template <int dim>
-  std::string overpacking_report(const CartesianPatch<dim>                              &patch,
-                                 const LinearAlgebra::distributed::Vector<double> &V,
-                                 const double phi_c, const MPI_Comm comm)
+  std::string overpacking_report(const mesh::CartesianPatch<dim>                  &patch,
+                                 const LinearAlgebra::distributed::Vector<double> &V, const double phi_c,
+                                 const MPI_Comm comm)
   {
     constexpr unsigned int NC = dim + 2;
     // local: max phi and its cell; grains in cells with phi >= 0.99 phi_c; all grains
@@ -175,12 +172,12 @@ namespace granhydro::io
       for (unsigned int d = 0; d < dim; ++d)
         x[d] = patch.center(where)[d];
     Utilities::MPI::sum(ArrayView<const double>(x, 3), comm, ArrayView<double>(x, 3));
-    const double dense_sum = Utilities::MPI::sum(dense, comm), all_sum = Utilities::MPI::sum(all, comm);
+    const double       dense_sum = Utilities::MPI::sum(dense, comm), all_sum = Utilities::MPI::sum(all, comm);
     const unsigned int n_dense_sum = Utilities::MPI::sum(n_dense, comm);
     std::ostringstream os;
     os << "the packing fraction reached close packing (phi_c = " << phi_c
-       << "): the last admissible state has phi = " << std::setprecision(8) << mm.max
-       << std::setprecision(6) << " at x = (";
+       << "): the last admissible state has phi = " << std::setprecision(8) << mm.max << std::setprecision(6)
+       << " at x = (";
     for (unsigned int d = 0; d < dim; ++d)
       os << (d ? ", " : "") << x[d];
     os << ") m, and " << n_dense_sum << " cell(s) at phi >= " << 0.99 * phi_c << " hold "
@@ -214,17 +211,16 @@ namespace granhydro::io
             "'Numerics/Reconstruction = first order' or raise the temperature";
     else
       os << ". Lower 'Numerics/CFL number' or use a more diffusive reconstruction"
-         << (newton_failures ? ", or check the diffusion step (Newton failures: " +
-                                 std::to_string(*newton_failures) +
-                                 "; 'Material/Maximum mean free path' caps the transport of "
-                                 "dilute cells)" :
-                               std::string());
+         << (newton_failures ?
+               ", or check the diffusion step (Newton failures: " + std::to_string(*newton_failures) +
+                 "; 'Material/Maximum mean free path' caps the transport of "
+                 "dilute cells)" :
+               std::string());
     os << ".";
     return os.str();
   }
 
-  std::string overpacking_message(const double t_si, const std::string &report,
-                                  const std::string &details)
+  std::string overpacking_message(const double t_si, const std::string &report, const std::string &details)
   {
     return "over-packing at t = " + std::to_string(t_si) + " s: " + report +
            " Kinetic theory gives no pressure to a pile at rest (T -> 0), so a "
@@ -233,20 +229,20 @@ namespace granhydro::io
            details;
   }
 
-#define GRANHYDRO_INSTANTIATE(d, D)                                                                 \
-  template StateTotals<d> state_totals<d, D>(const CartesianPatch<d> &,                              \
-                                             const LinearAlgebra::distributed::Vector<double> &,     \
-                                             const D &, const double, const MPI_Comm);
+#define GRANHYDRO_INSTANTIATE(d, D)                                                                         \
+  template StateTotals<d> state_totals<d, D>(const mesh::CartesianPatch<d> &,                               \
+                                             const LinearAlgebra::distributed::Vector<double> &, const D &, \
+                                             const double, const MPI_Comm);
   GRANHYDRO_FOR_EACH_MODEL(GRANHYDRO_INSTANTIATE)
 #undef GRANHYDRO_INSTANTIATE
 
-  template std::string overpacking_report<1>(const CartesianPatch<1> &,
-                                             const LinearAlgebra::distributed::Vector<double> &,
-                                             const double, const MPI_Comm);
-  template std::string overpacking_report<2>(const CartesianPatch<2> &,
-                                             const LinearAlgebra::distributed::Vector<double> &,
-                                             const double, const MPI_Comm);
-  template std::string overpacking_report<3>(const CartesianPatch<3> &,
-                                             const LinearAlgebra::distributed::Vector<double> &,
-                                             const double, const MPI_Comm);
+  template std::string overpacking_report<1>(const mesh::CartesianPatch<1> &,
+                                             const LinearAlgebra::distributed::Vector<double> &, const double,
+                                             const MPI_Comm);
+  template std::string overpacking_report<2>(const mesh::CartesianPatch<2> &,
+                                             const LinearAlgebra::distributed::Vector<double> &, const double,
+                                             const MPI_Comm);
+  template std::string overpacking_report<3>(const mesh::CartesianPatch<3> &,
+                                             const LinearAlgebra::distributed::Vector<double> &, const double,
+                                             const MPI_Comm);
 } // namespace granhydro::io

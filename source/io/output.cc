@@ -148,7 +148,7 @@ namespace granhydro::io
   } // namespace
 
   template <int dim, class Description>
-  Output<dim, Description>::Output(const OutputSettings &settings, const CartesianPatch<dim> &patch,
+  Output<dim, Description>::Output(const OutputSettings &settings, const mesh::CartesianPatch<dim> &patch,
                                    const Description &desc)
     : settings(settings)
     , patch(patch)

@@ -10,7 +10,7 @@
 #include <cmath>
 #include <set>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   using namespace dealii;
 
@@ -297,4 +297,4 @@ namespace granhydro
   GRANHYDRO_INSTANTIATE(2)
   GRANHYDRO_INSTANTIATE(3)
 #undef GRANHYDRO_INSTANTIATE
-} // namespace granhydro
+} // namespace granhydro::mesh

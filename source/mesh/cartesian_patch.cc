@@ -15,7 +15,7 @@
 #include <algorithm>
 #include <memory>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   using namespace dealii;
 
@@ -256,4 +256,4 @@ namespace granhydro
   template class CartesianPatch<1>;
   template class CartesianPatch<2>;
   template class CartesianPatch<3>;
-} // namespace granhydro
+} // namespace granhydro::mesh

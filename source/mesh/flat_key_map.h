@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   template <class V>
   class FlatKeyMap
@@ -109,4 +109,4 @@ namespace granhydro
     std::size_t                          n_keys = 0;
     unsigned int                         bits   = 0;
   };
-} // namespace granhydro
+} // namespace granhydro::mesh

@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   using namespace dealii;
 
@@ -281,4 +281,4 @@ namespace granhydro
 
   template class Forest<2>;
   template class Forest<3>;
-} // namespace granhydro
+} // namespace granhydro::mesh

@@ -27,7 +27,7 @@
 #include <functional>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   /// p4est's forest type of dimension dim (none in 1D)
   template <int dim>
@@ -122,4 +122,4 @@ namespace granhydro
     /// lattice index of each tree's lower corner in units of base-level cells
     std::vector<std::array<int, 3>> tree_origin;
   };
-} // namespace granhydro
+} // namespace granhydro::mesh

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   using namespace dealii;
 
@@ -376,4 +376,4 @@ namespace granhydro
   GRANHYDRO_INSTANTIATE(2)
   GRANHYDRO_INSTANTIATE(3)
 #undef GRANHYDRO_INSTANTIATE
-} // namespace granhydro
+} // namespace granhydro::mesh

@@ -19,7 +19,7 @@
 
 #include <vector>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   /// the face neighbour keys of every owned cell i along d on side s (entry
   /// e = (i dim + d) 2 + s holds keys[start[e]] .. keys[start[e + 1] - 1]): the
@@ -62,4 +62,4 @@ namespace granhydro
   /// sort needed, drop repetitions, and add the leaves the wall ghosts mirror
   template <int dim>
   void add_wall_sources(std::vector<long long> &needed, const Lattice<dim> &lattice);
-} // namespace granhydro
+} // namespace granhydro::mesh

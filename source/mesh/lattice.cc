@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   using namespace dealii;
 
@@ -396,4 +396,4 @@ namespace granhydro
   template class Lattice<1>;
   template class Lattice<2>;
   template class Lattice<3>;
-} // namespace granhydro
+} // namespace granhydro::mesh

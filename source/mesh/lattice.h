@@ -28,7 +28,7 @@
 #include <map>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   /// the key of no slot (a position that is neither a leaf of its level nor a wall ghost)
   constexpr long long no_slot_key = std::numeric_limits<long long>::min();
@@ -208,4 +208,4 @@ namespace granhydro
     Position                       window_lo{{0, 0, 0}}, window_n{{1, 1, 1}};
     std::map<long long, WallGhost> ghosts;
   };
-} // namespace granhydro
+} // namespace granhydro::mesh

@@ -10,7 +10,7 @@
 
 #include <algorithm>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   using namespace dealii;
 
@@ -297,4 +297,4 @@ namespace granhydro
   template class Lattice<1>;
   template class Lattice<2>;
   template class Lattice<3>;
-} // namespace granhydro
+} // namespace granhydro::mesh

@@ -12,7 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   using namespace dealii;
 
@@ -291,4 +291,4 @@ namespace granhydro
   template void         read_mesh_file(const std::string &, Triangulation<3> &);
   template MeshFileInfo inspect_mesh(const Triangulation<2> &);
   template MeshFileInfo inspect_mesh(const Triangulation<3> &);
-} // namespace granhydro
+} // namespace granhydro::mesh

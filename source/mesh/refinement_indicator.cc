@@ -11,7 +11,7 @@
 #include <cmath>
 #include <limits>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   template <int dim>
   std::vector<signed char> refinement_flags(const CartesianPatch<dim> &P, const std::vector<double> &n,
@@ -96,4 +96,4 @@ namespace granhydro
                                                         const std::vector<double> &,
                                                         const std::vector<double> &,
                                                         const RefinementIndicatorSettings &, const bool);
-} // namespace granhydro
+} // namespace granhydro::mesh

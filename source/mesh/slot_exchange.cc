@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   using namespace dealii;
 
@@ -91,8 +91,8 @@ namespace granhydro
               p.slots[k].push_back(n_owned + g);
         recv_.push_back(std::move(p));
         requests.emplace_back();
-        const int ierr = MPI_Isend(need.data() + g0, int(n), MPI_UINT16_T, int(rank), mask_tag, comm_,
-                                   &requests.back());
+        const int ierr =
+          MPI_Isend(need.data() + g0, int(n), MPI_UINT16_T, int(rank), mask_tag, comm_, &requests.back());
         AssertThrowMPI(ierr);
         g0 += n;
       }
@@ -119,8 +119,8 @@ namespace granhydro
         pos += n_dofs;
         masks[t].resize(n_dofs / NC);
         requests.emplace_back();
-        const int ierr = MPI_Irecv(masks[t].data(), int(masks[t].size()), MPI_UINT16_T, int(rank),
-                                   mask_tag, comm_, &requests.back());
+        const int ierr = MPI_Irecv(masks[t].data(), int(masks[t].size()), MPI_UINT16_T, int(rank), mask_tag,
+                                   comm_, &requests.back());
         AssertThrowMPI(ierr);
       }
     const int ierr = MPI_Waitall(int(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
@@ -158,8 +158,8 @@ namespace granhydro
         {
           rbuf_[k][i].resize(sl.size() * m);
           recv_req_[k].emplace_back();
-          const int ierr = MPI_Irecv(rbuf_[k][i].data(), int(rbuf_[k][i].size()), MPI_DOUBLE, int(recv_[i].rank),
-                                     channel_tag + int(k), comm_, &recv_req_[k].back());
+          const int ierr = MPI_Irecv(rbuf_[k][i].data(), int(rbuf_[k][i].size()), MPI_DOUBLE,
+                                     int(recv_[i].rank), channel_tag + int(k), comm_, &recv_req_[k].back());
           AssertThrowMPI(ierr);
         }
     for (std::size_t i = 0; i < send_.size(); ++i)
@@ -201,4 +201,4 @@ namespace granhydro
         mark[s] = 1;
   }
 
-} // namespace granhydro
+} // namespace granhydro::mesh

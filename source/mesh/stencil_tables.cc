@@ -5,7 +5,7 @@
 
 #include <map>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   using namespace dealii;
 
@@ -316,4 +316,4 @@ namespace granhydro
   GRANHYDRO_INSTANTIATE(2)
   GRANHYDRO_INSTANTIATE(3)
 #undef GRANHYDRO_INSTANTIATE
-} // namespace granhydro
+} // namespace granhydro::mesh

@@ -18,7 +18,7 @@
 #include <memory>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   /// slot of each key (lattice.h) and key of each slot (no_slot_key for virtual cells)
   struct SlotIndex
@@ -161,4 +161,4 @@ namespace granhydro
   template <int dim>
   void make_faces(const std::vector<unsigned int> &start, const std::vector<unsigned int> &slots,
                   SlotTables &tables);
-} // namespace granhydro
+} // namespace granhydro::mesh

@@ -7,7 +7,7 @@
 #include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/grid_tools.h>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   using namespace dealii;
 
@@ -30,7 +30,8 @@ namespace granhydro
         geometry.cells[d]     = d < dim ? settings.cells[d] : 1;
         geometry.lower[d]     = d < dim ? settings.lower[d] : 0;
         geometry.cell_size[d] = d < dim ? (settings.upper[d] - settings.lower[d]) / geometry.cells[d] : 1;
-        geometry.periodic[d]  = d < dim ? settings.walls[2 * d].type == BoundaryType::periodic : true;
+        geometry.periodic[d] =
+          d < dim ? settings.walls[2 * d].type == boundary::BoundaryType::periodic : true;
       }
     unsigned int L = 0;
     if (dim > 1)
@@ -108,4 +109,4 @@ namespace granhydro
   GRANHYDRO_INSTANTIATE(2)
   GRANHYDRO_INSTANTIATE(3)
 #undef GRANHYDRO_INSTANTIATE
-} // namespace granhydro
+} // namespace granhydro::mesh

@@ -13,7 +13,7 @@
 
 #include <memory>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   template <int dim>
   std::unique_ptr<dealii::parallel::TriangulationBase<dim>> make_triangulation(const MPI_Comm comm);
@@ -27,4 +27,4 @@ namespace granhydro
   template <int dim>
   LatticeGeometry make_file_mesh(dealii::parallel::TriangulationBase<dim> &tria,
                                  const MeshSettings                       &settings);
-} // namespace granhydro
+} // namespace granhydro::mesh

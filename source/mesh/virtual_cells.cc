@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   using namespace dealii;
 
@@ -131,4 +131,4 @@ namespace granhydro
   template class VirtualCells<1>;
   template class VirtualCells<2>;
   template class VirtualCells<3>;
-} // namespace granhydro
+} // namespace granhydro::mesh

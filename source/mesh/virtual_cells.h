@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   template <int dim>
   class VirtualCells
@@ -59,4 +59,4 @@ namespace granhydro
     std::vector<Virtual>     virtuals;
     FlatKeyMap<unsigned int> index;
   };
-} // namespace granhydro
+} // namespace granhydro::mesh

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::scene
 {
   std::vector<std::pair<std::string, std::string>> active_effects(const Scene &s)
   {
@@ -22,7 +22,7 @@ namespace granhydro
     if (s.max_level > 0)
       e.emplace_back("adaptive mesh refinement", "Adaptivity/Maximum level = " + std::to_string(s.max_level) +
                                                    ", every " + std::to_string(s.adapt_interval) + " steps");
-    if (s.model != Model::granular)
+    if (s.model != physics::Model::granular)
       return e;
     if (s.viscosity)
       e.emplace_back("viscous stress", "granular model, Effects/Viscosity = true");
@@ -63,7 +63,7 @@ namespace granhydro
 
   bool Scene::diffusion_active() const
   {
-    if (model != Model::granular)
+    if (model != physics::Model::granular)
       return false;
     bool g = false;
     for (unsigned int d = 0; d < dimension; ++d)
@@ -71,4 +71,4 @@ namespace granhydro
     g = g || (vibration_amplitude > 0 && vibration_frequency > 0);
     return viscosity || heat_conduction || (cooling && (restitution < 1 || friction > 0)) || g;
   }
-} // namespace granhydro
+} // namespace granhydro::scene

@@ -5,11 +5,11 @@
 
 #include <string>
 
-namespace granhydro
+namespace granhydro::scene
 {
   using dealii::ParameterHandler;
   namespace Patterns = dealii::Patterns;
-  using namespace scene_detail;
+  using namespace detail;
 
   void AdaptivityParameters::declare_parameters(ParameterHandler &prm)
   {
@@ -93,4 +93,4 @@ namespace granhydro
                "direction) would have more than 2e8 points");
       }
   }
-} // namespace granhydro
+} // namespace granhydro::scene

@@ -3,11 +3,11 @@
 
 #include "parameter_tools.h"
 
-namespace granhydro
+namespace granhydro::scene
 {
   using dealii::ParameterHandler;
   namespace Patterns = dealii::Patterns;
-  using namespace scene_detail;
+  using namespace detail;
 
   void DenseClosureParameters::declare_parameters(ParameterHandler &prm)
   {
@@ -75,7 +75,7 @@ namespace granhydro
   void DenseClosureParameters::check(const Scene &s)
   {
     // the ideal gas refuses a closure later, with the other needs of the granular model
-    if (s.model != Model::granular || s.dense_closure == DenseClosure::none)
+    if (s.model != physics::Model::granular || s.dense_closure == DenseClosure::none)
       return;
     if (!(s.closure_F > 0))
       fail(s, "Dense closure/Coefficient", "must be positive");
@@ -83,4 +83,4 @@ namespace granhydro
       fail(s, "Dense closure/Minimum packing fraction",
            "must be below phi_c - delta (Material/Close packing fraction minus guard)");
   }
-} // namespace granhydro
+} // namespace granhydro::scene

@@ -3,11 +3,11 @@
 
 #include "parameter_tools.h"
 
-namespace granhydro
+namespace granhydro::scene
 {
   using dealii::ParameterHandler;
   namespace Patterns = dealii::Patterns;
-  using namespace scene_detail;
+  using namespace detail;
 
   void DiffusionStepParameters::declare_parameters(ParameterHandler &prm)
   {
@@ -80,4 +80,4 @@ namespace granhydro
     if (!(s.linear_tolerance > 0))
       fail(s, "Diffusion step/Linear solver tolerance", "must be positive (GMRES cannot reach 0)");
   }
-} // namespace granhydro
+} // namespace granhydro::scene

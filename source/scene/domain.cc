@@ -8,11 +8,11 @@
 #include <cmath>
 #include <string>
 
-namespace granhydro
+namespace granhydro::scene
 {
   using dealii::ParameterHandler;
   namespace Patterns = dealii::Patterns;
-  using namespace scene_detail;
+  using namespace detail;
 
   void DomainParameters::declare_parameters(ParameterHandler &prm)
   {
@@ -52,7 +52,7 @@ namespace granhydro
         {
           const char *const s = side_names[i];
           prm.declare_entry(std::string("Boundary ") + s, to_string(defaults.boundary[i]),
-                            selection_of<BoundaryType>(),
+                            selection_of<boundary::BoundaryType>(),
                             std::string("Boundary condition on the ") + s +
                               " side: periodic (both sides of a direction), slip wall "
                               "(reflecting, no tangential stress), no-slip wall (velocity "
@@ -92,7 +92,8 @@ namespace granhydro
     }
     for (unsigned int i = 0; i < 6; ++i)
       {
-        boundary[i] = get_enum<BoundaryType>(prm, "Domain", std::string("Boundary ") + side_names[i]);
+        boundary[i] =
+          get_enum<boundary::BoundaryType>(prm, "Domain", std::string("Boundary ") + side_names[i]);
         wall_velocity[i] =
           parse_list<double, 3>(prm.get(std::string("Wall velocity ") + side_names[i]),
                                 std::string("Domain/Wall velocity ") + side_names[i], dim, 0.);
@@ -101,25 +102,25 @@ namespace granhydro
     prm.leave_subsection();
   }
 
-  MeshFileInfo DomainParameters::check_mesh(const Scene &s)
+  mesh::MeshFileInfo DomainParameters::check_mesh(const Scene &s)
   {
     const unsigned int dim  = s.dimension;
     const bool         mesh = !s.mesh_file.empty();
-    MeshFileInfo       mesh_info;
+    mesh::MeshFileInfo mesh_info;
     if (mesh)
       {
         if (dim == 1)
           fail(s, "Domain/Mesh file", "mesh files need 'Dimension' 2 or 3");
         try
           {
-            mesh_info = check_mesh_file(s.mesh_file, dim);
+            mesh_info = mesh::check_mesh_file(s.mesh_file, dim);
           }
         catch (const std::exception &e)
           {
             fail(s, "Domain/Mesh file", e.what());
           }
         for (unsigned int i = 0; i < 2 * dim; ++i)
-          if (s.boundary[i] == BoundaryType::periodic)
+          if (s.boundary[i] == boundary::BoundaryType::periodic)
             fail(s, "Domain/Mesh file",
                  std::string("periodic boundaries are not available with a "
                              "mesh file ('Boundary ") +
@@ -159,7 +160,7 @@ namespace granhydro
             // order (a single cell ran with MUSCL and WENO5 where the box refuses it; the box
             // asks 3 for WENO5, but 2 coarse cells of a mesh file run with it: the silo's
             // outlet, parameters/silo-ci.prm)
-            const unsigned int need = s.reconstruction == ReconstructionType::first_order ? 1 : 2;
+            const unsigned int need = s.reconstruction == convection::ReconstructionType::first_order ? 1 : 2;
             const double       n    = double(mesh_info.lattice[d]) / refine;
             if (n < need)
               fail(s, "Domain/Mesh file",
@@ -192,15 +193,15 @@ namespace granhydro
           fail(s, "Domain/Cells",
                "cells along " + std::string(1, "xyz"[d]) + " would be smaller than 1e-3 grain diameters (" +
                  fmt((s.upper[d] - s.lower[d]) / s.cells[d]) + " m)");
-        const bool plo = s.boundary[2 * d] == BoundaryType::periodic;
-        const bool phi = s.boundary[2 * d + 1] == BoundaryType::periodic;
+        const bool plo = s.boundary[2 * d] == boundary::BoundaryType::periodic;
+        const bool phi = s.boundary[2 * d + 1] == boundary::BoundaryType::periodic;
         if (plo != phi)
           fail(s, std::string("Domain/Boundary ") + side_names[2 * d + (plo ? 1 : 0)],
                "periodic boundaries come in pairs: set both '" + std::string(side_names[2 * d]) + "' and '" +
                  side_names[2 * d + 1] + "' to periodic");
-        const unsigned int need = s.reconstruction == ReconstructionType::weno5 ?
+        const unsigned int need = s.reconstruction == convection::ReconstructionType::weno5 ?
                                     3 :
-                                    (s.reconstruction == ReconstructionType::first_order ? 1 : 2);
+                                    (s.reconstruction == convection::ReconstructionType::first_order ? 1 : 2);
         if (!plo && s.cells[d] < need)
           fail(s, "Domain/Cells",
                "direction " + std::string(1, "xyz"[d]) + " has walls and needs at least " +
@@ -229,7 +230,7 @@ namespace granhydro
                    "its " + std::string(1, "xyz"[k]) + " component names a direction the " +
                      std::to_string(dim) + "D scene does not resolve");
           }
-        if (vmax != 0 && s.boundary[i] != BoundaryType::no_slip_wall)
+        if (vmax != 0 && s.boundary[i] != boundary::BoundaryType::no_slip_wall)
           fail(s, "Domain/Wall velocity " + side,
                "only no-slip walls move (the boundary is " + to_string(s.boundary[i]) + ")");
         if (!(vmax <= 1e4))
@@ -239,11 +240,11 @@ namespace granhydro
                "a wall moves only tangentially: its component "
                "along " +
                  std::string(1, "xyz"[d]) + " must be 0");
-        if (s.wall_restitution[i] < 1 &&
-            (s.boundary[i] == BoundaryType::periodic || s.boundary[i] == BoundaryType::outflow))
+        if (s.wall_restitution[i] < 1 && (s.boundary[i] == boundary::BoundaryType::periodic ||
+                                          s.boundary[i] == boundary::BoundaryType::outflow))
           fail(s, "Domain/Wall restitution " + side,
                "only walls dissipate (the boundary is " + to_string(s.boundary[i]) + ")");
-        if (s.wall_restitution[i] < 1 && s.model != Model::granular)
+        if (s.wall_restitution[i] < 1 && s.model != physics::Model::granular)
           fail(s, "Domain/Wall restitution " + side, "dissipative walls need 'Material/Model = granular'");
       }
   }
@@ -258,4 +259,4 @@ namespace granhydro
     if (!mesh && total > 5e7)
       fail(s, "Domain/Cells", "more than 5e7 cells in total");
   }
-} // namespace granhydro
+} // namespace granhydro::scene

@@ -6,11 +6,11 @@
 #include <cmath>
 #include <string>
 
-namespace granhydro
+namespace granhydro::scene
 {
   using dealii::ParameterHandler;
   namespace Patterns = dealii::Patterns;
-  using namespace scene_detail;
+  using namespace detail;
 
   void EffectsParameters::declare_parameters(ParameterHandler &prm)
   {
@@ -93,7 +93,7 @@ namespace granhydro
     if (s.vibration_amplitude > 0 && s.vibration_direction >= dim)
       fail(s, "Effects/Vibration direction",
            "names a direction the " + std::to_string(dim) + "D scene does not resolve");
-    if (s.vibration_amplitude > 0 && s.model != Model::granular)
+    if (s.vibration_amplitude > 0 && s.model != physics::Model::granular)
       fail(s, "Effects/Vibration amplitude", "a vibrated container needs 'Material/Model = granular'");
   }
-} // namespace granhydro
+} // namespace granhydro::scene

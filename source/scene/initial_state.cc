@@ -18,11 +18,11 @@
 #include <sstream>
 #include <string>
 
-namespace granhydro
+namespace granhydro::scene
 {
   using dealii::ParameterHandler;
   namespace Patterns = dealii::Patterns;
-  using namespace scene_detail;
+  using namespace detail;
 
   void InitialStateParameters::declare_parameters(ParameterHandler &prm)
   {
@@ -145,7 +145,7 @@ namespace granhydro
         total *= (m[d] = std::min(s.cells[d], 64u));
       if (!mesh_centres.empty()) // a mesh file: its coarse cell centres
         total = mesh_centres.size();
-      const bool   granular = s.model == Model::granular;
+      const bool   granular = s.model == physics::Model::granular;
       const double phi_max  = s.phi_close_packing - s.guard_delta;
       // transport without the Knudsen cap in a nearly empty granular cell: the mean free
       // path (and the diffusivities) diverge as phi -> 0 and the implicit step's Newton
@@ -430,4 +430,4 @@ namespace granhydro
           fail(s, bad.substr(0, bad.find('|')), bad.substr(bad.find('|') + 1));
       }
   }
-} // namespace granhydro
+} // namespace granhydro::scene

@@ -5,11 +5,11 @@
 
 #include <cmath>
 
-namespace granhydro
+namespace granhydro::scene
 {
   using dealii::ParameterHandler;
   namespace Patterns = dealii::Patterns;
-  using namespace scene_detail;
+  using namespace detail;
 
   double MaterialParameters::grain_mass() const
   {
@@ -21,7 +21,7 @@ namespace granhydro
     const MaterialParameters defaults;
     prm.enter_subsection("Material");
     {
-      prm.declare_entry("Model", to_string(defaults.model), selection_of<Model>(),
+      prm.declare_entry("Model", to_string(defaults.model), selection_of<physics::Model>(),
                         "Constitutive model. 'ideal gas': verification model (p = n T, "
                         "no transport), the dilute elastic limit of granular gases. "
                         "'granular': hard spheres, p = n T Z(phi) with Torquato's pair "
@@ -75,7 +75,7 @@ namespace granhydro
   void MaterialParameters::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Material");
-    model             = get_enum<Model>(prm, "Material", "Model");
+    model             = get_enum<physics::Model>(prm, "Material", "Model");
     grain_diameter    = prm.get_double("Grain diameter");
     material_density  = prm.get_double("Material density");
     adiabatic_index   = prm.get_double("Adiabatic index");
@@ -104,7 +104,7 @@ namespace granhydro
                                      "kg/m^3 (the grain mass is the internal mass unit)");
     if (s.adiabatic_index <= 1)
       fail(s, "Material/Adiabatic index", "must exceed 1");
-    if (s.model == Model::granular)
+    if (s.model == physics::Model::granular)
       {
         if (s.restitution < 0.5 || s.restitution > 1)
           fail(s, "Material/Restitution coefficient",
@@ -140,4 +140,4 @@ namespace granhydro
                  "'Material/Model = granular'");
       }
   }
-} // namespace granhydro
+} // namespace granhydro::scene

@@ -6,11 +6,11 @@
 #include <cmath>
 #include <string>
 
-namespace granhydro
+namespace granhydro::scene
 {
   using dealii::ParameterHandler;
   namespace Patterns = dealii::Patterns;
-  using namespace scene_detail;
+  using namespace detail;
 
   void NumericsParameters::declare_parameters(ParameterHandler &prm)
   {
@@ -18,12 +18,12 @@ namespace granhydro
     prm.enter_subsection("Numerics");
     {
       prm.declare_entry("Reconstruction", to_string(defaults.reconstruction),
-                        selection_of<ReconstructionType>(),
+                        selection_of<convection::ReconstructionType>(),
                         "Reconstruction of the conservative variables to face points: "
                         "weno5 (paper section 4, Jiang-Shu weights), weno3, muscl (MC "
                         "limiter), first order.");
       prm.declare_entry("Face quadrature", to_string(defaults.face_quadrature),
-                        selection_of<FaceQuadrature>(),
+                        selection_of<convection::FaceQuadrature>(),
                         "gauss: 2 Gauss points per face direction (paper eq. 4.6, "
                         "Titarev-Toro), midpoint: one point per face (face average used "
                         "as point value, second order on nonlinear fluxes).");
@@ -36,7 +36,7 @@ namespace granhydro
                         "only the wall pressure (the normal momentum of the same flux) - no "
                         "tangential momentum; the wall shear stress then comes from the "
                         "diffusion step alone.");
-      prm.declare_entry("Flux", to_string(defaults.flux), selection_of<FluxType>(),
+      prm.declare_entry("Flux", to_string(defaults.flux), selection_of<convection::FluxType>(),
                         "Numerical flux: musta (multi-stage FORCE, paper eqs. 4.7-4.9 with "
                         "dx/dt in the dissipation term, doc/physics.md P12), rusanov, hll.");
       prm.declare_entry("MUSTA maximum stages", default_text(defaults.musta_max_stages),
@@ -87,10 +87,10 @@ namespace granhydro
   {
     prm.enter_subsection("Numerics");
     {
-      reconstruction        = get_enum<ReconstructionType>(prm, "Numerics", "Reconstruction");
-      face_quadrature       = get_enum<FaceQuadrature>(prm, "Numerics", "Face quadrature");
+      reconstruction        = get_enum<convection::ReconstructionType>(prm, "Numerics", "Reconstruction");
+      face_quadrature       = get_enum<convection::FaceQuadrature>(prm, "Numerics", "Face quadrature");
       no_slip_pressure_flux = prm.get("No-slip wall flux") == "pressure";
-      flux                  = get_enum<FluxType>(prm, "Numerics", "Flux");
+      flux                  = get_enum<convection::FluxType>(prm, "Numerics", "Flux");
       musta_max_stages      = prm.get_integer("MUSTA maximum stages");
       musta_tolerance       = prm.get_double("MUSTA tolerance");
       musta_min_stages      = prm.get_integer("MUSTA minimum stages");
@@ -133,4 +133,4 @@ namespace granhydro
                  " m/s) or within 1e-3 .. 1e3 times that");
       }
   }
-} // namespace granhydro
+} // namespace granhydro::scene

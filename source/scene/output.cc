@@ -12,11 +12,11 @@
 #include <sstream>
 #include <string>
 
-namespace granhydro
+namespace granhydro::scene
 {
   using dealii::ParameterHandler;
   namespace Patterns = dealii::Patterns;
-  using namespace scene_detail;
+  using namespace detail;
 
   namespace
   {
@@ -242,4 +242,4 @@ namespace granhydro
       fail(s, "Output/Profile direction",
            "names a direction the " + std::to_string(dim) + "D scene does not resolve");
   }
-} // namespace granhydro
+} // namespace granhydro::scene

@@ -23,7 +23,7 @@
 #include <string>
 #include <type_traits>
 
-namespace granhydro::scene_detail
+namespace granhydro::scene::detail
 {
   /// the sides of the box in the order of the boundary arrays (Domain/Boundary x- ...)
   inline const char *const side_names[6] = {"x-", "x+", "y-", "y+", "z-", "z+"};
@@ -166,4 +166,4 @@ namespace granhydro::scene_detail
       }
     return file;
   }
-} // namespace granhydro::scene_detail
+} // namespace granhydro::scene::detail

@@ -6,11 +6,11 @@
 #include <cmath>
 #include <string>
 
-namespace granhydro
+namespace granhydro::scene
 {
   using dealii::ParameterHandler;
   namespace Patterns = dealii::Patterns;
-  using namespace scene_detail;
+  using namespace detail;
 
   convection::ConvectionSettings Scene::convection_settings() const
   {
@@ -23,14 +23,14 @@ namespace granhydro
     c.musta_tolerance       = musta_tolerance;
     c.musta_local_cfl       = musta_local_cfl;
     c.no_slip_pressure_flux = no_slip_pressure_flux;
-    c.no_wall_tension       = model == Model::granular && cohesionless;
+    c.no_wall_tension       = model == physics::Model::granular && cohesionless;
     c.length_unit           = units().length;
     return c;
   }
 
-  MeshSettings Scene::mesh_settings() const
+  mesh::MeshSettings Scene::mesh_settings() const
   {
-    MeshSettings m;
+    mesh::MeshSettings m;
     m.mesh_file        = mesh_file;
     m.mesh_refinements = mesh_refinements;
     m.lower            = lower;
@@ -98,7 +98,7 @@ namespace granhydro
     OutputParameters::declare_parameters(prm);
   }
 
-  Scene scene_detail::scene_from(ParameterHandler &prm, const std::string &source_name)
+  Scene detail::scene_from(ParameterHandler &prm, const std::string &source_name)
   {
     Scene s;
     s.source               = source_name;
@@ -142,7 +142,7 @@ namespace granhydro
     /// what the effects need from the material and from each other
     void check_effect_combinations(const Scene &s)
     {
-      if (s.dense_closure != DenseClosure::none && s.model != Model::granular)
+      if (s.dense_closure != DenseClosure::none && s.model != physics::Model::granular)
         fail(s, "Dense closure/Model", "a dense closure needs 'Material/Model = granular'");
       if (!s.convection && s.fixed_time_step <= 0)
         fail(s, "Numerics/Fixed time step",
@@ -159,7 +159,7 @@ namespace granhydro
   /// message of the first, the same whatever the layout of the code.
   void validate(const Scene &s)
   {
-    const MeshFileInfo mesh_info = DomainParameters::check_mesh(s);
+    const mesh::MeshFileInfo mesh_info = DomainParameters::check_mesh(s);
     AdaptivityParameters::check(s);
     DomainParameters::check_box(s);
     DomainParameters::check_walls(s);
@@ -178,4 +178,4 @@ namespace granhydro
     OutputParameters::check(s);
     InitialStateParameters::check(s, mesh_info.centres, mesh_info.n_cells);
   }
-} // namespace granhydro
+} // namespace granhydro::scene

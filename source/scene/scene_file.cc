@@ -1,8 +1,8 @@
 #include <granhydro/scene/scene.h>
 
-#include "parameter_tools.h"
-
 #include <deal.II/base/exceptions.h>
+
+#include "parameter_tools.h"
 
 #include <cctype>
 #include <cstdlib>
@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::scene
 {
   using dealii::ParameterHandler;
-  using namespace scene_detail;
+  using namespace detail;
 
   std::string default_scene_text()
   {
@@ -63,12 +63,11 @@ end
     void apply_override(ParameterHandler &prm, const std::string &given)
     {
       // echoed at most 200 characters long (a 100 000-character -p was echoed whole)
-      const std::string where =
-        "command line: -p '" +
-        (given.size() <= 200 ? given :
-                               given.substr(0, 160) + "...' (" + std::to_string(given.size()) +
-                                 " characters)") +
-        (given.size() <= 200 ? "': " : ": ");
+      const std::string where = "command line: -p '" +
+                                (given.size() <= 200 ? given :
+                                                       given.substr(0, 160) + "...' (" +
+                                                         std::to_string(given.size()) + " characters)") +
+                                (given.size() <= 200 ? "': " : ": ");
       // what a scene file cannot hold either: the printed scene (<base>_parameters.prm)
       // would read a different value
       if (given.find_first_of("\r\n") != std::string::npos)
@@ -77,8 +76,8 @@ end
         throw SceneError(where + "longer than " + std::to_string(max_line_chars) +
                          " characters, the longest line a scene may hold");
       // '#' starts a comment, as in a scene file: "Time/End time=0.1 # c" sets 0.1
-      const std::string o = given.substr(0, given.find('#'));
-      const auto        eq    = o.find('=');
+      const std::string o  = given.substr(0, given.find('#'));
+      const auto        eq = o.find('=');
       if (eq == std::string::npos || eq == 0)
         throw SceneError(where + "expected \"Section/Name=value\" (e.g. -p \"Time/End time=0.1\")");
       const auto trim = [](std::string x) {
@@ -159,10 +158,10 @@ end
     void check_sections(const std::string &text, const std::string &source,
                         const std::vector<std::string> *origin)
     {
-      std::istringstream                                  in(text);
-      std::vector<std::pair<unsigned long, std::string>> open;
+      std::istringstream                                           in(text);
+      std::vector<std::pair<unsigned long, std::string>>           open;
       std::map<std::string, std::pair<std::string, unsigned long>> values;
-      unsigned long                                       number = 0;
+      unsigned long                                                number = 0;
       for (std::string line; std::getline(in, line);)
         {
           ++number;
@@ -187,7 +186,7 @@ end
             {
               std::string rest;
               std::getline(is, rest);
-              const auto  eq   = rest.find('=');
+              const auto  eq = rest.find('=');
               std::string path;
               for (const auto &o : open)
                 path += collapse_blanks(o.second) + "/";
@@ -205,8 +204,8 @@ end
                     return v.size() <= 80 ? v : v.substr(0, 80) + "...";
                   };
                   throw SceneError("in " + place(source, origin, number) + ": parameter '" + path +
-                                   "' is set again with another value ('" + clip(value) +
-                                   "'; it was '" + clip(it->second.first) + "' in " +
+                                   "' is set again with another value ('" + clip(value) + "'; it was '" +
+                                   clip(it->second.first) + "' in " +
                                    place(source, origin, it->second.second) +
                                    "): set each parameter once (a repeated subsection must not "
                                    "contradict the first; -p overrides a value)");
@@ -228,16 +227,14 @@ end
             }
         }
       if (!open.empty())
-        throw SceneError("in " + place(source, origin, open.back().first) +
-                         ": 'subsection " + open.back().second +
-                         "' is never closed (an 'end' line is missing)");
+        throw SceneError("in " + place(source, origin, open.back().first) + ": 'subsection " +
+                         open.back().second + "' is never closed (an 'end' line is missing)");
     }
 
     /// prm declared, `text` parsed and the overrides applied; origin: "FILE, line N" of
     /// every line of the text (null: `source_name` and the line number of the text)
-    void read_parameters(ParameterHandler &prm, const std::string &text,
-                         const std::string &source_name, const std::vector<std::string> &overrides,
-                         const std::vector<std::string> *origin)
+    void read_parameters(ParameterHandler &prm, const std::string &text, const std::string &source_name,
+                         const std::vector<std::string> &overrides, const std::vector<std::string> *origin)
     {
       declare_scene_parameters(prm);
       check_sections(text, source_name, origin);
@@ -270,15 +267,14 @@ end
         prm.set("Mesh file", absolute.lexically_normal().string());
       prm.leave_subsection();
       std::ostringstream out;
-      prm.print_parameters(out, ParameterHandler::OutputStyle(ParameterHandler::PRM |
-                                                              ParameterHandler::KeepDeclarationOrder));
+      prm.print_parameters(
+        out, ParameterHandler::OutputStyle(ParameterHandler::PRM | ParameterHandler::KeepDeclarationOrder));
       return out.str();
     }
 
     /// the scene in `text`, validated, with the record of how it was read
     Scene parse_scene_text(const std::string &text, const std::string &source_name,
-                           const std::vector<std::string> &overrides,
-                           const std::vector<std::string> *origin)
+                           const std::vector<std::string> &overrides, const std::vector<std::string> *origin)
     {
       ParameterHandler prm;
       read_parameters(prm, text, source_name, overrides, origin);
@@ -396,7 +392,8 @@ end
         throw SceneError("scene file '" + filename +
                          "' is not a regular file (a directory or a device); give a .prm file");
       if (std::filesystem::file_size(filename, ec) > max_scene_bytes || ec)
-        throw SceneError("scene file '" + filename + "' is larger than 16 MiB (or unreadable); a "
+        throw SceneError("scene file '" + filename +
+                         "' is larger than 16 MiB (or unreadable); a "
                          "scene is a short parameter file");
       const std::string text = expand_includes(filename, {}, origin);
       // only comments and blank lines: refuse rather than silently run every default
@@ -408,7 +405,8 @@ end
           statement    = b != std::string::npos && line[b] != '#';
         }
       if (!statement)
-        throw SceneError("scene file '" + filename + "' sets no parameter (it is empty or holds only "
+        throw SceneError("scene file '" + filename +
+                         "' sets no parameter (it is empty or holds only "
                          "comments); run granhydro without a file for the default scene");
       return text;
     }
@@ -435,4 +433,4 @@ end
     read_parameters(prm, scene_file_text(filename, origin), filename, overrides, &origin);
     return print_scene(prm, filename);
   }
-} // namespace granhydro
+} // namespace granhydro::scene

@@ -3,11 +3,11 @@
 
 #include "parameter_tools.h"
 
-namespace granhydro
+namespace granhydro::scene
 {
   using dealii::ParameterHandler;
   namespace Patterns = dealii::Patterns;
-  using namespace scene_detail;
+  using namespace detail;
 
   void TimeParameters::declare_parameters(ParameterHandler &prm)
   {
@@ -48,4 +48,4 @@ namespace granhydro
     if (s.end_time <= 0)
       fail(s, "Time/End time", "must be positive");
   }
-} // namespace granhydro
+} // namespace granhydro::scene

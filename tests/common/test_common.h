@@ -7,17 +7,17 @@
 
 #include <deal.II/base/mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <algorithm>
 #include <fstream>
+#include <iostream>
 #include <map>
+#include <sstream>
+#include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
-#include <iostream>
-#include <stdexcept>
-#include <sstream>
-#include <string>
 
 namespace granhydro::testing
 {
@@ -39,12 +39,13 @@ namespace granhydro::testing
   }
   /// a scene file as a test runs it: the file's text with every output (VTU, profiles,
   /// checkpoint, summary, log) switched off
-  inline Scene read_scene_quietly(const std::string &file)
+  inline scene::Scene read_scene_quietly(const std::string &file)
   {
-    return parse_scene(read_text_file(file) +
-                         "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
-                         "  set Write checkpoint = false\n  set Write summary = false\n  set Verbose = false\nend\n",
-                       file);
+    return scene::parse_scene(
+      read_text_file(file) +
+        "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
+        "  set Write checkpoint = false\n  set Write summary = false\n  set Verbose = false\nend\n",
+      file);
   }
 
   struct SceneSpec
@@ -52,12 +53,13 @@ namespace granhydro::testing
     unsigned int                dim = 1;
     std::array<unsigned int, 3> cells{{100, 1, 1}};
     std::array<double, 3>       lower{{0, 0, 0}}, upper{{1, 1, 1}};
-    std::array<std::string, 6>  boundary{{"outflow", "outflow", "periodic", "periodic", "periodic", "periodic"}};
-    double                      gamma = 5. / 3.;
-    double                      end_time = 0.1;
-    double                      fixed_dt = 0;
-    double                      cfl = 0.4;
-    std::string reconstruction = "weno5", quadrature = "gauss", flux = "musta";
+    std::array<std::string, 6>  boundary{
+      {"outflow", "outflow", "periodic", "periodic", "periodic", "periodic"}};
+    double       gamma          = 5. / 3.;
+    double       end_time       = 0.1;
+    double       fixed_dt       = 0;
+    double       cfl            = 0.4;
+    std::string  reconstruction = "weno5", quadrature = "gauss", flux = "musta";
     unsigned int max_steps = 0;
   };
 
@@ -78,8 +80,8 @@ namespace granhydro::testing
        << "\n  set Cells = " << list(s.cells) << "\n";
     for (unsigned int i = 0; i < 2 * s.dim; ++i)
       os << "  set Boundary " << sides[i] << " = " << s.boundary[i] << "\n";
-    os << "end\nsubsection Material\n  set Grain diameter = 1\n  set Material density = "
-       << 6. / M_PI << "\n  set Adiabatic index = " << s.gamma << "\nend\n"
+    os << "end\nsubsection Material\n  set Grain diameter = 1\n  set Material density = " << 6. / M_PI
+       << "\n  set Adiabatic index = " << s.gamma << "\nend\n"
        << "subsection Initial state\n  set Packing fraction = 0.5\n  set Temperature = 1\n"
        << "  set Velocity = " << (s.dim == 1 ? "0" : (s.dim == 2 ? "0; 0" : "0; 0; 0"))
        << "\n  set Quadrature points = 1\nend\n"
@@ -87,14 +89,18 @@ namespace granhydro::testing
        << "\n  set Face quadrature = " << s.quadrature << "\n  set Flux = " << s.flux
        << "\n  set CFL number = " << s.cfl << "\n  set Fixed time step = " << s.fixed_dt
        << "\n  set Reference velocity = 1\nend\n"
-       << "subsection Time\n  set End time = " << s.end_time << "\n  set Maximum steps = "
-       << s.max_steps << "\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n"
+       << "subsection Time\n  set End time = " << s.end_time << "\n  set Maximum steps = " << s.max_steps
+       << "\nend\n"
+       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint "
+          "= false\n"
        << "  set Verbose = false\nend\n";
     return os.str();
   }
 
-  inline Scene make_scene(const SceneSpec &s) { return parse_scene(scene_text(s), "<test scene>"); }
+  inline scene::Scene make_scene(const SceneSpec &s)
+  {
+    return scene::parse_scene(scene_text(s), "<test scene>");
+  }
 
   /// primitive (rho, u vector, p) -> conservative state for the ideal gas
   template <int dim>
@@ -130,8 +136,8 @@ namespace granhydro::testing
   /// (the key names the same cell whatever the partition, so runs on different rank
   /// counts compare cell by cell); empty on the other ranks.
   template <int dim, class Description>
-  std::map<long long, physics::State<dim>> gather_state(const Simulation<dim, Description> &sim,
-                                                        const MPI_Comm comm)
+  std::map<long long, physics::State<dim>> gather_state(const driver::Simulation<dim, Description> &sim,
+                                                        const MPI_Comm                              comm)
   {
     std::vector<double> mine;
     for (unsigned int c = 0; c < sim.patch().n_owned(); ++c)
@@ -140,7 +146,7 @@ namespace granhydro::testing
         const auto S = sim.state_si(c);
         mine.insert(mine.end(), S.begin(), S.end());
       }
-    const auto all = dealii::Utilities::MPI::gather(comm, mine, 0);
+    const auto                               all = dealii::Utilities::MPI::gather(comm, mine, 0);
     std::map<long long, physics::State<dim>> out;
     for (const auto &v : all)
       for (std::size_t i = 0; i < v.size(); i += dim + 3)

@@ -18,10 +18,10 @@ using namespace granhydro;
 using namespace granhydro::testing;
 
 template <int dim, class Description = physics::IdealGas<dim>>
-std::map<long long, physics::State<dim>> run(const Scene &scene, const MPI_Comm comm,
+std::map<long long, physics::State<dim>> run(const scene::Scene &scene, const MPI_Comm comm,
                                              unsigned long long &fallbacks)
 {
-  Simulation<dim, Description> sim(scene, comm, std::cout);
+  driver::Simulation<dim, Description> sim(scene, comm, std::cout);
   sim.setup();
   if constexpr (std::is_same_v<Description, physics::IdealGas<dim>>)
     sim.set_initial_state(
@@ -39,7 +39,7 @@ std::map<long long, physics::State<dim>> run(const Scene &scene, const MPI_Comm 
 }
 
 template <int dim, class Description = physics::IdealGas<dim>>
-void compare(const std::string &name, const Scene &s, Checker &chk, const double tol = 1e-12)
+void compare(const std::string &name, const scene::Scene &s, Checker &chk, const double tol = 1e-12)
 {
   const MPI_Comm     world = MPI_COMM_WORLD;
   const unsigned int me    = dealii::Utilities::MPI::this_mpi_process(world);
@@ -86,7 +86,7 @@ void check_slot_exchange(Checker &chk)
     for (unsigned int k = 0; k < channels; ++k)
       if ((g + k) % 3 != 0)
         need[g] |= std::uint16_t(1u << k);
-  SlotExchange ex;
+  mesh::SlotExchange ex;
   ex.setup(part, NC, n, need);
   auto value = [](const unsigned long long cell, const unsigned int k, const unsigned int i) {
     return double(cell) * 100 + k + i / 1000.;
@@ -145,7 +145,7 @@ int main(int argc, char **argv)
       // 1e-14 relative: 1e-12 relative is what the solver tolerances allow
       const std::string text = read_text_file(std::string(GRANHYDRO_TEST_DIR) + "/granular_gas_3d.prm");
       compare<3, physics::GranularGas<3>>("3D granular gas, uniform 16x16x20, all effects, sdirk2",
-                                          parse_scene(text, "granular_gas_3d.prm"), chk, 1e-12);
+                                          scene::parse_scene(text, "granular_gas_3d.prm"), chk, 1e-12);
       return chk.failed != 0;
     }
   {
@@ -189,7 +189,7 @@ int main(int argc, char **argv)
         std::string t = text;
         t.replace(t.find("  set Newton tolerance"), 0, "  set Integrator = " + integrator + "\n");
         compare<2, physics::GranularGas<2>>("2D granular gas, all effects, Strang splitting, " + integrator,
-                                            parse_scene(t, "granular"), chk, 1e-10);
+                                            scene::parse_scene(t, "granular"), chk, 1e-10);
       }
   }
   return chk.failed != 0;

@@ -26,7 +26,7 @@ namespace
   template <int dim>
   struct Case
   {
-    using Sim = Simulation<dim, physics::GranularGas<dim>>;
+    using Sim = driver::Simulation<dim, physics::GranularGas<dim>>;
 
     /// scaled conservative state of owned cell c
     static physics::State<dim> cell(const Sim &sim, const unsigned int c)
@@ -69,15 +69,15 @@ namespace
       return Utilities::MPI::min(ok ? 1 : 0, MPI_COMM_WORLD) == 1;
     }
 
-    static int run(const Scene &scene, const std::string &kind, Checker &check)
+    static int run(const scene::Scene &scene, const std::string &kind, Checker &check)
     {
       Sim sim(scene, MPI_COMM_WORLD, std::cout);
       sim.setup();
-      const auto   M0     = sim.totals();
-      const auto   p0     = packing(sim);
-      const double floor0 = dim > 1 ? layer_phi(sim, scene, 0) : 0;
-      RunSummary   sum;
-      std::string  error;
+      const auto         M0     = sim.totals();
+      const auto         p0     = packing(sim);
+      const double       floor0 = dim > 1 ? layer_phi(sim, scene, 0) : 0;
+      driver::RunSummary sum;
+      std::string        error;
       try
         {
           sum = sim.run();
@@ -231,7 +231,7 @@ namespace
     }
 
     /// packing fraction of layer l along the profile direction (y in 2D/3D)
-    static double layer_phi(const Sim &sim, const Scene &scene, const int l)
+    static double layer_phi(const Sim &sim, const scene::Scene &scene, const int l)
     {
       double v[2] = {0, 0};
       if constexpr (dim > 1)
@@ -268,12 +268,12 @@ int main(int argc, char **argv)
               (kind.find("_nofriction") != std::string::npos ?
                  "subsection Dense closure\n  set Viscosity time = 0\nend\n" :
                  "");
-  const Scene scene =
-    parse_scene(read_text_file(argv[1]) + variant +
-                  "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
-                  "  set Write checkpoint = false\n  set Write summary = false\n  set Verbose = false\nend\n",
-                argv[1]);
-  AssertThrow(scene.model == Model::granular, ExcMessage("the hard cases are granular scenes"));
+  const scene::Scene scene = scene::parse_scene(
+    read_text_file(argv[1]) + variant +
+      "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
+      "  set Write checkpoint = false\n  set Write summary = false\n  set Verbose = false\nend\n",
+    argv[1]);
+  AssertThrow(scene.model == physics::Model::granular, ExcMessage("the hard cases are granular scenes"));
   switch (scene.dimension)
     {
       case 1:

@@ -75,7 +75,7 @@ namespace
     // the declared parameter uses the table: its default is a name, every name is
     // accepted and a wrong one is refused
     dealii::ParameterHandler prm;
-    declare_scene_parameters(prm);
+    scene::declare_scene_parameters(prm);
     unsigned int      depth    = 0;
     const std::string name     = enter(prm, parameter, depth);
     Enum              deflt    = {};
@@ -127,22 +127,23 @@ namespace
 int main()
 {
   Checker chk;
-  check_table<Model>("Material/Model", chk);
-  check_table<ReconstructionType>("Numerics/Reconstruction", chk);
-  check_table<FaceQuadrature>("Numerics/Face quadrature", chk);
-  check_table<FluxType>("Numerics/Flux", chk);
+  check_table<physics::Model>("Material/Model", chk);
+  check_table<convection::ReconstructionType>("Numerics/Reconstruction", chk);
+  check_table<convection::FaceQuadrature>("Numerics/Face quadrature", chk);
+  check_table<convection::FluxType>("Numerics/Flux", chk);
   for (const char *side : {"x-", "x+", "y-", "y+", "z-", "z+"})
-    check_table<BoundaryType>(std::string("Domain/Boundary ") + side, chk);
-  check_table<DenseClosure>("Dense closure/Model", chk);
+    check_table<boundary::BoundaryType>(std::string("Domain/Boundary ") + side, chk);
+  check_table<scene::DenseClosure>("Dense closure/Model", chk);
   check_table<physics::FrictionalLaw>("Dense closure/Frictional stress", chk);
   check_table<diffusion::ImplicitMethod>("Diffusion step/Integrator", chk);
-  check_table<Preconditioner>("Diffusion step/Preconditioner", chk);
-  check_table<RefinementIndicator>("Adaptivity/Indicator", chk);
-  check_table<LoadBalance>("Adaptivity/Load balance", chk);
+  check_table<scene::Preconditioner>("Diffusion step/Preconditioner", chk);
+  check_table<scene::RefinementIndicator>("Adaptivity/Indicator", chk);
+  check_table<scene::LoadBalance>("Adaptivity/Load balance", chk);
 
   // a list of three or more reads "'a', 'b' or 'c'", of two "'a' or 'b'"
-  chk.check(enum_alternatives<FluxType>() == "'musta', 'rusanov' or 'hll'" &&
-              enum_alternatives<Model>() == "'ideal gas' or 'granular'",
-            "alternatives: " + enum_alternatives<FluxType>() + "; " + enum_alternatives<Model>());
+  chk.check(enum_alternatives<convection::FluxType>() == "'musta', 'rusanov' or 'hll'" &&
+              enum_alternatives<physics::Model>() == "'ideal gas' or 'granular'",
+            "alternatives: " + enum_alternatives<convection::FluxType>() + "; " +
+              enum_alternatives<physics::Model>());
   return chk.failed != 0;
 }

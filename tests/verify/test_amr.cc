@@ -176,7 +176,7 @@ namespace
   void sod_run(const std::string &text, double &error, double &error_all, unsigned long long &cells,
                unsigned long long &max_cells, double &cell_steps, double &wall)
   {
-    Simulation<dim> sim(parse_scene(text, "sod_diagonal"), MPI_COMM_WORLD, std::cout);
+    driver::Simulation<dim> sim(scene::parse_scene(text, "sod_diagonal"), MPI_COMM_WORLD, std::cout);
     sim.setup();
     const auto               sum = sim.run();
     const RiemannCase        rc  = riemann_case();
@@ -239,15 +239,15 @@ namespace
   /// replaced): the run must not notice, and rank 0 must end with the share of the cells
   /// that equal sums of weights give
   template <int dim, class Description>
-  void compare_ranks(const std::string &name, Scene s, Checker &chk, const double tol,
+  void compare_ranks(const std::string &name, scene::Scene s, Checker &chk, const double tol,
                      const double rank0_cost = 0)
   {
     const MPI_Comm     world = MPI_COMM_WORLD;
     const unsigned int me    = dealii::Utilities::MPI::this_mpi_process(world);
     const unsigned int P     = dealii::Utilities::MPI::n_mpi_processes(world);
     if (rank0_cost > 0)
-      s.load_balance = LoadBalance::measured_cost;
-    Simulation<dim, Description> par(s, world, std::cout);
+      s.load_balance = scene::LoadBalance::measured_cost;
+    driver::Simulation<dim, Description> par(s, world, std::cout);
     par.setup();
     if (rank0_cost > 0)
       par.set_cost_per_cell(me == 0 ? rank0_cost : 1.);
@@ -274,7 +274,7 @@ namespace
            << expected << " +- 10 %, " << sp.adaptations << " adaptations)";
         chk.check(std::abs(share / expected - 1) <= 0.1 && sp.adaptations >= 5, os.str());
       }
-    Simulation<dim, Description> ser(s, MPI_COMM_SELF, std::cout);
+    driver::Simulation<dim, Description> ser(s, MPI_COMM_SELF, std::cout);
     ser.setup();
     const auto ss           = ser.run();
     const auto B            = gather_state(ser, MPI_COMM_SELF);
@@ -292,15 +292,16 @@ namespace
   template <int dim>
   void balance_rounds(Checker &chk, const MPI_Comm comm)
   {
-    const BoundaryType sides[6] = {BoundaryType::periodic,  BoundaryType::periodic,
-                                   BoundaryType::slip_wall, BoundaryType::no_slip_wall,
-                                   BoundaryType::slip_wall, BoundaryType::outflow};
-    MeshSettings       ms;
+    const boundary::BoundaryType sides[6] = {
+      boundary::BoundaryType::periodic,  boundary::BoundaryType::periodic,
+      boundary::BoundaryType::slip_wall, boundary::BoundaryType::no_slip_wall,
+      boundary::BoundaryType::slip_wall, boundary::BoundaryType::outflow};
+    mesh::MeshSettings ms;
     ms.cells     = {{5, 4, 3}};
     ms.max_level = 3;
     for (unsigned int i = 0; i < 6; ++i)
       ms.walls[i].type = sides[i];
-    CartesianPatch<dim> patch(comm);
+    mesh::CartesianPatch<dim> patch(comm);
     patch.build(ms, 3);
     constexpr unsigned int NC      = dim + 2;
     unsigned int           bad     = 0;
@@ -359,7 +360,7 @@ int main(int argc, char **argv)
     {
       if (what == "conservation")
         {
-          Simulation<3> sim(parse_scene(blast_3d(500), "blast_3d"), world, std::cout);
+          driver::Simulation<3> sim(scene::parse_scene(blast_3d(500), "blast_3d"), world, std::cout);
           sim.setup();
           const auto         T0     = sim.totals();
           const auto         cells0 = sim.patch().n_global_cells();
@@ -381,15 +382,15 @@ int main(int argc, char **argv)
         }
       else if (what == "mpi")
         {
-          compare_ranks<3, physics::IdealGas<3>>("3D blast with AMR", parse_scene(blast_3d(60), "blast_3d"),
-                                                 chk, 1e-12);
+          compare_ranks<3, physics::IdealGas<3>>("3D blast with AMR",
+                                                 scene::parse_scene(blast_3d(60), "blast_3d"), chk, 1e-12);
           compare_ranks<3, physics::IdealGas<3>>("3D blast with AMR, skewed partition (bit for bit)",
-                                                 parse_scene(blast_3d(60), "blast_3d"), chk, 0., 3.);
+                                                 scene::parse_scene(blast_3d(60), "blast_3d"), chk, 0., 3.);
           // GMRES + block ILU iterates depend on the partition; Newton stops at 1e-13:
           // 1 and N ranks agree to ~1e-12, asserted with 1e-10 (the tolerance)
-          compare_ranks<2, physics::GranularGas<2>>("2D granular gas with AMR, all effects",
-                                                    parse_scene(scene_file("granular_2d.prm"), "granular_2d"),
-                                                    chk, 1e-10);
+          compare_ranks<2, physics::GranularGas<2>>(
+            "2D granular gas with AMR, all effects",
+            scene::parse_scene(scene_file("granular_2d.prm"), "granular_2d"), chk, 1e-10);
         }
       else if (what == "walls-3d")
         {
@@ -397,7 +398,8 @@ int main(int argc, char **argv)
           // state carries neither); before the virtual cells outside a wall were keyed by
           // their position wrapped across the periodic sides, this scene stopped at an
           // adaptation ("stencil leaves the ghost patch")
-          Simulation<3> sim(parse_scene(blast_3d_walls(40), "blast_3d_walls"), world, std::cout);
+          driver::Simulation<3> sim(scene::parse_scene(blast_3d_walls(40), "blast_3d_walls"), world,
+                                    std::cout);
           sim.setup();
           const auto         T0  = sim.totals();
           const auto         sum = sim.run();
@@ -411,16 +413,17 @@ int main(int argc, char **argv)
           chk.check(dm <= 2e-13 && de <= 2e-13 && sum.steps == 40 && sum.adaptations >= 7, os.str());
           if (dealii::Utilities::MPI::n_mpi_processes(world) > 1)
             compare_ranks<3, physics::IdealGas<3>>("3D blast between walls (bit for bit)",
-                                                   parse_scene(blast_3d_walls(40), "blast_3d_walls"), chk,
-                                                   0.);
+                                                   scene::parse_scene(blast_3d_walls(40), "blast_3d_walls"),
+                                                   chk, 0.);
         }
       else if (what == "slot-grid")
         {
           // a 4 x 3 x 5 lattice, 2 levels, periodic in x and z, walls in y (slots up to
           // G = 3 outside, as wall ghosts and virtual cells outside a wall lie)
-          const unsigned int G = 3, m = 2;
-          const Lattice<3>   lattice({{4, 3, 5}}, {{true, false, true}}, m, G, WallTable{}, false);
-          using Position = Lattice<3>::Position;
+          const unsigned int     G = 3, m = 2;
+          const mesh::Lattice<3> lattice({{4, 3, 5}}, {{true, false, true}}, m, G, boundary::WallTable{},
+                                         false);
+          using Position = mesh::Lattice<3>::Position;
           std::mt19937                            rng(7);
           std::vector<std::array<int, 3>>         pos;
           std::vector<unsigned char>              level;
@@ -440,8 +443,8 @@ int main(int argc, char **argv)
                   level.push_back(k);
                 }
             }
-          const SlotGrid<3>  dense(lattice, pos, level), sparse(lattice, pos, level, -1);
-          unsigned long long looked = 0, found = 0, wrong_dense = 0, wrong_sparse = 0;
+          const mesh::SlotGrid<3> dense(lattice, pos, level), sparse(lattice, pos, level, -1);
+          unsigned long long      looked = 0, found = 0, wrong_dense = 0, wrong_sparse = 0;
           for (unsigned int k = 0; k <= m; ++k)
             {
               const long long R = 2 * G + 4; // past the lattice keys' reach (2 G + 2)
@@ -473,7 +476,7 @@ int main(int argc, char **argv)
         }
       else if (what == "dealii-sync")
         {
-          Simulation<3> sim(parse_scene(blast_3d(60), "blast_3d"), world, std::cout);
+          driver::Simulation<3> sim(scene::parse_scene(blast_3d(60), "blast_3d"), world, std::cout);
           sim.setup();
           const auto             sum   = sim.run();
           const auto            &patch = sim.patch();
@@ -512,14 +515,14 @@ int main(int argc, char **argv)
         // GMRES + block ILU depend on the partition (see "mpi"): 1e-10
         compare_ranks<2, physics::GranularGas<2>>(
           "2D granular box with walls and outflow, AMR",
-          parse_scene(scene_file("granular_2d_open.prm"), "granular_2d_open"), chk, 1e-10);
+          scene::parse_scene(scene_file("granular_2d_open.prm"), "granular_2d_open"), chk, 1e-10);
       else if (what == "mpi-3d")
         {
           compare_ranks<3, physics::IdealGas<3>>("3D blast with AMR (bit for bit)",
-                                                 parse_scene(blast_3d(60), "blast_3d"), chk, 0.);
+                                                 scene::parse_scene(blast_3d(60), "blast_3d"), chk, 0.);
           // a partition far from equal cell counts gives the same state, bit for bit
           compare_ranks<3, physics::IdealGas<3>>("3D blast with AMR, skewed partition (bit for bit)",
-                                                 parse_scene(blast_3d(60), "blast_3d"), chk, 0., 3.);
+                                                 scene::parse_scene(blast_3d(60), "blast_3d"), chk, 0., 3.);
         }
       else if ((what == "sod" || what == "sod-study") && argc >= 3)
         {

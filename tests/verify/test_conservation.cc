@@ -23,7 +23,7 @@ void check_conservation(const unsigned int N, Checker &chk)
     }
   s.end_time  = 1e6;
   s.max_steps = 1000;
-  Simulation<dim> sim(make_scene(s), MPI_COMM_WORLD, std::cout);
+  driver::Simulation<dim> sim(make_scene(s), MPI_COMM_WORLD, std::cout);
   sim.setup();
   // blast (pressure ratio 1000) off-centre on top of a moving density wave
   sim.set_initial_state(
@@ -43,14 +43,14 @@ void check_conservation(const unsigned int N, Checker &chk)
   const double mom_scale = before[0] * std::sqrt(5. / 3. * 100 / 0.7);
   double       err[dim + 2];
   for (unsigned int c = 0; c < dim + 2; ++c)
-    err[c] = std::abs(after[c] - before[c]) /
-             (c == 0 || c == dim + 1 ? std::abs(before[c]) : mom_scale);
+    err[c] = std::abs(after[c] - before[c]) / (c == 0 || c == dim + 1 ? std::abs(before[c]) : mom_scale);
   std::ostringstream os;
   os << dim << "D periodic blast, " << summary.steps << " steps (a-posteriori fallbacks "
-     << summary.convection.fallback_cells << ", reconstruction resets "
-     << summary.convection.limited_cells << "): relative drift mass " << err[0];
+     << summary.convection.fallback_cells << ", reconstruction resets " << summary.convection.limited_cells
+     << "): relative drift mass " << err[0];
   for (unsigned int d = 0; d < dim; ++d)
-    os << ", momentum_" << "xyz"[d] << ' ' << err[1 + d];
+    os << ", momentum_"
+       << "xyz"[d] << ' ' << err[1 + d];
   os << ", energy " << err[dim + 1];
   bool ok = summary.steps == 1000;
   for (unsigned int c = 0; c < dim + 2; ++c)

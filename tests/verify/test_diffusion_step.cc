@@ -33,10 +33,10 @@ namespace
     double       eps = 0.9, dt = 1e-3, t_end = 0.02;
     bool         convection = false;
     std::string  integrator = "gauss-legendre", flux = "full";
-    std::string  splitting  = "merged";
+    std::string  splitting = "merged";
   };
 
-  std::string scene(const Spec &s)
+  std::string scene_text(const Spec &s)
   {
     std::ostringstream os;
     os.precision(17);
@@ -59,16 +59,17 @@ namespace
        << "subsection Diffusion step\n  set Integrator = " << s.integrator
        << "\n  set Newton tolerance = 1e-14\n  set Linear solver tolerance = 1e-14\nend\n"
        << "subsection Time\n  set End time = " << s.t_end << "\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n"
+       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint "
+          "= false\n"
        << "  set Verbose = false\nend\n";
     return os.str();
   }
 
   template <int dim>
-  std::vector<physics::State<dim>> run(const Spec &s, RunSummary *summary = nullptr)
+  std::vector<physics::State<dim>> run(const Spec &s, driver::RunSummary *summary = nullptr)
   {
-    Simulation<dim, physics::GranularGas<dim>> sim(parse_scene(scene(s), "diffusion test"), MPI_COMM_SELF,
-                                                   std::cout);
+    driver::Simulation<dim, physics::GranularGas<dim>> sim(
+      scene::parse_scene(scene_text(s), "diffusion test"), MPI_COMM_SELF, std::cout);
     sim.setup();
     const auto sum = sim.run();
     if (summary)
@@ -103,15 +104,15 @@ int main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   Checker                                  chk;
-  Spec base;
+  Spec                                     base;
   base.phi = "0.3 + 0.1*sin(2*pi*x/0.02)";
   base.vel = "0.01*sin(2*pi*x/0.02)";
   base.T   = "1e-7*(1 + 0.3*cos(2*pi*x/0.02))";
 
   // ---- A: temporal order of the integrators (diffusion + sources only) ----------
   {
-    Spec ref = base;
-    ref.dt   = base.t_end / 256;
+    Spec ref         = base;
+    ref.dt           = base.t_end / 256;
     const auto U_ref = run<1>(ref);
     for (const auto &[integrator, steps, min_order] :
          {std::tuple<std::string, unsigned, double>{"gauss-legendre", 8, 3.8},
@@ -119,8 +120,8 @@ int main(int argc, char **argv)
           std::tuple<std::string, unsigned, double>{"sdirk2", 8, 1.9},
           std::tuple<std::string, unsigned, double>{"rkl2", 8, 1.9}})
       {
-        double     e[2];
-        RunSummary sum;
+        double             e[2];
+        driver::RunSummary sum;
         for (unsigned int k = 0; k < 2; ++k)
           {
             Spec s       = base;
@@ -128,11 +129,11 @@ int main(int argc, char **argv)
             s.dt         = base.t_end / (steps << k);
             e[k]         = difference<1>(run<1>(s, &sum), U_ref);
           }
-        const double order = std::log(e[0] / e[1]) / std::log(2.);
+        const double       order = std::log(e[0] / e[1]) / std::log(2.);
         std::ostringstream os;
         os << integrator << " on nonlinear diffusion + cooling: " << steps << " steps error "
-           << std::scientific << std::setprecision(2) << e[0] << ", " << 2 * steps << " steps "
-           << e[1] << ", order " << std::fixed << std::setprecision(2) << order << " (Newton "
+           << std::scientific << std::setprecision(2) << e[0] << ", " << 2 * steps << " steps " << e[1]
+           << ", order " << std::fixed << std::setprecision(2) << order << " (Newton "
            << sum.diffusion.newton_iterations << ", GMRES " << sum.diffusion.linear_iterations << ")";
         chk.check(order >= min_order, os.str());
       }
@@ -140,13 +141,13 @@ int main(int argc, char **argv)
     Spec ex       = base;
     ex.integrator = "explicit euler";
     ex.dt         = base.t_end / 4;
-    RunSummary sum;
-    const auto U_ex = run<1>(ex, &sum);
+    driver::RunSummary sum;
+    const auto         U_ex = run<1>(ex, &sum);
     std::ostringstream os;
     os << "explicit Euler baseline needs " << sum.diffusion.explicit_substeps
        << " sub-steps at its stability limit where 4 implicit steps suffice (ratio "
-       << sum.diffusion.explicit_substeps / 4. << "), difference to reference "
-       << std::scientific << std::setprecision(2) << difference<1>(U_ex, U_ref);
+       << sum.diffusion.explicit_substeps / 4. << "), difference to reference " << std::scientific
+       << std::setprecision(2) << difference<1>(U_ex, U_ref);
     // forward Euler is first order in its sub-step: it converges to the same solution,
     // only slowly (error ~ 1e-2 here), and needs far more steps
     chk.check(sum.diffusion.explicit_substeps > 16 && difference<1>(U_ex, U_ref) < 5e-2, os.str());
@@ -158,14 +159,14 @@ int main(int argc, char **argv)
   // at dt/16
   for (const std::string splitting : {"symmetric", "merged"})
     {
-      Spec s       = base;
-      s.convection = true;
-      s.t_end      = 0.01;
-      s.dt         = 2.5e-4; // below the convective CFL limit (~1.3e-3 s) at every level
-      s.splitting  = splitting;
-      Spec ref      = s;
-      ref.dt        = s.dt / 16;
-      ref.splitting = "symmetric";
+      Spec s           = base;
+      s.convection     = true;
+      s.t_end          = 0.01;
+      s.dt             = 2.5e-4; // below the convective CFL limit (~1.3e-3 s) at every level
+      s.splitting      = splitting;
+      Spec ref         = s;
+      ref.dt           = s.dt / 16;
+      ref.splitting    = "symmetric";
       const auto U_ref = run<1>(ref);
       double     e[2];
       for (unsigned int k = 0; k < 2; ++k)
@@ -174,26 +175,26 @@ int main(int argc, char **argv)
           t.dt   = s.dt / (1u << k);
           e[k]   = difference<1>(run<1>(t), U_ref);
         }
-      const double order = std::log(e[0] / e[1]) / std::log(2.);
+      const double       order = std::log(e[0] / e[1]) / std::log(2.);
       std::ostringstream os;
       os << "Strang splitting (" << splitting << "), full system: error " << std::scientific
-         << std::setprecision(2) << e[0] << " -> " << e[1] << ", order " << std::fixed
-         << std::setprecision(2) << order;
+         << std::setprecision(2) << e[0] << " -> " << e[1] << ", order " << std::fixed << std::setprecision(2)
+         << order;
       chk.check(order >= 1.9, os.str());
     }
 
   // ---- C: full vs diagonal-only diffusive flux ---------------------------------------
   {
-    Spec s  = base;
-    s.dim   = 2;
-    s.ny    = 4;
-    s.vel   = "0.01*sin(2*pi*x/0.02); 0.005*cos(2*pi*x/0.02)";
-    s.t_end = 0.01;
-    s.dt    = 2.5e-3;
-    const auto full = run<2>(s);
-    s.flux          = "diagonal";
-    const auto diag = run<2>(s);
-    const double d  = difference<2>(diag, full);
+    Spec s                  = base;
+    s.dim                   = 2;
+    s.ny                    = 4;
+    s.vel                   = "0.01*sin(2*pi*x/0.02); 0.005*cos(2*pi*x/0.02)";
+    s.t_end                 = 0.01;
+    s.dt                    = 2.5e-3;
+    const auto full         = run<2>(s);
+    s.flux                  = "diagonal";
+    const auto         diag = run<2>(s);
+    const double       d    = difference<2>(diag, full);
     std::ostringstream os;
     os << "fields varying along x only (2D): full and diagonal flux agree, difference " << d;
     // the cross terms vanish identically; only the Jacobian's finite differences and
@@ -204,24 +205,25 @@ int main(int argc, char **argv)
     // viscous vortex: uniform n, T, velocity from a Gaussian stream function;
     // elastic, so only the viscous stress (and heat from dissipation) acts
     Spec v;
-    v.dim   = 2;
-    v.eps   = 1;
+    v.dim = 2;
+    v.eps = 1;
     v.lx = v.ly = 0.02;
-    v.phi   = "0.3";
-    v.T     = "1e-7";
-    v.vel   = "-0.02*(y-0.01)/0.003*exp(-((x-0.01)^2+(y-0.01)^2)/0.003^2)*2;"
-              " 0.02*(x-0.01)/0.003*exp(-((x-0.01)^2+(y-0.01)^2)/0.003^2)*2";
-    v.t_end = 0.004;
-    v.dt    = 1e-3;
+    v.phi       = "0.3";
+    v.T         = "1e-7";
+    v.vel       = "-0.02*(y-0.01)/0.003*exp(-((x-0.01)^2+(y-0.01)^2)/0.003^2)*2;"
+                  " 0.02*(x-0.01)/0.003*exp(-((x-0.01)^2+(y-0.01)^2)/0.003^2)*2";
+    v.t_end     = 0.004;
+    v.dt        = 1e-3;
     std::vector<double> ef, ed;
-    Spec r  = v;
-    r.nx = r.ny = 64;
+    Spec                r = v;
+    r.nx = r.ny    = 64;
     const auto ref = run<2>(r);
     // restrict the reference to coarse cells by averaging
     auto coarse = [&](unsigned int N) {
       std::vector<physics::State<2>> c(N * N, physics::State<2>{});
       // reference slots are in DoF order; rebuild by lattice index from a run's patch
-      Simulation<2, physics::GranularGas<2>> sim(parse_scene(scene(r), "ref"), MPI_COMM_SELF, std::cout);
+      driver::Simulation<2, physics::GranularGas<2>> sim(scene::parse_scene(scene_text(r), "ref"),
+                                                         MPI_COMM_SELF, std::cout);
       sim.setup();
       const unsigned int f = 64 / N;
       for (unsigned int i = 0; i < sim.patch().n_owned(); ++i)
@@ -237,14 +239,16 @@ int main(int argc, char **argv)
       {
         Spec a = v;
         a.nx = a.ny = N;
-        Simulation<2, physics::GranularGas<2>> sim(parse_scene(scene(a), "v"), MPI_COMM_SELF, std::cout);
+        driver::Simulation<2, physics::GranularGas<2>> sim(scene::parse_scene(scene_text(a), "v"),
+                                                           MPI_COMM_SELF, std::cout);
         sim.setup();
         std::vector<physics::State<2>> Uf, Ud, Rc(N * N);
-        RunSummary sum;
-        const auto full = run<2>(a, &sum);
+        driver::RunSummary             sum;
+        const auto                     full = run<2>(a, &sum);
         // the Jacobian lags the cross terms (deferred correction): Newton must still converge
         chk.check(sum.diffusion.newton_failures == 0 && sum.rejected_steps == 0,
-                  "viscous vortex N = " + std::to_string(N) + ": modified Newton with lagged cross terms converges, " +
+                  "viscous vortex N = " + std::to_string(N) +
+                    ": modified Newton with lagged cross terms converges, " +
                     std::to_string(double(sum.diffusion.newton_iterations) / sum.diffusion.steps) +
                     " iterations per step to 1e-14");
         a.flux          = "diagonal";
@@ -259,8 +263,8 @@ int main(int argc, char **argv)
         ed.push_back(difference<2>(diag, Rc));
         std::ostringstream os;
         os << "viscous vortex N = " << N << ": error vs 64^2 full reference: full flux " << std::scientific
-           << std::setprecision(2) << ef.back() << ", diagonal-only " << ed.back()
-           << ", full - diagonal " << difference<2>(diag, full);
+           << std::setprecision(2) << ef.back() << ", diagonal-only " << ed.back() << ", full - diagonal "
+           << difference<2>(diag, full);
         chk.check(true, os.str());
       }
     chk.check(ef[1] < ef[0] && ed[1] > 5 * ef[1],
@@ -274,12 +278,12 @@ int main(int argc, char **argv)
     // mode with the largest eigenvalue of the discrete conduction operator. In the
     // linear regime each step multiplies its amplitude by R(z), so the ratio of the
     // amplitudes after 2 and after 1 step is R(z), free of the initial averaging.
-    Spec s  = base;
-    s.eps   = 1.;
-    s.phi   = "0.3";
-    s.vel   = "0";
-    s.T     = "1e-7*(1 + 1e-3*sin(pi*x/0.0005))";
-    s.dt    = 0.2; // ~1700 x the explicit limit, |z| ~ 3000
+    Spec s         = base;
+    s.eps          = 1.;
+    s.phi          = "0.3";
+    s.vel          = "0";
+    s.T            = "1e-7*(1 + 1e-3*sin(pi*x/0.0005))";
+    s.dt           = 0.2; // ~1700 x the explicit limit, |z| ~ 3000
     auto amplitude = [](const std::vector<physics::State<1>> &U) {
       double a = 0;
       for (std::size_t i = 0; i < U.size(); ++i)
@@ -296,17 +300,17 @@ int main(int argc, char **argv)
           std::tuple<std::string, double, double>{"gauss-legendre", 0.99, 1.},
           std::tuple<std::string, double, double>{"implicit midpoint", -1., -0.99}})
       {
-        RunSummary sum;
-        s.integrator = integrator;
-        s.t_end      = s.dt;
-        const double a1 = amplitude(run<1>(s, &sum));
-        s.t_end         = 2 * s.dt;
-        const double a2 = amplitude(run<1>(s));
-        const double R  = a2 / a1;
+        driver::RunSummary sum;
+        s.integrator          = integrator;
+        s.t_end               = s.dt;
+        const double a1       = amplitude(run<1>(s, &sum));
+        s.t_end               = 2 * s.dt;
+        const double       a2 = amplitude(run<1>(s));
+        const double       R  = a2 / a1;
         std::ostringstream os;
         os << integrator << ": stiffest mode over one step " << std::fixed << std::setprecision(0)
-           << sum.diffusion.max_dt_over_explicit << " x the explicit limit multiplied by "
-           << std::scientific << std::setprecision(3) << R << " (allowed " << lo << " .. " << hi << ")";
+           << sum.diffusion.max_dt_over_explicit << " x the explicit limit multiplied by " << std::scientific
+           << std::setprecision(3) << R << " (allowed " << lo << " .. " << hi << ")";
         chk.check(sum.diffusion.max_dt_over_explicit >= 1000 && R >= lo && R <= hi, os.str());
       }
   }

@@ -7,9 +7,9 @@
 // relative and the spurious velocities below 1e-3 sqrt(g sigma), shrinking under
 // refinement; one column is dense (phi0 = 0.5), one over-dense (bottom phi0 = 0.62,
 // above 0.6, where chi is on Torquato's branch towards close packing).
-#include "common/test_common.h"
-
 #include <deal.II/base/quadrature_lib.h>
+
+#include "common/test_common.h"
 
 #include <iomanip>
 
@@ -38,19 +38,18 @@ namespace
     double       lo = 1e-12, hi = c.phi0;
     for (int i = 0; i < 200; ++i)
       {
-        const double mid = 0.5 * (lo + hi);
+        const double mid                = 0.5 * (lo + hi);
         (G(gd, mid) < target ? lo : hi) = mid;
       }
     return 0.5 * (lo + hi);
   }
 
-  std::string scene(const Column &c, const unsigned int N)
+  std::string scene_text(const Column &c, const unsigned int N)
   {
     std::ostringstream os;
     os.precision(17);
-    os << "set Dimension = 1\nsubsection Domain\n  set Lower corner = 0\n  set Upper corner = "
-       << c.height << "\n  set Cells = " << N
-       << "\n  set Boundary x- = slip wall\n  set Boundary x+ = slip wall\nend\n"
+    os << "set Dimension = 1\nsubsection Domain\n  set Lower corner = 0\n  set Upper corner = " << c.height
+       << "\n  set Cells = " << N << "\n  set Boundary x- = slip wall\n  set Boundary x+ = slip wall\nend\n"
        << "subsection Material\n  set Model = granular\n  set Restitution coefficient = 1\n"
        << "  set Grain diameter = " << sigma << "\n  set Material density = " << rho_s << "\nend\n"
        << "subsection Effects\n  set Gravity = " << -g << "\nend\n"
@@ -58,7 +57,8 @@ namespace
        << "  set Temperature = " << c.T << "\nend\n"
        << "subsection Diffusion step\n  set Newton tolerance = 1e-12\nend\n"
        << "subsection Time\n  set End time = 100\n  set Maximum steps = 1000\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n"
+       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint "
+          "= false\n"
        << "  set Verbose = false\nend\n";
     return os.str();
   }
@@ -66,9 +66,9 @@ namespace
   /// returns (max relative density deviation, max |u| / sqrt(g sigma))
   std::pair<double, double> run(const Column &c, const unsigned int N)
   {
-    const physics::GarzoDufty1999 gd(1.0);
-    Simulation<1, physics::GranularGas<1>> sim(parse_scene(scene(c, N), "column"), MPI_COMM_SELF,
-                                               std::cout);
+    const physics::GarzoDufty1999                  gd(1.0);
+    driver::Simulation<1, physics::GranularGas<1>> sim(scene::parse_scene(scene_text(c, N), "column"),
+                                                       MPI_COMM_SELF, std::cout);
     sim.setup();
     sim.set_initial_state(
       [&](const dealii::Point<1> &x) {

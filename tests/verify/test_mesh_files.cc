@@ -25,9 +25,9 @@ namespace
 
   /// run a scene for its steps on comm; the state gathered on rank 0, keyed by lattice index
   template <int dim, class Description>
-  StateMap<dim, Description> run(const Scene &scene, const MPI_Comm comm)
+  StateMap<dim, Description> run(const scene::Scene &scene, const MPI_Comm comm)
   {
-    Simulation<dim, Description> sim(scene, comm, std::cout);
+    driver::Simulation<dim, Description> sim(scene, comm, std::cout);
     sim.setup();
     sim.run();
     std::vector<double> mine;
@@ -76,12 +76,12 @@ namespace
   void compare_box(const std::string &name, const std::string &text, const std::string &mesh,
                    const unsigned int refinements, Checker &chk, const double cross_rank_tolerance = 0)
   {
-    const MPI_Comm world     = MPI_COMM_WORLD;
-    const Scene    generated = parse_scene(text, "<generated box>");
-    const Scene    from_file =
-      parse_scene(text + "subsection Domain\n  set Mesh file = " + mesh +
-                    "\n  set Mesh refinements = " + std::to_string(refinements) + "\nend\n",
-                  "<box from file>");
+    const MPI_Comm     world     = MPI_COMM_WORLD;
+    const scene::Scene generated = scene::parse_scene(text, "<generated box>");
+    const scene::Scene from_file =
+      scene::parse_scene(text + "subsection Domain\n  set Mesh file = " + mesh +
+                           "\n  set Mesh refinements = " + std::to_string(refinements) + "\nend\n",
+                         "<box from file>");
     const auto         a      = run<dim, Description>(generated, world);
     const auto         b      = run<dim, Description>(from_file, world);
     const unsigned int nranks = Utilities::MPI::n_mpi_processes(world);
@@ -130,10 +130,10 @@ namespace
     return read_text_file(std::string(GRANHYDRO_TEST_DIR) + "/granular_box_2d.prm");
   }
 
-  using Sim3 = Simulation<3, physics::GranularGas<3>>;
+  using Sim3 = driver::Simulation<3, physics::GranularGas<3>>;
 
   /// total mass [kg]
-  double mass(const Sim3 &sim, const Scene &scene)
+  double mass(const Sim3 &sim, const scene::Scene &scene)
   {
     return sim.totals()[0] * scene.grain_mass();
   }
@@ -177,8 +177,8 @@ int main(int argc, char **argv)
       if (mode == "closed") // outlet bottom closed by a no-slip wall; 40 steps
         text += "subsection Domain\n  set Boundary y- = no-slip wall\nend\nsubsection Time\n"
                 "  set Maximum steps = 40\nend\n";
-      const Scene scene = parse_scene(text, arg);
-      Sim3        sim(scene, MPI_COMM_WORLD, std::cout);
+      const scene::Scene scene = scene::parse_scene(text, arg);
+      Sim3               sim(scene, MPI_COMM_WORLD, std::cout);
       sim.setup();
       const double M0      = mass(sim, scene);
       const auto   summary = sim.run();

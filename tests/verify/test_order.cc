@@ -120,7 +120,7 @@ namespace
       s.fixed_dt *= std::atof(f);
     s.end_time = t_end;
     s.cfl      = 0.45;
-    Simulation<dim> sim(make_scene(s), comm, std::cout);
+    driver::Simulation<dim> sim(make_scene(s), comm, std::cout);
     sim.setup();
     const auto exact = [&](const dealii::Point<dim> &x, const double t) {
       if constexpr (dim == 1)

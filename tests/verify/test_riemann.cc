@@ -35,8 +35,8 @@ namespace
 
   /// run the problem along axis `axis` of a dim-D box; returns the cell densities along the axis
   template <int dim>
-  std::vector<double> run(const Problem &pb, unsigned int axis, const SceneSpec &numerics,
-                          double &wall, double &transverse_spread)
+  std::vector<double> run(const Problem &pb, unsigned int axis, const SceneSpec &numerics, double &wall,
+                          double &transverse_spread)
   {
     SceneSpec s = numerics;
     s.dim       = dim;
@@ -51,13 +51,13 @@ namespace
       }
     for (unsigned int d = 0; d < 3; ++d)
       {
-        s.cells[d]           = d == axis ? 200 : 3;
-        s.upper[d]           = d == axis ? 1. : 3. / 200;
-        s.boundary[2 * d]    = d == axis ? "outflow" : "periodic";
+        s.cells[d]            = d == axis ? 200 : 3;
+        s.upper[d]            = d == axis ? 1. : 3. / 200;
+        s.boundary[2 * d]     = d == axis ? "outflow" : "periodic";
         s.boundary[2 * d + 1] = d == axis ? "outflow" : "periodic";
       }
-    const Scene     scene = make_scene(s);
-    Simulation<dim> sim(scene, MPI_COMM_SELF, std::cout);
+    const scene::Scene      scene = make_scene(s);
+    driver::Simulation<dim> sim(scene, MPI_COMM_SELF, std::cout);
     sim.setup();
     sim.set_initial_state(
       [&](const dealii::Point<dim> &x) {
@@ -67,13 +67,13 @@ namespace
         return conservative<dim>(w.rho, u, w.p, pb.gamma);
       },
       1); // the discontinuity lies on a face: one point per cell is exact
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0  = std::chrono::steady_clock::now();
     const auto sum = sim.run();
     if (std::getenv("GRANHYDRO_DEBUG"))
-      std::cout << pb.name << " dim " << dim << " axis " << axis << " steps " << sum.steps
-                << " resets " << sum.convection.limited_cells << " fallbacks "
-                << sum.convection.fallback_cells << " musta-fallbacks " << sum.convection.flux.fallbacks
-                << " stages/pt " << double(sum.convection.flux.stages) / sum.convection.flux.points << "\n";
+      std::cout << pb.name << " dim " << dim << " axis " << axis << " steps " << sum.steps << " resets "
+                << sum.convection.limited_cells << " fallbacks " << sum.convection.fallback_cells
+                << " musta-fallbacks " << sum.convection.flux.fallbacks << " stages/pt "
+                << double(sum.convection.flux.stages) / sum.convection.flux.points << "\n";
     wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::vector<double> rho(200, 0.), mn(200, 1e300), mx(200, -1e300);
     for (unsigned int c = 0; c < sim.patch().n_owned(); ++c)
@@ -113,10 +113,10 @@ int main(int argc, char **argv)
           for (const std::string flux : {"rusanov", "hll", "musta"})
             {
               SceneSpec s;
-              s.fixed_dt = 1e9; // CFL 0.4 decides
+              s.fixed_dt       = 1e9; // CFL 0.4 decides
               s.reconstruction = rec;
               s.flux           = flux;
-              double wall, spread;
+              double     wall, spread;
               const auto rho = run<1>(pb, 0, s, wall, spread);
               std::cout << pb.name << ',' << rec << ",-," << flux << ',' << std::setprecision(4)
                         << l1_error(pb, rho) << ',' << wall << std::endl;
@@ -142,19 +142,18 @@ int main(int argc, char **argv)
         bound = 3 * h * std::abs(ex.rho_star_right() - pb.right.rho) / 4 +
                 8 * h * std::abs(ex.rho_star_left() - ex.rho_star_right()) / 4 +
                 2 * h * std::abs(pb.left.rho - ex.rho_star_left());
-      SceneSpec s;
-      double    wall, spread;
+      SceneSpec    s;
+      double       wall, spread;
       const auto   r1 = run<1>(pb, 0, s, wall, spread);
       const double e1 = l1_error(pb, r1);
-      chk.check(e1 < bound, pb.name + " 1D: L1(rho) = " + std::to_string(e1) + " < bound " +
-                              std::to_string(bound));
+      chk.check(e1 < bound,
+                pb.name + " 1D: L1(rho) = " + std::to_string(e1) + " < bound " + std::to_string(bound));
       std::vector<double> r3[3];
       for (unsigned int axis = 0; axis < 3; ++axis)
         {
           r3[axis]        = run<3>(pb, axis, s, wall, spread);
           const double e3 = l1_error(pb, r3[axis]);
-          chk.check(e3 < bound, pb.name + " 3D along " + "xyz"[axis] + ": L1(rho) = " +
-                                  std::to_string(e3));
+          chk.check(e3 < bound, pb.name + " 3D along " + "xyz"[axis] + ": L1(rho) = " + std::to_string(e3));
           // uniform across: the transverse directions see constant data, so the
           // transverse flux differences cancel up to round-off of O(1) pressures
           chk.check(spread < 1e-13, pb.name + " 3D along " + "xyz"[axis] +

@@ -32,9 +32,3 @@ namespace granhydro::boundary
     return t == BoundaryType::slip_wall || t == BoundaryType::no_slip_wall;
   }
 } // namespace granhydro::boundary
-
-namespace granhydro
-{
-  /// the boundary kinds are named all over the scene and the tests: granhydro::BoundaryType
-  using boundary::BoundaryType;
-} // namespace granhydro

@@ -30,8 +30,3 @@ namespace granhydro::boundary
     double            velocity_unit = 1; ///< [m/s]
   };
 } // namespace granhydro::boundary
-
-namespace granhydro
-{
-  using boundary::WallTable;
-} // namespace granhydro

@@ -56,7 +56,7 @@ namespace granhydro::convection
     static constexpr unsigned int NC = dim + 2;
     using Vector                     = dealii::LinearAlgebra::distributed::Vector<double>;
 
-    ConvectionOperator(const CartesianPatch<dim> &patch, const Description &desc,
+    ConvectionOperator(const mesh::CartesianPatch<dim> &patch, const Description &desc,
                        const ConvectionSettings &settings);
 
     /// the stencil half width of the scene's reconstruction (ghost width - 1)
@@ -101,24 +101,24 @@ namespace granhydro::convection
     void assemble_rhs(double *rhs) const;
     bool stage_update(Vector &U, const double a, const double b, const double den, const double dt) const;
 
-    const CartesianPatch<dim>      &patch;
-    const Description              &desc;
-    NumericalFlux<dim, Description> numflux;
-    ReconstructionType              rtype;
-    bool                            transverse; // transverse reconstruction stages B (and C in 3D)
-    unsigned int                    P;          // points per transverse direction: 2 Gauss, 1 centre
-    double                          length_unit;
-    std::vector<double>             inv_h[dim]; // 1/dx_d of each owned cell in scaled units
-    FirstOrder                      rec1;
-    Muscl                           rec_muscl;
-    Weno3                           rec3;
-    Weno5                           rec5;
+    const mesh::CartesianPatch<dim> &patch;
+    const Description               &desc;
+    NumericalFlux<dim, Description>  numflux;
+    ReconstructionType               rtype;
+    bool                             transverse; // transverse reconstruction stages B (and C in 3D)
+    unsigned int                     P;          // points per transverse direction: 2 Gauss, 1 centre
+    double                           length_unit;
+    std::vector<double>              inv_h[dim]; // 1/dx_d of each owned cell in scaled units
+    FirstOrder                       rec1;
+    Muscl                            rec_muscl;
+    Weno3                            rec3;
+    Weno5                            rec5;
 
     // slot lists per direction (on several ranks without the MPI ghosts, whose stage
     // values come from their owners through halo)
     std::vector<unsigned int> listA[dim], listB[dim], listC[dim];
     bool                      halo_exchange = false;
-    SlotExchange              halo;
+    mesh::SlotExchange        halo;
     /// the exchange channel of stage j (0: A, 1: B, 2: C) of direction d
     static unsigned int channel(const unsigned int d, const unsigned int j) { return 3 * d + j; }
     /// per direction and stage: the first split entries of the list are the slots other

@@ -10,7 +10,7 @@
 
 #include <array>
 
-namespace granhydro
+namespace granhydro::convection
 {
   enum class ReconstructionType
   {
@@ -54,10 +54,7 @@ namespace granhydro
                       EnumName{FluxType::hll, "hll"});
   }
   static_assert(check_enum_names(enum_names(FluxType{})));
-} // namespace granhydro
 
-namespace granhydro::convection
-{
   struct ConvectionSettings
   {
     ReconstructionType reconstruction  = ReconstructionType::weno5;

@@ -89,7 +89,7 @@ namespace granhydro::diffusion
   public:
     static constexpr unsigned int NC = dim + 2;
 
-    DiffusionOperator(const CartesianPatch<dim> &patch, const physics::GranularGas<dim> &desc,
+    DiffusionOperator(const mesh::CartesianPatch<dim> &patch, const physics::GranularGas<dim> &desc,
                       const DiffusionSettings &settings, const double length_unit);
 
     void setup();
@@ -121,7 +121,7 @@ namespace granhydro::diffusion
     /// largest explicit diffusion rate max(2 D / dx^2 summed over directions) on owned cells
     double explicit_rate(const double *W) const;
 
-    const CartesianPatch<dim> &get_patch() const { return patch; }
+    const mesh::CartesianPatch<dim> &get_patch() const { return patch; }
 
     /// Frictional dissipation rate of the last residual() call, summed over this rank's
     /// owned cells (scaled energy per time, times the scaled cell volume): the work of the
@@ -205,7 +205,7 @@ namespace granhydro::diffusion
     template <class V>
     void face_fluxes(const double *W, const unsigned int d) const;
 
-    const CartesianPatch<dim>       &patch;
+    const mesh::CartesianPatch<dim> &patch;
     const physics::GranularGas<dim> &desc;
     DiffusionSettings                settings;
     double                           length_unit;

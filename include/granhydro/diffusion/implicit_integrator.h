@@ -57,8 +57,8 @@
 #include <deal.II/lac/trilinos_vector.h>
 
 #include <limits>
-#include <vector>
 #include <string>
+#include <vector>
 
 namespace granhydro::diffusion
 {
@@ -72,30 +72,29 @@ namespace granhydro::diffusion
 
   struct IntegratorSettings
   {
-    ImplicitMethod method             = ImplicitMethod::gauss_legendre;
-    double         newton_tolerance   = 1e-10; ///< relative to each cell's own state (newton_scale())
+    ImplicitMethod method                = ImplicitMethod::gauss_legendre;
+    double         newton_tolerance      = 1e-10; ///< relative to each cell's own state (newton_scale())
     unsigned int   newton_max_iterations = 25;
-    double         linear_tolerance   = 1e-12; ///< relative GMRES residual
-    bool           amg                = false;
+    double         linear_tolerance      = 1e-12; ///< relative GMRES residual
+    bool           amg                   = false;
     /// the Newton matrix as granhydro's block-sparse matrix with block ILU(0) (true) or as a
     /// Trilinos matrix with Ifpack ILU(0) / ML AMG (false; amg needs false)
-    bool           block_ilu          = true;
+    bool block_ilu = true;
     /// GMRES tolerance: Eisenstat-Walker forcing (true) or linear_tolerance always (false)
-    bool           inexact_newton     = true;
+    bool inexact_newton = true;
     /// keep the Newton matrix and its preconditioner across steps while the modified
     /// Newton iteration contracts fast (see ImplicitIntegrator::irk_attempt)
-    bool           reuse_matrix       = true;
+    bool reuse_matrix = true;
     /// Jacobian of the cross terms: false = lagged, retried fully coupled when Newton
     /// stalls; true = always fully coupled
-    bool           full_jacobian      = false;
+    bool full_jacobian = false;
   };
 
   struct IntegratorStatistics
   {
     unsigned long long steps = 0, newton_iterations = 0, linear_iterations = 0, newton_failures = 0,
-                       linear_failures = 0, switches_to_midpoint = 0, explicit_substeps = 0,
-                       jacobians = 0, full_jacobian_retries = 0, matrix_reuses = 0,
-                       stale_matrix_retries = 0;
+                       linear_failures = 0, switches_to_midpoint = 0, explicit_substeps = 0, jacobians = 0,
+                       full_jacobian_retries = 0, matrix_reuses = 0, stale_matrix_retries = 0;
     /// wall time (this rank) in the finite-difference Jacobian and Newton-matrix assembly,
     /// in the preconditioner set-up, and in GMRES
     double jacobian_seconds = 0, preconditioner_seconds = 0, linear_seconds = 0;
@@ -176,15 +175,16 @@ namespace granhydro::diffusion
     const IntegratorStatistics &statistics() const { return stats; }
 
     /// why the last failed step failed (this rank's view)
-    const std::string &failure() const { return last_failure; }
-    IntegratorStatistics        global_statistics() const;
+    const std::string   &failure() const { return last_failure; }
+    IntegratorStatistics global_statistics() const;
 
   private:
     /// one step of the Runge-Kutta method of the tableau; diagonally implicit methods (A lower
     /// triangular with one diagonal value) are solved stage by stage. Redone with the
     /// fully coupled Jacobian when the lagged one stalls.
     bool irk_step(Vector &U, const double t, const double dt, const ButcherTableau &tableau);
-    bool irk_attempt(Vector &U, const double t, const double dt, const ButcherTableau &tableau, const bool full);
+    bool irk_attempt(Vector &U, const double t, const double dt, const ButcherTableau &tableau,
+                     const bool full);
     /// Newton matrix I - dt N (x) J with J at the gathered state W, and its preconditioner
     /// false if the block ILU met a singular diagonal block (Newton then fails)
     bool setup_newton(const double dt, const Table &N, const bool coupled);
@@ -208,16 +208,16 @@ namespace granhydro::diffusion
     bool admissible_owned(const std::vector<double> &U);
 
     const DiffusionOperator<dim>    &op;
-    const CartesianPatch<dim>       &patch;
+    const mesh::CartesianPatch<dim> &patch;
     const physics::GranularGas<dim> &desc;
     IntegratorSettings               settings;
     IntegratorStatistics             stats;
     // indexed by [number of stages][cross terms coupled]: the lagged Jacobian only
     // couples face neighbours (7-point in 3D), the fully coupled one adds the edge
     // neighbours (19-point); a 19-point pattern full of zeros makes ILU ~3x dearer
-    dealii::TrilinosWrappers::SparseMatrix M_[3][2];
-    bool                                   have_pattern[3][2] = {};
-    dealii::TrilinosWrappers::SparseMatrix *M = nullptr; ///< the Newton matrix of this step
+    dealii::TrilinosWrappers::SparseMatrix  M_[3][2];
+    bool                                    have_pattern[3][2] = {};
+    dealii::TrilinosWrappers::SparseMatrix *M                  = nullptr; ///< the Newton matrix of this step
     /// the Newton matrix (and preconditioner) in M can serve the next step: built for
     /// the coefficients matrix_N, cross terms matrix_coupled, step matrix_dt, matrix_age
     /// steps ago
@@ -228,9 +228,9 @@ namespace granhydro::diffusion
     /// the time and owned state the kept matrix was built from (history())
     double              matrix_t = 0;
     std::vector<double> matrix_state;
-    bool         gmres_failed = false; ///< the last Newton iteration failed in GMRES
+    bool                gmres_failed = false; ///< the last Newton iteration failed in GMRES
     /// cost-based: steps left before RKL2 may be tried again after a failure
-    unsigned int rkl2_blocked = 0;
+    unsigned int                              rkl2_blocked = 0;
     dealii::TrilinosWrappers::PreconditionILU ilu;
     /// settings.block_ilu: the Newton matrix, its block ILU(0), and vectors on the
     /// partitioner with `stages` values per unknown (index: stages)
@@ -240,11 +240,11 @@ namespace granhydro::diffusion
     /// matrix's product imports them) and without (GMRES's Krylov vectors: the ghost
     /// storage of 30 vectors would grow with the halo, i.e. with the number of ranks)
     std::shared_ptr<const dealii::Utilities::MPI::Partitioner> block_part[3], block_part_owned[3];
-    Vector            brhs, bdelta;
-    dealii::TrilinosWrappers::PreconditionAMG amg;
-    std::vector<double>                    W, U0, f;
-    std::string                            last_failure;
-    double                                 explicit_limit = 0; ///< of the current step (scaled)
-    Vector                                 Y;
+    Vector                                                     brhs, bdelta;
+    dealii::TrilinosWrappers::PreconditionAMG                  amg;
+    std::vector<double>                                        W, U0, f;
+    std::string                                                last_failure;
+    double explicit_limit = 0; ///< of the current step (scaled)
+    Vector Y;
   };
 } // namespace granhydro::diffusion

@@ -20,7 +20,7 @@
 #include <utility>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::driver
 {
   template <int dim>
   class Checkpointing
@@ -42,7 +42,7 @@ namespace granhydro
 
     /// write U of the patch and c to file (rank 0 writes all cells, sorted by lattice key,
     /// atomically and verified); a failure throws OutputError on every rank
-    void write(const std::string &file, const CartesianPatch<dim> &patch, const Vector &U,
+    void write(const std::string &file, const mesh::CartesianPatch<dim> &patch, const Vector &U,
                const Contents &c) const;
 
     /// where a restarted run continues
@@ -59,12 +59,12 @@ namespace granhydro
     /// mesh_changed() is called and U re-initialised); keep_history: the run has an
     /// implicit integrator. Throws SceneError naming 'Initial state/Checkpoint' if the file
     /// is unreadable or does not match the run (mesh, model)
-    Restart read(const std::string &file, CartesianPatch<dim> &patch, Vector &U, const bool keep_history,
-                 const std::function<void()> &mesh_changed) const;
+    Restart read(const std::string &file, mesh::CartesianPatch<dim> &patch, Vector &U,
+                 const bool keep_history, const std::function<void()> &mesh_changed) const;
 
   private:
     const CheckpointIdentity &identity;
     const Units              &units_;
     const MPI_Comm            comm;
   };
-} // namespace granhydro
+} // namespace granhydro::driver

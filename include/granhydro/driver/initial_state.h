@@ -17,7 +17,7 @@
 #include <map>
 #include <string>
 
-namespace granhydro
+namespace granhydro::driver
 {
   /// what the initial state reads of the scene
   struct InitialStateSettings
@@ -58,8 +58,8 @@ namespace granhydro
   /// the cell averages of f (SI, number momentum: InitialState) over the owned cells of
   /// the patch by Gauss quadrature with nq points per direction, scaled, into U
   template <int dim>
-  void set_cell_averages(const CartesianPatch<dim>                                            &patch,
+  void set_cell_averages(const mesh::CartesianPatch<dim>                                      &patch,
                          const std::function<physics::State<dim>(const dealii::Point<dim> &)> &f,
                          const unsigned int nq, const Units &units,
                          dealii::LinearAlgebra::distributed::Vector<double> &U);
-} // namespace granhydro
+} // namespace granhydro::driver

@@ -15,13 +15,13 @@
 #include <string>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::driver
 {
   /// one phase of a run, its wall time over the ranks [s]
   struct PhaseTime
   {
-    std::string  key;   ///< the summary's rows are <key>_min_seconds, _avg_seconds, _max_seconds
-    std::string  label; ///< the name in the log's table
+    std::string key;   ///< the summary's rows are <key>_min_seconds, _avg_seconds, _max_seconds
+    std::string label; ///< the name in the log's table
     /// 0: the whole run ("wall") or one of the phases that split it: on every rank they
     /// do not overlap, and "other" is what they leave; 1: a part of the phase above
     unsigned int depth = 0;
@@ -44,4 +44,4 @@ namespace granhydro
   /// the summary's rows <key>_min_seconds, <key>_avg_seconds, <key>_max_seconds of every
   /// phase (all of them, also those that took no time)
   void append_phase_entries(std::vector<io::SummaryEntry> &entries, const std::vector<PhaseTime> &phases);
-} // namespace granhydro
+} // namespace granhydro::driver

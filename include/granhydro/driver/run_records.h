@@ -17,7 +17,7 @@
 #include <ostream>
 #include <string>
 
-namespace granhydro
+namespace granhydro::driver
 {
   class RunRecords
   {
@@ -50,4 +50,4 @@ namespace granhydro
     std::unique_ptr<std::ostream> tee_stream;
     std::ostream                 *log_;
   };
-} // namespace granhydro
+} // namespace granhydro::driver

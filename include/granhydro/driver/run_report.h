@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::driver
 {
   class RunReport
   {
@@ -57,4 +57,4 @@ namespace granhydro
     const dealii::ConditionalOStream &pcout;
     std::string                       started_utc_;
   };
-} // namespace granhydro
+} // namespace granhydro::driver

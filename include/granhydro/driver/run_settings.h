@@ -15,9 +15,13 @@
 #include <string>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::scene
 {
   struct Scene;
+}
+
+namespace granhydro::driver
+{
 
   /// the time loop: end, step size, retries, stop rules, when to adapt
   struct TimeLoopSettings
@@ -84,8 +88,8 @@ namespace granhydro
   /// the mesh adaptation (adapt_mesh.cc): the indicator's thresholds and the partition
   struct AdaptationSettings
   {
-    RefinementIndicatorSettings indicator;               ///< where to refine and coarsen
-    bool                        balance_by_cost = false; ///< the partition weighs cells by measured cost
+    mesh::RefinementIndicatorSettings indicator; ///< where to refine and coarsen
+    bool balance_by_cost = false;                ///< the partition weighs cells by measured cost
   };
 
   /// every part's settings
@@ -99,5 +103,5 @@ namespace granhydro
   };
 
   /// the parts' settings from the scene (dim: the profiles' default direction is the last)
-  RunSettings run_settings(const Scene &scene, const unsigned int dim);
-} // namespace granhydro
+  RunSettings run_settings(const scene::Scene &scene, const unsigned int dim);
+} // namespace granhydro::driver

@@ -8,23 +8,21 @@
 #include <granhydro/diffusion/implicit_integrator.h>
 #include <granhydro/driver/phase_times.h>
 
-#include <vector>
-
 #include <string>
 #include <utility>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::driver
 {
   struct RunSummary
   {
     unsigned int steps = 0, rejected_steps = 0;
     /// wall_seconds: rank 0's; convection, adaptation (indicator, p4est, transfer, tables)
     /// and diffusion_seconds: the largest rank's (also in phases)
-    double       time_si = 0, wall_seconds = 0, convection_seconds = 0;
-    double       adaptation_seconds = 0;
+    double time_si = 0, wall_seconds = 0, convection_seconds = 0;
+    double adaptation_seconds = 0;
     /// where the wall time went: min, avg, max over the ranks per phase (phase_times.h)
-    std::vector<PhaseTime> phases;
+    std::vector<PhaseTime>           phases;
     convection::ConvectionStatistics convection;
     diffusion::IntegratorStatistics  diffusion;
     double                           diffusion_seconds = 0;
@@ -40,7 +38,7 @@ namespace granhydro
     double       mass_drift = 0;
     unsigned int cells = 0, ranks = 1;
     /// adaptive meshes: the most cells the mesh had, and how often it was adapted
-    unsigned long long max_cells = 0;
+    unsigned long long max_cells   = 0;
     unsigned int       adaptations = 0;
     /// cells flagged for refinement and coarsening over the run
     unsigned long long refined_cells = 0, coarsened_cells = 0;
@@ -50,7 +48,7 @@ namespace granhydro
     /// thermal-energy deficit repaired per grain (scaled)
     unsigned long long temperature_repairs = 0;
     /// cell updates that ended beyond phi_c - delta (linear continuations of chi and w)
-    unsigned long long continuation_cells = 0;
+    unsigned long long continuation_cells     = 0;
     double             max_temperature_repair = 0;
     /// SSP-RK3 steps taken by the convective part since the start of this run: 1 per step
     /// without the diffusion step, with it 2 per step with symmetric Strang splitting,
@@ -77,9 +75,9 @@ namespace granhydro
   /// material) converts the scaled values it carries
   struct RecordUnits
   {
-    double time = 1;           ///< [s] per scaled time
-    double energy = 1;         ///< [J] per scaled energy (a grain's)
-    double extent = 1;         ///< length^(dim - 3) [m^(dim - 3)]: grains or energy per m^(3 - dim)
+    double time   = 1; ///< [s] per scaled time
+    double energy = 1; ///< [J] per scaled energy (a grain's)
+    double extent = 1; ///< length^(dim - 3) [m^(dim - 3)]: grains or energy per m^(3 - dim)
   };
 
   /// the whole run so far: the record of the earlier segments combined with this
@@ -95,4 +93,4 @@ namespace granhydro
   /// checkpoint of format v5)
   bool from_run_record(const std::vector<std::pair<std::string, double>> &record, const RecordUnits &units,
                        RunSummary &sum);
-} // namespace granhydro
+} // namespace granhydro::driver

@@ -37,7 +37,7 @@
 #include <string>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::driver
 {
   /// the time loop of a scene with the constitutive description Description
   /// (physics::IdealGas<dim> or physics::GranularGas<dim>)
@@ -48,7 +48,7 @@ namespace granhydro
     using Vector = dealii::LinearAlgebra::distributed::Vector<double>;
     using State  = physics::State<dim>;
 
-    Simulation(const Scene &scene, const MPI_Comm comm, std::ostream &log);
+    Simulation(const scene::Scene &scene, const MPI_Comm comm, std::ostream &log);
     ~Simulation();
 
     /// mesh, operators, initial state from the scene's expressions
@@ -78,7 +78,7 @@ namespace granhydro
     /// (and the unsynchronised state) if that convective step fails
     bool synchronised_state(Vector &V) { return split_->synchronised_state(U, V); }
 
-    const CartesianPatch<dim>                              &patch() const { return *patch_; }
+    const mesh::CartesianPatch<dim>                        &patch() const { return *patch_; }
     const Vector                                           &state() const { return U; }
     const Units                                            &units() const { return units_; }
     const Description                                      &description() const { return desc; }
@@ -183,17 +183,17 @@ namespace granhydro
 
     /// the scene: read here, in the composition root (simulation.cc) only; the parts of
     /// the run read their settings below (run_settings.h)
-    Scene                                scene;
-    TimeLoopSettings                     loop;       ///< time_loop.cc
-    RunFiles                             files;      ///< outputs, checkpoints, history, summary
-    RunReportSettings                    report;     ///< run_summary.cc, run_history.cc
-    CheckpointIdentity                   identity;   ///< simulation_checkpoint.cc
-    AdaptationSettings                   adaptation; ///< adapt_mesh.cc
-    MPI_Comm                             comm;
-    dealii::ConditionalOStream           pcout;
-    Units                                units_;
-    Description                          desc;
-    std::unique_ptr<CartesianPatch<dim>> patch_;
+    scene::Scene                               scene;
+    TimeLoopSettings                           loop;       ///< time_loop.cc
+    RunFiles                                   files;      ///< outputs, checkpoints, history, summary
+    RunReportSettings                          report;     ///< run_summary.cc, run_history.cc
+    CheckpointIdentity                         identity;   ///< simulation_checkpoint.cc
+    AdaptationSettings                         adaptation; ///< adapt_mesh.cc
+    MPI_Comm                                   comm;
+    dealii::ConditionalOStream                 pcout;
+    Units                                      units_;
+    Description                                desc;
+    std::unique_ptr<mesh::CartesianPatch<dim>> patch_;
     std::unique_ptr<convection::ConvectionOperator<dim, Description>> conv;
     std::unique_ptr<io::Output<dim, Description>>                     output;
     std::unique_ptr<diffusion::DiffusionOperator<dim>>                diff;
@@ -230,10 +230,10 @@ namespace granhydro
 
   /// read the scene's dimension and run it; returns the process exit code: 0, or
   /// 128 + the signal number when SIGTERM/SIGINT stopped it (143 / 130)
-  int run_scene(const Scene &scene, const MPI_Comm comm, std::ostream &log);
+  int run_scene(const scene::Scene &scene, const MPI_Comm comm, std::ostream &log);
   /// the same with the run's records (driver/run_records.h): it prints to records.log(),
   /// and records.start() writes them once the scene is set up
-  int run_scene(const Scene &scene, const MPI_Comm comm, RunRecords &records);
+  int run_scene(const scene::Scene &scene, const MPI_Comm comm, RunRecords &records);
 
   /// SIGTERM and SIGINT make a run finish its current step, write the final output, a
   /// checkpoint (with the implicit step's history, so a restart continues exactly as the
@@ -242,4 +242,4 @@ namespace granhydro
   void install_stop_signal_handlers();
   /// the signal received since install_stop_signal_handlers() (0: none)
   int stop_signal();
-} // namespace granhydro
+} // namespace granhydro::driver

@@ -15,7 +15,7 @@
 #include <deal.II/base/timer.h>
 #include <deal.II/lac/la_parallel_vector.h>
 
-namespace granhydro
+namespace granhydro::driver
 {
   /// what the split step counts over a run (this rank's share; the run summary sums them)
   struct SplitStepCounters
@@ -39,7 +39,7 @@ namespace granhydro
               dealii::TimerOutput &timers, const dealii::ConditionalOStream &pcout);
 
     /// the operators of the current mesh (integrator may be null: no diffusion step)
-    void set_operators(const CartesianPatch<dim>                        &patch,
+    void set_operators(const mesh::CartesianPatch<dim>                  &patch,
                        convection::ConvectionOperator<dim, Description> &conv,
                        diffusion::ImplicitIntegrator<dim>               *integrator);
 
@@ -78,10 +78,10 @@ namespace granhydro
     const double                                      time_unit_;
     dealii::TimerOutput                              &timers_;
     const dealii::ConditionalOStream                 &pcout;
-    const CartesianPatch<dim>                        *patch_      = nullptr;
+    const mesh::CartesianPatch<dim>                  *patch_      = nullptr;
     convection::ConvectionOperator<dim, Description> *conv_       = nullptr;
     diffusion::ImplicitIntegrator<dim>               *integrator_ = nullptr;
     double                                            owed_       = 0;
     SplitStepCounters                                 counters_;
   };
-} // namespace granhydro
+} // namespace granhydro::driver

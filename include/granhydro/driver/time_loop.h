@@ -13,30 +13,30 @@
 #include <limits>
 #include <string>
 
-namespace granhydro
+namespace granhydro::driver
 {
   struct TimeLoopState
   {
     using clock = std::chrono::steady_clock;
     clock::time_point start, last_progress;
     RunSummary        sum;
-    double            t0 = 1;                                ///< the time unit [s]
+    double            t0    = 1;                             ///< the time unit [s]
     double            t_end = 0, dt_fixed = 0, interval = 0; ///< scaled
     double            t = 0, next_output = 0;                ///< scaled
     unsigned int      step = 0;
     /// Numerics/Strang splitting = merged: adjacent convective half-steps of the
     /// splitting are taken as one (Simulation::advance())
-    bool              merge = false;
-    std::string       checkpoint; ///< the checkpoint file
+    bool        merge = false;
+    std::string checkpoint; ///< the checkpoint file
     /// the SIGTERM/SIGINT that stopped the run: its checkpoint keeps the integrator's
     /// history instead (between output times the uninterrupted run keeps it too)
-    int               interrupted_by = 0;
-    bool              wall_limited   = false;
-    bool              have_steady_reference = false;
-    double            steady_ke = 0, steady_com = 0;
+    int    interrupted_by        = 0;
+    bool   wall_limited          = false;
+    bool   have_steady_reference = false;
+    double steady_ke = 0, steady_com = 0;
     /// the state before the step (a rejected step starts again from it)
     dealii::LinearAlgebra::distributed::Vector<double> backup;
-    double mass0 = 0; ///< total mass at the start (scaled)
+    double                                             mass0 = 0; ///< total mass at the start (scaled)
     /// largest body force per unit mass [m/s^2]: gravity plus the container's acceleration
     double g_eff = 0;
     /// smallest and largest step, smallest step cut short to land on an output or end time
@@ -49,4 +49,4 @@ namespace granhydro
     /// smallest convective CFL step and the time it occurred (scaled)
     double min_cfl = std::numeric_limits<double>::infinity(), min_cfl_t = 0;
   };
-} // namespace granhydro
+} // namespace granhydro::driver

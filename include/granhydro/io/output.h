@@ -39,7 +39,7 @@ namespace granhydro::io
   {
   public:
     using Vector = dealii::LinearAlgebra::distributed::Vector<double>;
-    Output(const OutputSettings &settings, const CartesianPatch<dim> &patch, const Description &desc);
+    Output(const OutputSettings &settings, const mesh::CartesianPatch<dim> &patch, const Description &desc);
 
     /// write VTU/PVTU/PVD and/or a block of profiles.csv, as the scene asks
     void write(const Vector &U, const double time_si, const unsigned int step);
@@ -60,7 +60,7 @@ namespace granhydro::io
     void                  write_cross_section(const Vector &U, const double time_si);
 
     const OutputSettings                        settings;
-    const CartesianPatch<dim>                  &patch;
+    const mesh::CartesianPatch<dim>            &patch;
     const Description                          &desc;
     Units                                       units;
     unsigned int                                counter = 0;

@@ -12,7 +12,7 @@
 
 #include <vector>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   /**
    * The flags CartesianPatch::adapt() takes, per owned slot (+1 refine, -1 coarsen, 0
@@ -26,4 +26,4 @@ namespace granhydro
   std::vector<signed char> refinement_flags(const CartesianPatch<dim> &patch, const std::vector<double> &a,
                                             const std::vector<double>         &b,
                                             const RefinementIndicatorSettings &settings, const bool initial);
-} // namespace granhydro
+} // namespace granhydro::mesh

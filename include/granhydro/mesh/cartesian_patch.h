@@ -78,7 +78,7 @@
 #include <utility>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   // parts of the patch (source/mesh, not installed), held by pointer or made on demand
   template <int dim>
@@ -236,7 +236,7 @@ namespace granhydro
     }
 
     /// the boundary condition of boundary id i
-    BoundaryType boundary_type(const unsigned int i) const { return walls_.settings[i].type; }
+    boundary::BoundaryType boundary_type(const unsigned int i) const { return walls_.settings[i].type; }
 
     /// true if the face between slots l (low side) and r along d is a wall (slip or
     /// no-slip): one real cell, one boundary ghost, and the cell's face has a wall id
@@ -310,4 +310,4 @@ namespace granhydro
     mutable bool                 dealii_mesh_current_ = true, dealii_dofs_current_ = true;
     unsigned long long           last_refined_ = 0, last_coarsened_ = 0;
   };
-} // namespace granhydro
+} // namespace granhydro::mesh

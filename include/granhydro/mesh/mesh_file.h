@@ -22,7 +22,7 @@
 #include <utility>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   /// what the scene validation and the patch need to know about a coarse mesh
   struct MeshFileInfo
@@ -68,4 +68,4 @@ namespace granhydro
         d = k;
     return {d, dx[d] > 0 ? 1u : 0u};
   }
-} // namespace granhydro
+} // namespace granhydro::mesh

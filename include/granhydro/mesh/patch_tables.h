@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   /// the lattice of a patch's box or mesh file, as its mesh was built
   struct LatticeGeometry
@@ -81,4 +81,4 @@ namespace granhydro
     std::vector<unsigned int>  cell_face_start[3];
     std::vector<PatchCellFace> cell_faces[3];
   };
-} // namespace granhydro
+} // namespace granhydro::mesh

@@ -10,7 +10,7 @@
 #include <array>
 #include <string>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   struct MeshSettings
   {
@@ -38,4 +38,4 @@ namespace granhydro
     bool         second_differences = false; ///< the indicator: second differences (else jumps)
   };
 
-} // namespace granhydro
+} // namespace granhydro::mesh

@@ -21,7 +21,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::mesh
 {
   class SlotExchange
   {
@@ -29,8 +29,8 @@ namespace granhydro
     /// at most this many channels (bits of a need mask)
     static constexpr unsigned int max_channels = 16;
 
-    SlotExchange() = default;
-    SlotExchange(const SlotExchange &) = delete;
+    SlotExchange()                                = default;
+    SlotExchange(const SlotExchange &)            = delete;
     SlotExchange &operator=(const SlotExchange &) = delete;
     ~SlotExchange();
 
@@ -58,8 +58,8 @@ namespace granhydro
   private:
     struct Peer
     {
-      unsigned int                   rank;
-      std::vector<unsigned int>      slots[max_channels];
+      unsigned int              rank;
+      std::vector<unsigned int> slots[max_channels];
     };
     std::vector<Peer> send_, recv_;
     MPI_Comm          comm_ = MPI_COMM_NULL;
@@ -69,4 +69,4 @@ namespace granhydro
     /// complete the sends of channel k (their buffers are reused by the next start(k))
     void wait_sends(const unsigned int k) const;
   };
-} // namespace granhydro
+} // namespace granhydro::mesh

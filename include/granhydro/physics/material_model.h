@@ -9,7 +9,7 @@
 
 #include <array>
 
-namespace granhydro
+namespace granhydro::physics
 {
   enum class Model
   {
@@ -22,4 +22,4 @@ namespace granhydro
     return enum_table(EnumName{Model::ideal_gas, "ideal gas"}, EnumName{Model::granular, "granular"});
   }
   static_assert(check_enum_names(enum_names(Model{})));
-} // namespace granhydro
+} // namespace granhydro::physics

@@ -11,7 +11,7 @@
 #include <array>
 #include <string>
 
-namespace granhydro
+namespace granhydro::scene
 {
   /// Adaptivity/Indicator
   enum class RefinementIndicator
@@ -66,4 +66,4 @@ namespace granhydro
     /// a box domain in 2D/3D, ordered thresholds, a finest lattice of at most 2e8 points
     static void check(const Scene &s);
   };
-} // namespace granhydro
+} // namespace granhydro::scene

@@ -12,7 +12,7 @@
 #include <array>
 #include <string>
 
-namespace granhydro
+namespace granhydro::scene
 {
   /// Dense closure/Model
   enum class DenseClosure
@@ -45,4 +45,4 @@ namespace granhydro
     /// the closure's coefficients against the material's packing limits (granular model)
     static void check(const Scene &s);
   };
-} // namespace granhydro
+} // namespace granhydro::scene

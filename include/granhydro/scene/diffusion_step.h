@@ -12,7 +12,7 @@
 #include <array>
 #include <string>
 
-namespace granhydro
+namespace granhydro::scene
 {
   /// Diffusion step/Preconditioner: the Newton matrix and the preconditioner of GMRES
   enum class Preconditioner
@@ -46,4 +46,4 @@ namespace granhydro
     /// a linear tolerance GMRES can reach
     static void check(const Scene &s);
   };
-} // namespace granhydro
+} // namespace granhydro::scene

@@ -11,10 +11,14 @@
 #include <array>
 #include <string>
 
-namespace granhydro
+namespace granhydro::mesh
+{
+  struct MeshFileInfo;
+}
+
+namespace granhydro::scene
 {
   struct Scene;
-  struct MeshFileInfo;
 
   struct DomainParameters
   {
@@ -26,9 +30,10 @@ namespace granhydro
     std::array<unsigned int, 3> cells{{100, 100, 1}};
     /// boundary[2*d] lower side, boundary[2*d+1] upper side of direction d; with a mesh
     /// file, boundary[i] applies to the faces with boundary id i (whatever their direction)
-    std::array<BoundaryType, 6> boundary{{BoundaryType::slip_wall, BoundaryType::slip_wall,
-                                          BoundaryType::slip_wall, BoundaryType::slip_wall,
-                                          BoundaryType::slip_wall, BoundaryType::slip_wall}};
+    std::array<boundary::BoundaryType, 6> boundary{
+      {boundary::BoundaryType::slip_wall, boundary::BoundaryType::slip_wall,
+       boundary::BoundaryType::slip_wall, boundary::BoundaryType::slip_wall,
+       boundary::BoundaryType::slip_wall, boundary::BoundaryType::slip_wall}};
     /// tangential velocity of each wall [m/s] (no-slip walls), 3 components
     std::array<std::array<double, 3>, 6> wall_velocity{};
     /// grain-wall restitution eps_w of each wall (1 = elastic/adiabatic, doc/physics.md 5.2)
@@ -44,7 +49,7 @@ namespace granhydro
 
     /// a mesh file: readable, 2D/3D, no periodic sides, tangential wall velocities, cell
     /// count; what the file holds (empty without a mesh file)
-    static MeshFileInfo check_mesh(const Scene &s);
+    static mesh::MeshFileInfo check_mesh(const Scene &s);
     /// a box: corners, cell size, periodic pairs, cells enough for the reconstruction
     static void check_box(const Scene &s);
     /// the sides: wall velocities and restitutions only where walls can have them
@@ -52,4 +57,4 @@ namespace granhydro
     /// at most 5e7 cells in a box
     static void check_cell_count(const Scene &s);
   };
-} // namespace granhydro
+} // namespace granhydro::scene

@@ -8,7 +8,7 @@
 
 #include <array>
 
-namespace granhydro
+namespace granhydro::scene
 {
   struct Scene;
 
@@ -20,9 +20,9 @@ namespace granhydro
     bool                  cooling         = true;
     bool                  diagonal_flux   = false; // paper's D_ii-only flux (5.6)
     std::array<double, 3> gravity{{0, 0, 0}};      // [m/s^2]
-    double       vibration_amplitude = 0;          // [m], container displacement A sin(w t)
-    double       vibration_frequency = 0;          // [Hz]
-    unsigned int vibration_direction = 1;
+    double                vibration_amplitude = 0; // [m], container displacement A sin(w t)
+    double                vibration_frequency = 0; // [Hz]
+    unsigned int          vibration_direction = 1;
 
     static void declare_parameters(dealii::ParameterHandler &prm);
     /// the gravity list holds `dim` values or 3
@@ -35,4 +35,4 @@ namespace granhydro
     /// a vibration has amplitude and frequency, a resolved direction, the granular model
     static void check_vibration(const Scene &s);
   };
-} // namespace granhydro
+} // namespace granhydro::scene

@@ -10,21 +10,21 @@
 #include <string>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::scene
 {
   struct Scene;
 
   struct InitialStateParameters
   {
-    std::string initial_packing_fraction = "0.01";
-    std::string initial_velocity         = "0; 0; 0";
-    std::string initial_temperature      = "1e-8";
-    std::string initial_constants        = "";
-    unsigned int initial_quadrature      = 3;
-    std::string  initial_checkpoint      = ""; // restart/initial state from this file
+    std::string  initial_packing_fraction = "0.01";
+    std::string  initial_velocity         = "0; 0; 0";
+    std::string  initial_temperature      = "1e-8";
+    std::string  initial_constants        = "";
+    unsigned int initial_quadrature       = 3;
+    std::string  initial_checkpoint       = ""; // restart/initial state from this file
 
     static void declare_parameters(dealii::ParameterHandler &prm);
-    void parse_parameters(dealii::ParameterHandler &prm);
+    void        parse_parameters(dealii::ParameterHandler &prm);
     /// the expressions (syntax, one value each, finite) or the checkpoint (valid, of this
     /// scene, before its end time); without a checkpoint the whole initial state sampled at
     /// the cell centres of the box, or at `mesh_centres` (a mesh file's coarse cells)
@@ -32,4 +32,4 @@ namespace granhydro
     static void check(const Scene &s, const std::vector<std::array<double, 3>> &mesh_centres,
                       unsigned long long mesh_cells = 0);
   };
-} // namespace granhydro
+} // namespace granhydro::scene

@@ -4,39 +4,39 @@
  * The 'Numerics' subsection of a scene: the convective scheme, the time step and the
  * scaled velocity unit.
  */
-#include <deal.II/base/parameter_handler.h>
-
 #include <granhydro/convection/settings.h>
 
-namespace granhydro
+#include <deal.II/base/parameter_handler.h>
+
+namespace granhydro::scene
 {
   struct Scene;
 
   struct NumericsParameters
   {
-    ReconstructionType reconstruction = ReconstructionType::weno5;
-    FaceQuadrature     face_quadrature = FaceQuadrature::gauss;
+    convection::ReconstructionType reconstruction  = convection::ReconstructionType::weno5;
+    convection::FaceQuadrature     face_quadrature = convection::FaceQuadrature::gauss;
     /// convective flux through no-slip walls: false = the numerical flux between the cell and
     /// its mirror ghost (mass and energy set to 0); true = the paper's eq. 6.1a: zero mass and
     /// energy flux and only the wall pressure on the normal momentum (no tangential part)
-    bool               no_slip_pressure_flux = false;
-    FluxType           flux            = FluxType::musta;
-    unsigned int musta_max_stages = 4;
+    bool                 no_slip_pressure_flux = false;
+    convection::FluxType flux                  = convection::FluxType::musta;
+    unsigned int         musta_max_stages      = 4;
     /// 2: the 1 % rule compares stages (at least 2); 1: also a first-stage test on the jump
-    unsigned int musta_min_stages = 2;
-    double       musta_tolerance  = 0.01;
-    double       musta_local_cfl  = 0.9;
-    double       cfl              = 0.4;
-    double       fixed_time_step  = 0;   // [s], 0: from CFL
+    unsigned int musta_min_stages   = 2;
+    double       musta_tolerance    = 0.01;
+    double       musta_local_cfl    = 0.9;
+    double       cfl                = 0.4;
+    double       fixed_time_step    = 0; // [s], 0: from CFL
     double       reference_velocity = 0; // [m/s], 0: sqrt(g sigma), g = 9.81
-    unsigned int max_step_retries = 6;
+    unsigned int max_step_retries   = 6;
     /// Strang splitting with the diffusion step: merged (the closing C(dt/2) of a step and
     /// the opening one of the next taken as one convective step, synchronised at output
     /// times) or symmetric (C(dt/2) V(dt) C(dt/2) every step)
-    bool         merge_strang     = true;
+    bool merge_strang = true;
 
     static void declare_parameters(dealii::ParameterHandler &prm);
-    void parse_parameters(dealii::ParameterHandler &prm);
+    void        parse_parameters(dealii::ParameterHandler &prm);
 
     // Checks, in the order validate() runs them (the first failure is the message).
 
@@ -47,4 +47,4 @@ namespace granhydro
     /// the velocity unit near the default sqrt(g sigma) of the scene's grains
     static void check_reference_velocity(const Scene &s);
   };
-} // namespace granhydro
+} // namespace granhydro::scene

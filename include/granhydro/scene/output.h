@@ -9,7 +9,7 @@
 
 #include <string>
 
-namespace granhydro
+namespace granhydro::scene
 {
   struct Scene;
 
@@ -51,4 +51,4 @@ namespace granhydro
     /// a usable, writable directory, a plain base name, directions the scene resolves
     static void check(const Scene &s);
   };
-} // namespace granhydro
+} // namespace granhydro::scene

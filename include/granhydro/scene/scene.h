@@ -32,7 +32,7 @@
 #include <utility>
 #include <vector>
 
-namespace granhydro
+namespace granhydro::scene
 {
   /**
    * A scene is the aggregate of its subsections (as deal.II's step-33 AllParameters): each
@@ -65,7 +65,7 @@ namespace granhydro
     /// what the convective step needs (convection/settings.h)
     convection::ConvectionSettings convection_settings() const;
     /// what the mesh needs (mesh/settings.h)
-    MeshSettings mesh_settings() const;
+    mesh::MeshSettings mesh_settings() const;
     /// what the output needs (io/settings.h)
     io::OutputSettings output_settings() const;
     /// the vibrated container's motion in SI units (boundary/moving_frame.h; at rest
@@ -111,4 +111,4 @@ namespace granhydro
 
   /// check every impossible combination; throws SceneError
   void validate(const Scene &scene);
-} // namespace granhydro
+} // namespace granhydro::scene

@@ -5,7 +5,7 @@
  */
 #include <deal.II/base/parameter_handler.h>
 
-namespace granhydro
+namespace granhydro::scene
 {
   struct Scene;
 
@@ -21,4 +21,4 @@ namespace granhydro
     /// a positive end time
     static void check(const Scene &s);
   };
-} // namespace granhydro
+} // namespace granhydro::scene
