@@ -7,26 +7,21 @@
 
 #include <deal.II/base/mpi.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
-#include <algorithm>
 #include <fstream>
+#include <iostream>
 #include <map>
+#include <sstream>
+#include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
-#include <iostream>
-#include <stdexcept>
-#include <sstream>
-#include <string>
 
 namespace granhydro::testing
 {
-  /// an Output section that writes nothing and logs nothing (tests that only assert
-  /// on the state in memory)
-  inline const char *const quiet_output =
-    "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
-    "  set Write checkpoint = false\n  set Verbose = false\nend\n";
-
   /// the whole text of a file (scene files read by tests)
   inline std::string read_text_file(const std::string &f)
   {
@@ -37,14 +32,55 @@ namespace granhydro::testing
       throw std::runtime_error("cannot read " + f);
     return ss.str();
   }
-  /// a scene file as a test runs it: the file's text with every output (VTU, profiles,
-  /// checkpoint, summary, log) switched off
+  /// A number as a scene value: 17 significant digits, so that it reads back as the same
+  /// double (for overrides built from a test's C++ constants: "Time/End time=" + number(t)).
+  inline std::string number(const double x)
+  {
+    std::ostringstream os;
+    os.precision(17);
+    os << x;
+    return os.str();
+  }
+
+  /// the overrides that switch every output off (VTU, profiles, checkpoint, summary, log),
+  /// for a scene file of parameters/ run by a test
+  inline const std::vector<std::string> no_output = {"Output/Write VTU=false", "Output/Write profiles=false",
+                                                     "Output/Write checkpoint=false",
+                                                     "Output/Write summary=false", "Output/Verbose=false"};
+
+#ifdef GRANHYDRO_TEST_DIR
+  /// The path of a test's scene file, a .prm beside the test's source: the folder is
+  /// GRANHYDRO_TEST_DIR, defined by granhydro_add_test(... SCENES) (tests/granhydro_add_test.cmake).
+  inline std::string test_scene_file(const std::string &name)
+  {
+    return std::string(GRANHYDRO_TEST_DIR) + "/" + name;
+  }
+
+  /// A test's scene: the base scene file `name` beside the test with the case's
+  /// modifications, each an override in the form of the command line's -p,
+  /// "Section/Name=value" (applied by read_scene(), as granhydro applies -p).
+  inline Scene test_scene(const std::string &name, const std::vector<std::string> &overrides = {})
+  {
+    return read_scene(test_scene_file(name), overrides);
+  }
+#endif
+
+  /// A number that a scene sets as a plain constant expression (e.g. 'Initial state/
+  /// Temperature = 1e-8'), for a test's exact formula; throws if it is not a plain number.
+  inline double constant_expression(const std::string &expression)
+  {
+    std::size_t  used = 0;
+    const double x    = std::stod(expression, &used);
+    if (expression.find_first_not_of(" \t", used) != std::string::npos)
+      throw std::runtime_error("expected a plain number, got the expression '" + expression + "'");
+    return x;
+  }
+
+  /// a scene file as a test runs it: read as granhydro reads it, with every output (VTU,
+  /// profiles, checkpoint, summary, log) switched off by overrides
   inline Scene read_scene_quietly(const std::string &file)
   {
-    return parse_scene(read_text_file(file) +
-                         "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
-                         "  set Write checkpoint = false\n  set Write summary = false\n  set Verbose = false\nend\n",
-                       file);
+    return read_scene(file, no_output);
   }
 
   struct SceneSpec
@@ -52,12 +88,13 @@ namespace granhydro::testing
     unsigned int                dim = 1;
     std::array<unsigned int, 3> cells{{100, 1, 1}};
     std::array<double, 3>       lower{{0, 0, 0}}, upper{{1, 1, 1}};
-    std::array<std::string, 6>  boundary{{"outflow", "outflow", "periodic", "periodic", "periodic", "periodic"}};
-    double                      gamma = 5. / 3.;
-    double                      end_time = 0.1;
-    double                      fixed_dt = 0;
-    double                      cfl = 0.4;
-    std::string reconstruction = "weno5", quadrature = "gauss", flux = "musta";
+    std::array<std::string, 6>  boundary{
+      {"outflow", "outflow", "periodic", "periodic", "periodic", "periodic"}};
+    double       gamma          = 5. / 3.;
+    double       end_time       = 0.1;
+    double       fixed_dt       = 0;
+    double       cfl            = 0.4;
+    std::string  reconstruction = "weno5", quadrature = "gauss", flux = "musta";
     unsigned int max_steps = 0;
   };
 
@@ -78,8 +115,8 @@ namespace granhydro::testing
        << "\n  set Cells = " << list(s.cells) << "\n";
     for (unsigned int i = 0; i < 2 * s.dim; ++i)
       os << "  set Boundary " << sides[i] << " = " << s.boundary[i] << "\n";
-    os << "end\nsubsection Material\n  set Grain diameter = 1\n  set Material density = "
-       << 6. / M_PI << "\n  set Adiabatic index = " << s.gamma << "\nend\n"
+    os << "end\nsubsection Material\n  set Grain diameter = 1\n  set Material density = " << 6. / M_PI
+       << "\n  set Adiabatic index = " << s.gamma << "\nend\n"
        << "subsection Initial state\n  set Packing fraction = 0.5\n  set Temperature = 1\n"
        << "  set Velocity = " << (s.dim == 1 ? "0" : (s.dim == 2 ? "0; 0" : "0; 0; 0"))
        << "\n  set Quadrature points = 1\nend\n"
@@ -87,14 +124,18 @@ namespace granhydro::testing
        << "\n  set Face quadrature = " << s.quadrature << "\n  set Flux = " << s.flux
        << "\n  set CFL number = " << s.cfl << "\n  set Fixed time step = " << s.fixed_dt
        << "\n  set Reference velocity = 1\nend\n"
-       << "subsection Time\n  set End time = " << s.end_time << "\n  set Maximum steps = "
-       << s.max_steps << "\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n"
+       << "subsection Time\n  set End time = " << s.end_time << "\n  set Maximum steps = " << s.max_steps
+       << "\nend\n"
+       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint "
+          "= false\n"
        << "  set Verbose = false\nend\n";
     return os.str();
   }
 
-  inline Scene make_scene(const SceneSpec &s) { return parse_scene(scene_text(s), "<test scene>"); }
+  inline Scene make_scene(const SceneSpec &s)
+  {
+    return parse_scene(scene_text(s), "<test scene>");
+  }
 
   /// primitive (rho, u vector, p) -> conservative state for the ideal gas
   template <int dim>
@@ -131,7 +172,7 @@ namespace granhydro::testing
   /// counts compare cell by cell); empty on the other ranks.
   template <int dim, class Description>
   std::map<long long, physics::State<dim>> gather_state(const Simulation<dim, Description> &sim,
-                                                        const MPI_Comm comm)
+                                                        const MPI_Comm                      comm)
   {
     std::vector<double> mine;
     for (unsigned int c = 0; c < sim.patch().n_owned(); ++c)
@@ -140,7 +181,7 @@ namespace granhydro::testing
         const auto S = sim.state_si(c);
         mine.insert(mine.end(), S.begin(), S.end());
       }
-    const auto all = dealii::Utilities::MPI::gather(comm, mine, 0);
+    const auto                               all = dealii::Utilities::MPI::gather(comm, mine, 0);
     std::map<long long, physics::State<dim>> out;
     for (const auto &v : all)
       for (std::size_t i = 0; i < v.size(); i += dim + 3)

@@ -15,10 +15,10 @@
 //     sum_cells f_E dx + frictional power = 0 to 1e-13 of the energy-flux scale. With the
 //     paper's literal stress (Cohesionless = false) the same states do pull (the test is
 //     not vacuous). With and without the dense closure's frictional stress.
-#include "common/test_common.h"
-
 #include <granhydro/diffusion/diffusion_operator.h>
 #include <granhydro/physics/frictional_stress.h>
+
+#include "common/test_common.h"
 
 #include <iomanip>
 
@@ -52,12 +52,12 @@ namespace
       {
         double div, SS;
         physics::strain_rate_invariants<3, double>(c.G, div, SS);
-        bool         capped = true;
-        const double f      = fs.viscosity(1., div, SS, c.theta, &capped);
-        const double err    = c.f > 0 ? std::abs(f / c.f - 1) : std::abs(f) / fs.sin_phi;
+        bool               capped = true;
+        const double       f      = fs.viscosity(1., div, SS, c.theta, &capped);
+        const double       err    = c.f > 0 ? std::abs(f / c.f - 1) : std::abs(f) / fs.sin_phi;
         std::ostringstream os;
-        os << "Srivastava-Sundaresan, " << c.name << ": mu_f/P_c = " << std::setprecision(17) << f
-           << " vs " << c.f << " by hand (rel. " << std::setprecision(2) << err << ")";
+        os << "Srivastava-Sundaresan, " << c.name << ": mu_f/P_c = " << std::setprecision(17) << f << " vs "
+           << c.f << " by hand (rel. " << std::setprecision(2) << err << ")";
         // uniaxial dilation: the bracket is 0 up to round-off, raised to n - 1 = 0.815
         chk.check(err <= (c.f > 0 ? 1e-14 : 1e-12) && !capped, os.str());
       }
@@ -67,8 +67,8 @@ namespace
         const double G[2][2] = {{0, 0}, {gdot, 0}};
         double       div, SS;
         physics::strain_rate_invariants<2, double>(G, div, SS);
-        const double tau  = fs.viscosity(1., div, SS, 0.) * gdot;
-        const double tau1 = fs.viscosity(1., div, SS, 0.3 * gdot * gdot) * gdot;
+        const double       tau  = fs.viscosity(1., div, SS, 0.) * gdot;
+        const double       tau1 = fs.viscosity(1., div, SS, 0.3 * gdot * gdot) * gdot;
         std::ostringstream os;
         os << "simple shear " << gdot << "/s: tau_xy/P_c = " << std::setprecision(17) << tau
            << " (sin phi = " << fs.sin_phi << "), with fluctuations " << tau1;
@@ -80,7 +80,8 @@ namespace
       b.t_f                       = 0.5;
       bool         capped         = false;
       const double f              = b.viscosity(2., 0., 0.5 * 0.01 * 0.01, 0., &capped); // 0.01/s
-      chk.check(capped && f == 0.5 * fs.sin_phi * 2., "Srivastava-Sundaresan at 0.01/s: held at t_f sin(phi) P_c");
+      chk.check(capped && f == 0.5 * fs.sin_phi * 2.,
+                "Srivastava-Sundaresan at 0.01/s: held at t_f sin(phi) P_c");
       b.law = physics::FrictionalLaw::newtonian;
       chk.check(b.viscosity(2., 3., 5., 1.) == 0.5 * fs.sin_phi * 2., "Newtonian law: t_f sin(phi) P_c");
       b.t_f = 0;
@@ -89,26 +90,21 @@ namespace
     return chk.failed;
   }
 
-  std::string column(const std::string &velocity, const bool cohesionless, const bool closure)
+  /// frictional_column.prm (kinetic stress, cohesionless) with the velocity, the
+  /// cohesionless bound and, for the dense case, the closure
+  Scene column(const std::string &velocity, const bool cohesionless, const bool closure)
   {
-    std::ostringstream os;
-    os << "set Dimension = 1\nsubsection Domain\n  set Lower corner = 0\n  set Upper corner = 0.02\n"
-       << "  set Cells = 20\n  set Boundary x- = slip wall\n  set Boundary x+ = slip wall\nend\n"
-       << "subsection Material\n  set Model = granular\n  set Restitution coefficient = 1\n"
-       << "  set Cohesionless = " << (cohesionless ? "true" : "false") << "\nend\n"
-       << "subsection Dense closure\n  set Model = " << (closure ? "johnson-jackson" : "none")
-       << "\n  set Minimum packing fraction = 0.5\n  set Frictional stress = srivastava-sundaresan\nend\n"
-       << "subsection Effects\n  set Gravity = 0\nend\n"
-       << "subsection Initial state\n  set Packing fraction = " << (closure ? "0.56" : "0.3")
-       << "\n  set Velocity = " << velocity << "\n  set Temperature = 1e-9\n  set Quadrature points = 1\nend\n"
-       << quiet_output;
-    return os.str();
+    std::vector<std::string> o{"Initial state/Velocity=" + velocity,
+                               std::string("Material/Cohesionless=") + (cohesionless ? "true" : "false")};
+    if (closure)
+      o.insert(o.end(), {"Dense closure/Model=johnson-jackson", "Initial state/Packing fraction=0.56"});
+    return test_scene("frictional_column.prm", o);
   }
 
   int pulled_apart()
   {
-    Checker           chk;
-    using Sim         = Simulation<1, physics::GranularGas<1>>;
+    Checker chk;
+    using Sim              = Simulation<1, physics::GranularGas<1>>;
     const std::string tear = "2 * tanh((x - 0.01) / 0.002)", suction = "-2 * tanh((x - 0.01) / 0.002)";
     for (const bool closure : {false, true})
       for (const std::string &v : {tear, suction})
@@ -116,7 +112,7 @@ namespace
           double pull[2] = {0, 0}; // largest (tau_dd - p)/p over the faces: bounded, literal
           for (const bool cohesionless : {true, false})
             {
-              const Scene sc = parse_scene(column(v, cohesionless, closure), "pulled apart");
+              const Scene sc = column(v, cohesionless, closure);
               Sim         sim(sc, MPI_COMM_SELF, std::cout);
               sim.setup();
               const auto         &patch = sim.patch();
@@ -138,24 +134,27 @@ namespace
                   physics::State<1> Uf;
                   for (unsigned int c = 0; c < 3; ++c)
                     Uf[c] = 0.5 * (W[faces[k].l * 3 + c] + W[faces[k].r * 3 + c]);
-                  Uf[2] -= 0.5 * (desc.contact.energy_density(W[faces[k].l * 3]) + desc.contact.energy_density(W[faces[k].r * 3]));
+                  Uf[2] -= 0.5 * (desc.contact.energy_density(W[faces[k].l * 3]) +
+                                  desc.contact.energy_density(W[faces[k].r * 3]));
                   const double n = Uf[0], T = std::max(desc.temperature(Uf, 0.), 0.);
                   const double p = n * T * desc.model.Z(n * M_PI / 6.) + desc.contact.pressure(n);
                   worst          = std::max(worst, (F[k * 3 + 1] - p) / p);
                   flux_scale     = std::max(flux_scale, std::abs(F[k * 3 + 2]));
                 }
               pull[cohesionless ? 0 : 1] = worst;
-              double energy = 0; // d/dt of the total energy: the face fluxes telescope
+              double energy              = 0; // d/dt of the total energy: the face fluxes telescope
               for (unsigned int c = 0; c < patch.n_owned(); ++c)
                 energy += f[c * 3 + 2] * patch.cell_size(c, 0) / sim.units().length;
               energy += op.friction_power();
-              const auto counts = op.face_counts();
+              const auto         counts = op.face_counts();
               std::ostringstream os;
-              os << (closure ? "dense closure + friction, " : "kinetic stress only, ") << (v == tear ? "tear" : "wall suction")
-                 << (cohesionless ? ", cohesionless" : ", literal stress") << ": max (tau_nn - p)/p over faces "
-                 << std::scientific << std::setprecision(2) << worst << ", bounded faces " << counts.tension_bounded
-                 << " (" << counts.tension_bounded_walls << " at walls), sum f_E dx + frictional power "
-                 << energy << " (energy-flux scale " << flux_scale << ")";
+              os << (closure ? "dense closure + friction, " : "kinetic stress only, ")
+                 << (v == tear ? "tear" : "wall suction")
+                 << (cohesionless ? ", cohesionless" : ", literal stress")
+                 << ": max (tau_nn - p)/p over faces " << std::scientific << std::setprecision(2) << worst
+                 << ", bounded faces " << counts.tension_bounded << " (" << counts.tension_bounded_walls
+                 << " at walls), sum f_E dx + frictional power " << energy << " (energy-flux scale "
+                 << flux_scale << ")";
               // 1e-13: the scaled stress is p/t * t, exact to a few ulp of p
               if (cohesionless)
                 chk.check(worst <= 1e-13 && counts.tension_bounded > 0 &&
@@ -165,7 +164,8 @@ namespace
               else
                 chk.check(std::abs(energy) <= 1e-13 * flux_scale && counts.tension_bounded == 0, os.str());
             }
-          chk.check(pull[1] > 1, "... the literal stress pulls: (tau_nn - p)/p up to " + std::to_string(pull[1]));
+          chk.check(pull[1] > 1,
+                    "... the literal stress pulls: (tau_nn - p)/p up to " + std::to_string(pull[1]));
         }
     return chk.failed;
   }

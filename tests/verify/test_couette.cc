@@ -15,31 +15,32 @@ using namespace granhydro::testing;
 
 namespace
 {
-  const double sigma = 1e-3, rho_s = 2600, phi = 0.3, eps = 0.9, gdot = 10, T0 = 1e-8;
-  const double H = 20 * sigma;
-  const unsigned int N = 40; // h = sigma/2
+  // the scene is couette.prm beside this file; the numbers of the exact solution
+  // are read back from it (constants_from()), not written here again
+  double       sigma, rho_s, phi, eps, gdot, T0, H;
+  unsigned int N;
 
-  std::string scene(const double t_end, const std::string &walls)
+  void constants_from(const Scene &s)
   {
-    std::ostringstream os;
-    os.precision(17);
-    os << "set Dimension = 2\nsubsection Domain\n  set Lower corner = 0, 0\n"
-       << "  set Upper corner = " << H / N << ", " << H << "\n  set Cells = 1, " << N << "\n"
-       << "  set Boundary x- = periodic\n  set Boundary x+ = periodic\n"
-       << "  set Boundary y- = " << walls << "\n  set Boundary y+ = " << walls << "\n";
-    if (walls == "no-slip wall")
-      os << "  set Wall velocity y- = " << -gdot * H / 2 << ", 0\n  set Wall velocity y+ = "
-         << gdot * H / 2 << ", 0\n";
-    os << "end\nsubsection Material\n  set Model = granular\n  set Restitution coefficient = " << eps
-       << "\n  set Grain diameter = " << sigma << "\n  set Material density = " << rho_s
-       << "\nend\nsubsection Initial state\n  set Packing fraction = " << phi
-       << "\n  set Velocity = " << gdot << "*(y - " << H / 2 << "); 0\n  set Temperature = " << T0
-       << "\n  set Quadrature points = 3\nend\n"
-       << "subsection Diffusion step\n  set Newton tolerance = 1e-12\nend\n"
-       << "subsection Time\n  set End time = " << t_end << "\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n"
-       << "  set Verbose = false\nend\n";
-    return os.str();
+    sigma = s.grain_diameter;
+    rho_s = s.material_density;
+    eps   = s.restitution;
+    phi   = constant_expression(s.initial_packing_fraction);
+    T0    = constant_expression(s.initial_temperature);
+    H     = s.upper[1] - s.lower[1];
+    N     = s.cells[1];
+    gdot  = (s.wall_velocity[3][0] - s.wall_velocity[2][0]) / H; // walls at -+ gdot H/2
+  }
+
+  /// the scene of a case: couette.prm (no-slip walls) with the end time and the
+  /// walls set
+  Scene scene(const double t_end, const std::string &walls)
+  {
+    std::vector<std::string> o{"Time/End time=" + number(t_end)};
+    if (walls != "no-slip wall")
+      o.insert(o.end(), {"Domain/Boundary y-=" + walls, "Domain/Boundary y+=" + walls,
+                         "Domain/Wall velocity y-=0, 0, 0", "Domain/Wall velocity y+=0, 0, 0"});
+    return test_scene("couette.prm", o);
   }
 
   /// exact homogeneous temperature under shear (doc/physics.md 6(c))
@@ -53,16 +54,15 @@ namespace
     if (A == 0)
       return T0 / std::pow(1 + B * s0 * t, 2); // Haff: ds/dt = -B s^2
     const double sinf = std::sqrt(A / B), k = std::sqrt(A * B);
-    const double s = s0 < sinf ? sinf * std::tanh(k * t + std::atanh(s0 / sinf))
-                               : sinf / std::tanh(k * t + std::atanh(sinf / s0));
+    const double s = s0 < sinf ? sinf * std::tanh(k * t + std::atanh(s0 / sinf)) :
+                                 sinf / std::tanh(k * t + std::atanh(sinf / s0));
     return s * s;
   }
 
   /// max relative deviation of the cell temperatures from T_exact(t_end)
   double run(const double t_end, const std::string &walls, double &T_mean)
   {
-    Simulation<2, physics::GranularGas<2>> sim(parse_scene(scene(t_end, walls), "couette"), MPI_COMM_SELF,
-                                               std::cout);
+    Simulation<2, physics::GranularGas<2>> sim(scene(t_end, walls), MPI_COMM_SELF, std::cout);
     sim.setup();
     const auto sum = sim.run();
     AssertThrow(sum.diffusion.newton_failures == 0, dealii::ExcMessage("Newton failed"));
@@ -78,8 +78,9 @@ namespace
         // energy per grain that is not temperature: T = (2/3)(E - m u^2/2 - m gdot^2 h^2/24)
         const double h     = H / N;
         const double shear = walls == "no-slip wall" ? gdot : 0.;
-        const double T = (2. / 3.) * (S[3] / n - 0.5 * m * (ux * ux + uy * uy) - m * shear * shear * h * h / 24);
-        worst          = std::max(worst, std::abs(T - exact) / exact);
+        const double T =
+          (2. / 3.) * (S[3] / n - 0.5 * m * (ux * ux + uy * uy) - m * shear * shear * h * h / 24);
+        worst = std::max(worst, std::abs(T - exact) / exact);
         T_mean += T / sim.patch().n_owned();
       }
     return worst;
@@ -90,27 +91,29 @@ int main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   Checker                                  chk;
+  constants_from(test_scene("couette.prm"));
   // the exact formula reproduces doc/physics.md's numbers
-  chk.check(std::abs(T_exact(0.05, gdot) / 1.896610e-9 - 1) < 1e-6 &&
-              std::abs(T_exact(100., gdot) / 1.683131e-10 - 1) < 1e-6,
-            "exact shear transient reproduces doc/physics.md 6(c): T(0.05 s) = 1.896610e-9 J, T_s = 1.683131e-10 J");
+  chk.check(
+    std::abs(T_exact(0.05, gdot) / 1.896610e-9 - 1) < 1e-6 &&
+      std::abs(T_exact(100., gdot) / 1.683131e-10 - 1) < 1e-6,
+    "exact shear transient reproduces doc/physics.md 6(c): T(0.05 s) = 1.896610e-9 J, T_s = 1.683131e-10 J");
   for (const double t : {0.05, 0.2, 1.5})
     {
-      double     Tm;
-      const double e = run(t, "no-slip wall", Tm);
+      double             Tm;
+      const double       e = run(t, "no-slip wall", Tm);
       std::ostringstream os;
-      os << "Couette, no-slip walls moving -+" << gdot * H / 2 << " m/s, t = " << t << " s: T = "
-         << std::scientific << std::setprecision(6) << Tm << " J vs exact " << T_exact(t, gdot)
+      os << "Couette, no-slip walls moving -+" << gdot * H / 2 << " m/s, t = " << t
+         << " s: T = " << std::scientific << std::setprecision(6) << Tm << " J vs exact " << T_exact(t, gdot)
          << ", max cell deviation " << std::setprecision(2) << e << " (<= 1 %)";
       chk.check(e <= 0.01, os.str());
     }
   {
-    double       Tm;
-    const double e = run(0.2, "slip wall", Tm);
+    double             Tm;
+    const double       e = run(0.2, "slip wall", Tm);
     std::ostringstream os;
     os << "slip walls (no wall shear stress): the shear decays and the gas cools, T(0.2 s) = "
-       << std::scientific << std::setprecision(4) << Tm << " J, below the sheared "
-       << T_exact(0.2, gdot) << " J";
+       << std::scientific << std::setprecision(4) << Tm << " J, below the sheared " << T_exact(0.2, gdot)
+       << " J";
     chk.check(Tm < 0.9 * T_exact(0.2, gdot), os.str());
     (void)e;
   }

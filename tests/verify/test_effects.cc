@@ -7,9 +7,9 @@
 //     effects on a smooth 2D state; f(all) equals the sum of the single-effect
 //     operators to round-off, and the source-only operators equal hand-made references
 //     (-(3/2) n T zeta0 from GarzoDufty1999 directly; n g and n u.g).
-#include "common/test_common.h"
-
 #include <granhydro/diffusion/diffusion_operator.h>
+
+#include "common/test_common.h"
 
 #include <iomanip>
 
@@ -17,24 +17,7 @@ using namespace granhydro;
 using namespace granhydro::testing;
 
 namespace
-{
-  std::string scene(const std::string &effects, const double eps, const double t_end, const std::string &gravity)
-  {
-    std::ostringstream os;
-    os << "set Dimension = 2\nsubsection Domain\n  set Lower corner = 0, 0\n"
-       << "  set Upper corner = 0.016, 0.012\n  set Cells = 16, 12\n"
-       << "  set Boundary x- = periodic\n  set Boundary x+ = periodic\n"
-       << "  set Boundary y- = slip wall\n  set Boundary y+ = slip wall\nend\n"
-       << "subsection Material\n  set Model = granular\n  set Restitution coefficient = " << eps << "\nend\n"
-       << "subsection Effects\n" << effects << "  set Gravity = " << gravity << "\nend\n"
-       << "subsection Initial state\n  set Packing fraction = 0.2 + 0.1*sin(2*pi*x/0.016)*cos(pi*y/0.012)\n"
-       << "  set Velocity = 0.02*cos(2*pi*y/0.012); 0.01*sin(2*pi*x/0.016)\n"
-       << "  set Temperature = 1e-7*(1 + 0.2*cos(2*pi*x/0.016))\nend\n"
-       << "subsection Time\n  set End time = " << t_end << "\n  set Maximum steps = 20\nend\n"
-       << quiet_output;
-    return os.str();
-  }
-} // namespace
+{} // namespace
 
 int main(int argc, char **argv)
 {
@@ -43,20 +26,23 @@ int main(int argc, char **argv)
   using Sim = Simulation<2, physics::GranularGas<2>>;
   // ---- a: no diffusion step when nothing calls for it ------------------------------
   {
-    const Scene sc = parse_scene(scene("  set Viscosity = false\n  set Heat conduction = false\n", 1.0, 1.0, "0, 0"),
-                                 "no transport");
-    Sim sim(sc, MPI_COMM_SELF, std::cout);
+    // effects.prm with eps = 1, no gravity, no transport
+    const Scene sc = test_scene("effects.prm", {"Effects/Viscosity=false", "Effects/Heat conduction=false",
+                                                "Material/Restitution coefficient=1", "Effects/Gravity=0, 0",
+                                                "Time/End time=1"});
+    Sim         sim(sc, MPI_COMM_SELF, std::cout);
     sim.setup();
     const auto sum = sim.run();
-    chk.check(!sc.diffusion_active() && !sum.diffusion_active && sum.diffusion.steps == 0 &&
-                sum.diffusion.newton_iterations == 0 && sum.diffusion.linear_iterations == 0,
-              "eps = 1, no gravity, no transport: no diffusion step built or run (0 steps, 0 Newton, 0 GMRES)");
+    chk.check(
+      !sc.diffusion_active() && !sum.diffusion_active && sum.diffusion.steps == 0 &&
+        sum.diffusion.newton_iterations == 0 && sum.diffusion.linear_iterations == 0,
+      "eps = 1, no gravity, no transport: no diffusion step built or run (0 steps, 0 Newton, 0 GMRES)");
     // the same scene by hand: bare convection operator, SSP-RK3, same CFL steps
     Sim ref(sc, MPI_COMM_SELF, std::cout);
     ref.setup();
-    auto         U  = ref.state();
-    const auto  &op = ref.convection();
-    double       t = 0;
+    auto        U  = ref.state();
+    const auto &op = ref.convection();
+    double      t  = 0;
     for (unsigned int k = 0; k < sum.steps; ++k)
       {
         const double dt = std::min(sc.cfl / op.max_rate(U), sc.end_time / sim.units().time() - t);
@@ -71,19 +57,19 @@ int main(int argc, char **argv)
   }
   // ---- b: each effect contributes exactly its term -----------------------------------
   {
-    const std::string all = "  set Viscosity = true\n  set Heat conduction = true\n  set Cooling = true\n";
-    const Scene       sc  = parse_scene(scene(all, 0.8, 1e-3, "0, -9.81"), "all effects");
-    Sim               sim(sc, MPI_COMM_SELF, std::cout);
+    const Scene sc = test_scene("effects.prm"); // every effect on
+    Sim         sim(sc, MPI_COMM_SELF, std::cout);
     sim.setup();
-    const auto &patch = sim.patch();
+    const auto         &patch = sim.patch();
     std::vector<double> W;
     patch.gather(sim.state(), W);
-    const double L = sim.units().length, g_scaled = -9.81 * L / std::pow(sim.units().velocity, 2);
-    auto residual = [&](bool visc, bool heat, bool cool, bool grav) {
+    // gravity along y as the scene sets it
+    const double L = sim.units().length, g_scaled = sc.gravity[1] * L / std::pow(sim.units().velocity, 2);
+    auto         residual = [&](bool visc, bool heat, bool cool, bool grav) {
       diffusion::DiffusionSettings s;
-      s.viscous    = visc;
-      s.heat       = heat;
-      s.cooling    = cool;
+      s.viscous         = visc;
+      s.heat            = heat;
+      s.cooling         = cool;
       s.body.gravity[1] = grav ? g_scaled : 0.;
       diffusion::DiffusionOperator<2> op(patch, sim.description(), s, L);
       op.setup();
@@ -91,11 +77,11 @@ int main(int argc, char **argv)
       op.residual(W.data(), f.data());
       return f;
     };
-    const auto f_all  = residual(true, true, true, true);
-    const auto f_visc = residual(true, false, false, false);
-    const auto f_heat = residual(false, true, false, false);
-    const auto f_cool = residual(false, false, true, false);
-    const auto f_grav = residual(false, false, false, true);
+    const auto f_all   = residual(true, true, true, true);
+    const auto f_visc  = residual(true, false, false, false);
+    const auto f_heat  = residual(false, true, false, false);
+    const auto f_cool  = residual(false, false, true, false);
+    const auto f_grav  = residual(false, false, false, true);
     double     sum_err = 0, scale = 0, cool_err = 0, grav_err = 0, cool_scale = 0, grav_scale = 0;
     const physics::GranularGas<2> &desc = sim.description();
     for (unsigned int s = 0; s < patch.n_owned(); ++s)
@@ -104,25 +90,28 @@ int main(int argc, char **argv)
         std::copy(&W[s * 4], &W[s * 4 + 4], U.begin());
         const double n = U[0], T = desc.temperature(U);
         // hand-made references of the sources (doc/physics.md 1, 3.5; scaled units m = sigma = 1)
-        const double cool = -1.5 * n * T * desc.model.zeta0(n, T, 1., 1.);
+        const double cool    = -1.5 * n * T * desc.model.zeta0(n, T, 1., 1.);
         const double gref[4] = {0, 0, n * g_scaled, U[2] * g_scaled};
         for (unsigned int c = 0; c < 4; ++c)
           {
             const std::size_t i = s * 4 + c;
             sum_err = std::max(sum_err, std::abs(f_all[i] - (f_visc[i] + f_heat[i] + f_cool[i] + f_grav[i])));
-            scale   = std::max(scale, std::abs(f_visc[i]) + std::abs(f_heat[i]) + std::abs(f_cool[i]) + std::abs(f_grav[i]));
-            cool_err = std::max(cool_err, std::abs(f_cool[i] - (c == 3 ? cool : 0.)));
-            grav_err = std::max(grav_err, std::abs(f_grav[i] - gref[c]));
+            scale   = std::max(scale, std::abs(f_visc[i]) + std::abs(f_heat[i]) + std::abs(f_cool[i]) +
+                                        std::abs(f_grav[i]));
+            cool_err   = std::max(cool_err, std::abs(f_cool[i] - (c == 3 ? cool : 0.)));
+            grav_err   = std::max(grav_err, std::abs(f_grav[i] - gref[c]));
             cool_scale = std::max(cool_scale, std::abs(cool));
             grav_scale = std::max(grav_scale, std::abs(gref[c]));
           }
       }
     // the terms are added in a fixed order; round-off of a few ulp of the largest term
-    chk.check(sum_err <= 1e-13 * scale, "f(all effects) = f(viscosity) + f(heat) + f(cooling) + f(gravity): max deviation " +
-                                          std::to_string(sum_err / scale) + " of the term scale");
+    chk.check(sum_err <= 1e-13 * scale,
+              "f(all effects) = f(viscosity) + f(heat) + f(cooling) + f(gravity): max deviation " +
+                std::to_string(sum_err / scale) + " of the term scale");
     chk.check(cool_err <= 1e-14 * cool_scale, "cooling alone = -(3/2) n T zeta0 from GarzoDufty1999 (rel. " +
                                                 std::to_string(cool_err / cool_scale) + ")");
-    chk.check(grav_err <= 1e-14 * grav_scale, "gravity alone = (0, n g, n u.g) (rel. " + std::to_string(grav_err / grav_scale) + ")");
+    chk.check(grav_err <= 1e-14 * grav_scale,
+              "gravity alone = (0, n g, n u.g) (rel. " + std::to_string(grav_err / grav_scale) + ")");
     double visc_scale = 0, heat_scale = 0;
     for (std::size_t i = 0; i < f_visc.size(); ++i)
       {
@@ -138,7 +127,9 @@ int main(int argc, char **argv)
         mass     = std::max({mass, std::abs(f_visc[s * 4]), std::abs(f_heat[s * 4])});
         heat_mom = std::max({heat_mom, std::abs(f_heat[s * 4 + 1]), std::abs(f_heat[s * 4 + 2])});
       }
-    chk.check(mass == 0 && heat_mom == 0, "viscosity and heat conduction leave the mass row, heat conduction the momentum rows, untouched");
+    chk.check(
+      mass == 0 && heat_mom == 0,
+      "viscosity and heat conduction leave the mass row, heat conduction the momentum rows, untouched");
   }
   return chk.failed != 0;
 }

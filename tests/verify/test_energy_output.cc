@@ -34,16 +34,24 @@ namespace
                                        "contact_energy_density", "total_energy_density"};
 
   /// the header of a 1D run's profiles.csv along x: the VTU fields' names
-  const std::vector<std::string> profile_columns_1d = {
-    "time", "x", "number_density", "number_flux_x", "total_energy_density", "packing_fraction", "temperature",
-    "granular_temperature", "kinetic_energy_density", "thermal_energy_density", "contact_energy_density"};
+  const std::vector<std::string> profile_columns_1d = {"time",
+                                                       "x",
+                                                       "number_density",
+                                                       "number_flux_x",
+                                                       "total_energy_density",
+                                                       "packing_fraction",
+                                                       "temperature",
+                                                       "granular_temperature",
+                                                       "kinetic_energy_density",
+                                                       "thermal_energy_density",
+                                                       "contact_energy_density"};
 
   struct Csv
   {
-    std::string                        file;
+    std::string                         file;
     std::map<std::string, unsigned int> column;
-    std::vector<std::string>           names; ///< the header, in the file's order
-    std::vector<std::vector<double>>   rows;
+    std::vector<std::string>            names; ///< the header, in the file's order
+    std::vector<std::vector<double>>    rows;
     double get(const std::vector<double> &r, const std::string &name) const { return r.at(column.at(name)); }
   };
 
@@ -54,14 +62,14 @@ namespace
       throw std::runtime_error("cannot read " + file);
     Csv         csv;
     std::string line;
-    csv.file = file;
-    bool        header = true;
+    csv.file    = file;
+    bool header = true;
     while (std::getline(in, line))
       {
         if (line.empty() || line[0] == '#')
           continue;
-        std::stringstream  ss(line);
-        std::string        cell;
+        std::stringstream   ss(line);
+        std::string         cell;
         std::vector<double> r;
         for (unsigned int i = 0; std::getline(ss, cell, ','); ++i)
           if (header)
@@ -78,28 +86,29 @@ namespace
     return csv;
   }
 
-  /// the scene file with these overrides, writing profiles and VTU to directory
-  Scene scene(const std::string &file, const std::string &overrides, const std::string &directory)
+  /// the scene file with these overrides (-p form), writing profiles and VTU to
+  /// directory
+  Scene scene(const std::string &file, std::vector<std::string> overrides, const std::string &directory)
   {
     std::filesystem::remove_all(directory);
-    return parse_scene(read_text_file(file) + overrides + "\nsubsection Output\n  set Directory = " + directory +
-                         "\n  set Write VTU = true\n  set Write profiles = true\n  set Write checkpoint = false\n"
-                         "  set Write summary = false\n  set Verbose = false\nend\n",
-                       file);
+    overrides.insert(overrides.end(),
+                     {"Output/Directory=" + directory, "Output/Write VTU=true", "Output/Write profiles=true",
+                      "Output/Write checkpoint=false", "Output/Write summary=false", "Output/Verbose=false"});
+    return read_scene(file, overrides);
   }
 
   struct Split
   {
-    double worst_sum = 0;    ///< max |kinetic + thermal + contact - total| / |total|
-    double max_contact = 0;  ///< max |contact|
-    double floor_share = 0;  ///< contact / total in the first layer of the last block
-    double worst_ideal = 0;  ///< max |thermal - (total - kinetic)| / |total|
-    unsigned int rows = 0;
+    double       worst_sum   = 0; ///< max |kinetic + thermal + contact - total| / |total|
+    double       max_contact = 0; ///< max |contact|
+    double       floor_share = 0; ///< contact / total in the first layer of the last block
+    double       worst_ideal = 0; ///< max |thermal - (total - kinetic)| / |total|
+    unsigned int rows        = 0;
   };
 
   Split split(const Csv &csv)
   {
-    Split s;
+    Split  s;
     double last_time = -1;
     for (const auto &r : csv.rows)
       {
@@ -163,7 +172,8 @@ namespace
     for (const auto &r : csv.rows)
       {
         const double T = csv.get(r, "temperature");
-        worst = std::max(worst, std::abs(csv.get(r, "granular_temperature") * m - T) / std::max(std::abs(T), 1e-300));
+        worst          = std::max(worst, std::abs(csv.get(r, "granular_temperature") * m - T) /
+                                           std::max(std::abs(T), 1e-300));
       }
     chk.check(!csv.rows.empty() && worst <= 1e-9,
               what + ": granular_temperature = temperature / m to " + sci(worst) + " relative (<= 1e-9)");
@@ -174,12 +184,12 @@ int main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   Checker                                  chk;
-  const std::string dir    = argc > 1 ? argv[1] : "parameters";
-  const std::string column = dir + "/sedimentation_column_1d.prm";
+  const std::string                        dir    = argc > 1 ? argv[1] : "parameters";
+  const std::string                        column = dir + "/sedimentation_column_1d.prm";
 
   { // the paper's column with the dense closure
-    const std::string out = "energy_output_closure";
-    const Scene       s   = scene(column, "", out);
+    const std::string                      out = "energy_output_closure";
+    const Scene                            s   = scene(column, {}, out);
     Simulation<1, physics::GranularGas<1>> sim(s, MPI_COMM_SELF, std::cout);
     sim.setup();
     sim.run();
@@ -187,8 +197,9 @@ int main(int argc, char **argv)
     const Split e   = split(csv);
     check_columns(csv, sim.units().mass, "closure on", chk);
     chk.check(e.rows == 16 * 100 && e.worst_sum <= 1e-12,
-              "closure on, " + std::to_string(e.rows) + " rows: max |kinetic + thermal + contact - total| / total = " +
-                sci(e.worst_sum) + " (<= 1e-12)");
+              "closure on, " + std::to_string(e.rows) +
+                " rows: max |kinetic + thermal + contact - total| / total = " + sci(e.worst_sum) +
+                " (<= 1e-12)");
     chk.check(e.floor_share > 0.5 && e.floor_share < 1,
               "closure on: contact energy at the floor at 150 ms is " + sci(e.floor_share) + " of the total");
     // the total is the conserved nE of the state (as the former n*E column)
@@ -199,37 +210,38 @@ int main(int argc, char **argv)
         worst         = std::max(worst, std::abs(csv.get(r, energy_names[3]) - sim.state_si(c)[2]));
         scale         = std::max(scale, std::abs(sim.state_si(c)[2]));
       }
-    chk.check(worst <= 1e-14 * scale, "closure on: total column = nE of the final state, max difference / max nE = " +
-                                        sci(worst / scale));
-    chk.check(vtu_has_energy_fields(out),
-              "closure on: VTU has the kinetic, thermal, contact and total energy fields and granular_temperature");
+    chk.check(worst <= 1e-14 * scale,
+              "closure on: total column = nE of the final state, max difference / max nE = " +
+                sci(worst / scale));
+    chk.check(
+      vtu_has_energy_fields(out),
+      "closure on: VTU has the kinetic, thermal, contact and total energy fields and granular_temperature");
   }
 
-  const std::string no_closure = "\nsubsection Dense closure\n  set Model = none\nend\n"
-                                 "subsection Time\n  set End time = 0.05\nend\n";
+  const std::vector<std::string> no_closure = {"Dense closure/Model=none", "Time/End time=0.05"};
   { // closure off
-    const std::string out = "energy_output_no_closure";
+    const std::string                      out = "energy_output_no_closure";
     Simulation<1, physics::GranularGas<1>> sim(scene(column, no_closure, out), MPI_COMM_SELF, std::cout);
     sim.setup();
     sim.run();
     const Split e = split(read_csv(out + "/solution_profiles.csv"));
     chk.check(e.rows > 0 && e.max_contact == 0 && e.worst_sum <= 1e-12,
-              "closure off, " + std::to_string(e.rows) + " rows: contact column 0 (max " + sci(e.max_contact) +
-                "), sum = total to " + sci(e.worst_sum));
+              "closure off, " + std::to_string(e.rows) + " rows: contact column 0 (max " +
+                sci(e.max_contact) + "), sum = total to " + sci(e.worst_sum));
   }
 
   { // vibrated container (closure off): kinetic energy in the lab frame
-    const std::string out = "energy_output_vibrated";
-    const Scene       s   = scene(column,
-                          no_closure + "subsection Effects\n  set Vibration amplitude = 0.0005\n"
-                                       "  set Vibration frequency = 30\n  set Vibration direction = x\nend\n",
-                          out);
+    const std::string        out      = "energy_output_vibrated";
+    std::vector<std::string> vibrated = no_closure;
+    vibrated.insert(vibrated.end(), {"Effects/Vibration amplitude=0.0005", "Effects/Vibration frequency=30",
+                                     "Effects/Vibration direction=x"});
+    const Scene                            s = scene(column, vibrated, out);
     Simulation<1, physics::GranularGas<1>> sim(s, MPI_COMM_SELF, std::cout);
     sim.setup();
     sim.run();
-    const Csv    csv = read_csv(out + "/solution_profiles.csv");
-    const Split  e   = split(csv);
-    const double m   = sim.units().mass;
+    const Csv    csv   = read_csv(out + "/solution_profiles.csv");
+    const Split  e     = split(csv);
+    const double m     = sim.units().mass;
     double       worst = 0, frame = 0;
     for (const auto &r : csv.rows)
       {
@@ -242,17 +254,18 @@ int main(int argc, char **argv)
       {
         const double n = csv.get(r, "number_density"), flux = csv.get(r, "number_flux_x");
         const double k = csv.get(r, energy_names[0]);
-        worst = std::max(worst, std::abs(k - 0.5 * m * flux * flux / n) / std::max(k, 1e-6 * frame));
+        worst          = std::max(worst, std::abs(k - 0.5 * m * flux * flux / n) / std::max(k, 1e-6 * frame));
       }
     chk.check(e.rows > 0 && e.worst_sum <= 1e-12 && worst <= 1e-8 && frame > 0,
               "vibrated, " + std::to_string(e.rows) + " rows: sum = total to " + sci(e.worst_sum) +
-                ", kinetic = m (n u_lab)^2 / 2n to " + sci(worst) + " (largest kinetic " + sci(frame) + " J/m3)");
+                ", kinetic = m (n u_lab)^2 / 2n to " + sci(worst) + " (largest kinetic " + sci(frame) +
+                " J/m3)");
   }
 
   { // ideal gas: no contact energy, thermal = total - kinetic
-    const std::string out = "energy_output_ideal";
-    Simulation<1, physics::IdealGas<1>> sim(
-      scene(dir + "/sod_1d.prm", "\nsubsection Time\n  set End time = 0.05\nend\n", out), MPI_COMM_SELF, std::cout);
+    const std::string                   out = "energy_output_ideal";
+    Simulation<1, physics::IdealGas<1>> sim(scene(dir + "/sod_1d.prm", {"Time/End time=0.05"}, out),
+                                            MPI_COMM_SELF, std::cout);
     sim.setup();
     const RunSummary sum = sim.run();
     const Csv        csv = read_csv(out + "/solution_profiles.csv");
@@ -261,12 +274,14 @@ int main(int argc, char **argv)
     // no diffusion step, no splitting: each attempt at a time step is one SSP-RK3 step
     // (a rejected attempt too; this short run has none), so the count is the step count
     chk.check(sum.steps > 10 && sum.rejected_steps == 0 && sum.convective_steps == sum.steps,
-              "ideal gas (convection only): convective_steps " + std::to_string(sum.convective_steps) + " = steps " +
-                std::to_string(sum.steps) + " (rejected " + std::to_string(sum.rejected_steps) + ")");
+              "ideal gas (convection only): convective_steps " + std::to_string(sum.convective_steps) +
+                " = steps " + std::to_string(sum.steps) + " (rejected " + std::to_string(sum.rejected_steps) +
+                ")");
     chk.check(e.rows > 0 && e.max_contact == 0 && e.worst_sum <= 1e-12 && e.worst_ideal <= 1e-12,
               "ideal gas, " + std::to_string(e.rows) + " rows: contact 0, thermal = total - kinetic to " +
                 sci(e.worst_ideal));
-    chk.check(vtu_has_energy_fields(out), "ideal gas: VTU has the four energy fields and granular_temperature");
+    chk.check(vtu_has_energy_fields(out),
+              "ideal gas: VTU has the four energy fields and granular_temperature");
   }
   return chk.failed != 0;
 }

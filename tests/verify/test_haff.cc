@@ -22,49 +22,44 @@ using namespace granhydro::testing;
 
 namespace
 {
-  const double sigma = 1e-3, rho_s = 2600, T0 = 1e-8;
+  // the scene is haff.prm beside this file; sigma, rho_s and T0 of Haff's law are
+  // read back from it (constants_from()), the parameters a case varies are C++
+  // values passed as overrides (haff_scene())
+  double sigma, rho_s, T0;
 
-  std::string haff_scene(double eps, double phi, double dt, double t_end, const std::string &integrator,
-                         double mu)
+  void constants_from(const Scene &s)
   {
-    std::ostringstream os;
-    os.precision(17);
-    os << "set Dimension = 3\nsubsection Domain\n  set Lower corner = 0,0,0\n"
-       << "  set Upper corner = 0.01, 0.01, 0.01\n  set Cells = 2, 2, 2\n";
-    for (const char *b : {"x-", "x+", "y-", "y+", "z-", "z+"})
-      os << "  set Boundary " << b << " = periodic\n";
-    os << "end\nsubsection Material\n  set Model = granular\n  set Grain diameter = " << sigma
-       << "\n  set Material density = " << rho_s << "\n  set Restitution coefficient = " << eps
-       << "\n  set Friction coefficient = " << mu << "\nend\nsubsection Initial state\n  set Packing fraction = " << phi
-       << "\n  set Velocity = 0;0;0\n  set Temperature = " << T0
-       << "\n  set Quadrature points = 1\nend\n"
-       << "subsection Numerics\n  set Reconstruction = first order\n  set CFL number = 0.9\n"
-       << "  set Fixed time step = " << dt << "\nend\n"
-       << "subsection Diffusion step\n  set Integrator = " << integrator
-       << "\n  set Newton tolerance = 1e-13\nend\n"
-       << "subsection Time\n  set End time = " << t_end << "\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n"
-       << "  set Verbose = false\nend\n";
-    return os.str();
+    sigma = s.grain_diameter;
+    rho_s = s.material_density;
+    T0    = constant_expression(s.initial_temperature);
+  }
+
+  Scene haff_scene(double eps, double phi, double dt, double t_end, const std::string &integrator, double mu)
+  {
+    return test_scene(
+      "haff.prm",
+      {"Material/Restitution coefficient=" + number(eps), "Material/Friction coefficient=" + number(mu),
+       "Initial state/Packing fraction=" + number(phi), "Numerics/Fixed time step=" + number(dt),
+       "Diffusion step/Integrator=" + integrator, "Time/End time=" + number(t_end)});
   }
 
   /// relative error of T at t_end against Haff's law, and the number of steps taken
-  double run(double eps, double phi, unsigned int steps, const std::string &integrator,
-             unsigned int &taken, double mu = 0)
+  double run(double eps, double phi, unsigned int steps, const std::string &integrator, unsigned int &taken,
+             double mu = 0)
   {
     physics::GarzoDufty1999 gd(eps);
     if (mu > 0)
       gd.set_friction(mu);
-    const double m   = rho_s * M_PI * std::pow(sigma, 3) / 6;
-    const double n   = 6 * phi / (M_PI * std::pow(sigma, 3));
-    const double nu0 = gd.nu0(n, T0, m, sigma);
-    const double z0  = gd.zeta0(n, T0, m, sigma);
-    const double t_end = 10 / nu0;
-    Simulation<3, physics::GranularGas<3>> sim(parse_scene(haff_scene(eps, phi, t_end / steps, t_end, integrator, mu), "haff"),
+    const double                           m     = rho_s * M_PI * std::pow(sigma, 3) / 6;
+    const double                           n     = 6 * phi / (M_PI * std::pow(sigma, 3));
+    const double                           nu0   = gd.nu0(n, T0, m, sigma);
+    const double                           z0    = gd.zeta0(n, T0, m, sigma);
+    const double                           t_end = 10 / nu0;
+    Simulation<3, physics::GranularGas<3>> sim(haff_scene(eps, phi, t_end / steps, t_end, integrator, mu),
                                                MPI_COMM_SELF, std::cout);
     sim.setup();
-    const auto sum = sim.run();
-    taken          = sum.steps;
+    const auto sum     = sim.run();
+    taken              = sum.steps;
     const double exact = T0 / std::pow(1 + z0 * t_end / 2, 2);
     double       err   = 0;
     for (unsigned int c = 0; c < sim.patch().n_owned(); ++c)
@@ -81,6 +76,7 @@ int main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   Checker                                  chk;
+  constants_from(test_scene("haff.prm"));
   struct Case
   {
     std::string integrator;
@@ -94,30 +90,30 @@ int main(int argc, char **argv)
   for (const Case &c : {Case{"gauss-legendre", 100, 3.8}, Case{"implicit midpoint", 4000, 1.9},
                         Case{"sdirk2", 4000, 1.9}, Case{"rkl2", 8000, 1.9}, Case{"cost-based", 8000, 1.9}})
     for (const double mu : {0., 0.7})
-    for (const double eps : {0.9, 0.7})
-      for (const double phi : {0.1, 0.5})
-        {
-          if (mu > 0 && c.integrator != "rkl2" && c.integrator != "cost-based")
-            continue;
-          unsigned int n1, n2;
-          const double e1 = run(eps, phi, c.steps, c.integrator, n1, mu);
-          const double e2 = run(eps, phi, 2 * c.steps, c.integrator, n2, mu);
-          const double order = std::log(e1 / e2) / std::log(2.);
-          std::ostringstream os;
-          os << c.integrator << ", mu = " << mu << ", eps = " << eps << ", phi = " << phi << ": " << n1
-             << " steps rel. error " << std::scientific << std::setprecision(2) << e1 << ", " << n2
-             << " steps " << e2 << ", order " << std::fixed << std::setprecision(2) << order;
-          chk.check(e1 <= 1e-6 && n1 == c.steps, os.str() + " (error <= 1e-6)");
-          // below ~1e-12 round-off of the Newton tolerance masks the order
-          chk.check(e2 < 1e-12 || order >= c.min_order,
-                    c.integrator + ": order " + std::to_string(order) + " >= " + std::to_string(c.min_order));
-        }
+      for (const double eps : {0.9, 0.7})
+        for (const double phi : {0.1, 0.5})
+          {
+            if (mu > 0 && c.integrator != "rkl2" && c.integrator != "cost-based")
+              continue;
+            unsigned int       n1, n2;
+            const double       e1    = run(eps, phi, c.steps, c.integrator, n1, mu);
+            const double       e2    = run(eps, phi, 2 * c.steps, c.integrator, n2, mu);
+            const double       order = std::log(e1 / e2) / std::log(2.);
+            std::ostringstream os;
+            os << c.integrator << ", mu = " << mu << ", eps = " << eps << ", phi = " << phi << ": " << n1
+               << " steps rel. error " << std::scientific << std::setprecision(2) << e1 << ", " << n2
+               << " steps " << e2 << ", order " << std::fixed << std::setprecision(2) << order;
+            chk.check(e1 <= 1e-6 && n1 == c.steps, os.str() + " (error <= 1e-6)");
+            // below ~1e-12 round-off of the Newton tolerance masks the order
+            chk.check(e2 < 1e-12 || order >= c.min_order, c.integrator + ": order " + std::to_string(order) +
+                                                            " >= " + std::to_string(c.min_order));
+          }
   // RKL2 with few steps: 1.5 zeta0 dt far beyond forward Euler's 2 in the first steps
   for (const double mu : {0., 0.7})
     {
-      unsigned int n1, n2;
-      const double e1 = run(0.7, 0.5, 25, "rkl2", n1, mu), e2 = run(0.7, 0.5, 50, "rkl2", n2, mu);
-      const double order = std::log(e1 / e2) / std::log(2.);
+      unsigned int       n1, n2;
+      const double       e1 = run(0.7, 0.5, 25, "rkl2", n1, mu), e2 = run(0.7, 0.5, 50, "rkl2", n2, mu);
+      const double       order = std::log(e1 / e2) / std::log(2.);
       std::ostringstream os;
       os << "rkl2, stiff cooling, mu = " << mu << ": 25 steps rel. error " << std::scientific
          << std::setprecision(2) << e1 << ", 50 steps " << e2 << ", order " << std::fixed

@@ -7,9 +7,9 @@
 // relative and the spurious velocities below 1e-3 sqrt(g sigma), shrinking under
 // refinement; one column is dense (phi0 = 0.5), one over-dense (bottom phi0 = 0.62,
 // above 0.6, where chi is on Torquato's branch towards close packing).
-#include "common/test_common.h"
-
 #include <deal.II/base/quadrature_lib.h>
+
+#include "common/test_common.h"
 
 #include <iomanip>
 
@@ -18,13 +18,30 @@ using namespace granhydro::testing;
 
 namespace
 {
-  const double sigma = 1e-3, rho_s = 2600, g = 9.81;
-  const double m = rho_s * M_PI * sigma * sigma * sigma / 6;
+  // the scene is hydrostatic.prm beside this file; sigma, rho_s and g of the
+  // exact profile are read back from it (constants_from()), each column's height,
+  // cell count and temperature are C++ values passed as overrides (scene())
+  double sigma, rho_s, g, m;
+
+  void constants_from(const Scene &s)
+  {
+    sigma = s.grain_diameter;
+    rho_s = s.material_density;
+    g     = -s.gravity[0];
+    m     = rho_s * M_PI * sigma * sigma * sigma / 6;
+  }
 
   struct Column
   {
     double phi0, T, height;
   };
+
+  Scene scene(const Column &c, const unsigned int N)
+  {
+    return test_scene("hydrostatic.prm",
+                      {"Domain/Upper corner=" + number(c.height), "Domain/Cells=" + std::to_string(N),
+                       "Initial state/Temperature=" + number(c.T)});
+  }
 
   double G(const physics::GarzoDufty1999 &gd, const double phi)
   {
@@ -38,37 +55,17 @@ namespace
     double       lo = 1e-12, hi = c.phi0;
     for (int i = 0; i < 200; ++i)
       {
-        const double mid = 0.5 * (lo + hi);
+        const double mid                = 0.5 * (lo + hi);
         (G(gd, mid) < target ? lo : hi) = mid;
       }
     return 0.5 * (lo + hi);
   }
 
-  std::string scene(const Column &c, const unsigned int N)
-  {
-    std::ostringstream os;
-    os.precision(17);
-    os << "set Dimension = 1\nsubsection Domain\n  set Lower corner = 0\n  set Upper corner = "
-       << c.height << "\n  set Cells = " << N
-       << "\n  set Boundary x- = slip wall\n  set Boundary x+ = slip wall\nend\n"
-       << "subsection Material\n  set Model = granular\n  set Restitution coefficient = 1\n"
-       << "  set Grain diameter = " << sigma << "\n  set Material density = " << rho_s << "\nend\n"
-       << "subsection Effects\n  set Gravity = " << -g << "\nend\n"
-       << "subsection Initial state\n  set Packing fraction = 0.1\n  set Velocity = 0\n"
-       << "  set Temperature = " << c.T << "\nend\n"
-       << "subsection Diffusion step\n  set Newton tolerance = 1e-12\nend\n"
-       << "subsection Time\n  set End time = 100\n  set Maximum steps = 1000\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint = false\n"
-       << "  set Verbose = false\nend\n";
-    return os.str();
-  }
-
   /// returns (max relative density deviation, max |u| / sqrt(g sigma))
   std::pair<double, double> run(const Column &c, const unsigned int N)
   {
-    const physics::GarzoDufty1999 gd(1.0);
-    Simulation<1, physics::GranularGas<1>> sim(parse_scene(scene(c, N), "column"), MPI_COMM_SELF,
-                                               std::cout);
+    const physics::GarzoDufty1999          gd(1.0);
+    Simulation<1, physics::GranularGas<1>> sim(scene(c, N), MPI_COMM_SELF, std::cout);
     sim.setup();
     sim.set_initial_state(
       [&](const dealii::Point<1> &x) {
@@ -97,6 +94,7 @@ int main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   Checker                                  chk;
+  constants_from(test_scene("hydrostatic.prm"));
   for (const Column &c : {Column{0.5, 1e-6, 0.05}, Column{0.62, 1e-7, 0.02}})
     {
       std::vector<double> us;
