@@ -8,6 +8,7 @@
 #include <deal.II/base/mpi.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -21,12 +22,6 @@
 
 namespace granhydro::testing
 {
-  /// an Output section that writes nothing and logs nothing (tests that only assert
-  /// on the state in memory)
-  inline const char *const quiet_output =
-    "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
-    "  set Write checkpoint = false\n  set Verbose = false\nend\n";
-
   /// the whole text of a file (scene files read by tests)
   inline std::string read_text_file(const std::string &f)
   {
@@ -37,15 +32,55 @@ namespace granhydro::testing
       throw std::runtime_error("cannot read " + f);
     return ss.str();
   }
-  /// a scene file as a test runs it: the file's text with every output (VTU, profiles,
-  /// checkpoint, summary, log) switched off
+  /// A number as a scene value: 17 significant digits, so that it reads back as the same
+  /// double (for overrides built from a test's C++ constants: "Time/End time=" + number(t)).
+  inline std::string number(const double x)
+  {
+    std::ostringstream os;
+    os.precision(17);
+    os << x;
+    return os.str();
+  }
+
+  /// the overrides that switch every output off (VTU, profiles, checkpoint, summary, log),
+  /// for a scene file of parameters/ run by a test
+  inline const std::vector<std::string> no_output = {"Output/Write VTU=false", "Output/Write profiles=false",
+                                                     "Output/Write checkpoint=false",
+                                                     "Output/Write summary=false", "Output/Verbose=false"};
+
+#ifdef GRANHYDRO_TEST_DIR
+  /// The path of a test's scene file, a .prm beside the test's source: the folder is
+  /// GRANHYDRO_TEST_DIR, defined by granhydro_add_test(... SCENES) (tests/granhydro_add_test.cmake).
+  inline std::string test_scene_file(const std::string &name)
+  {
+    return std::string(GRANHYDRO_TEST_DIR) + "/" + name;
+  }
+
+  /// A test's scene: the base scene file `name` beside the test with the case's
+  /// modifications, each an override in the form of the command line's -p,
+  /// "Section/Name=value" (applied by read_scene(), as granhydro applies -p).
+  inline scene::Scene test_scene(const std::string &name, const std::vector<std::string> &overrides = {})
+  {
+    return scene::read_scene(test_scene_file(name), overrides);
+  }
+#endif
+
+  /// A number that a scene sets as a plain constant expression (e.g. 'Initial state/
+  /// Temperature = 1e-8'), for a test's exact formula; throws if it is not a plain number.
+  inline double constant_expression(const std::string &expression)
+  {
+    std::size_t  used = 0;
+    const double x    = std::stod(expression, &used);
+    if (expression.find_first_not_of(" \t", used) != std::string::npos)
+      throw std::runtime_error("expected a plain number, got the expression '" + expression + "'");
+    return x;
+  }
+
+  /// a scene file as a test runs it: read as granhydro reads it, with every output (VTU,
+  /// profiles, checkpoint, summary, log) switched off by overrides
   inline scene::Scene read_scene_quietly(const std::string &file)
   {
-    return scene::parse_scene(
-      read_text_file(file) +
-        "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
-        "  set Write checkpoint = false\n  set Write summary = false\n  set Verbose = false\nend\n",
-      file);
+    return scene::read_scene(file, no_output);
   }
 
   struct SceneSpec

@@ -260,19 +260,16 @@ int main(int argc, char **argv)
     }
   // frictional_layer_{flow,rest}[_nofriction]: parameters/frictional_chute.prm at 24 or 20
   // degrees, with or without the dense closure's frictional stress
-  const std::string kind = argv[2];
-  std::string       variant;
+  const std::string        kind      = argv[2];
+  std::vector<std::string> overrides = no_output;
   if (kind.rfind("frictional_layer", 0) == 0)
-    variant = std::string("\nsubsection Effects\n  set Gravity = ") +
-              (kind.find("_rest") != std::string::npos ? "3.3552, -9.2184" : "3.9901, -8.9619") + "\nend\n" +
-              (kind.find("_nofriction") != std::string::npos ?
-                 "subsection Dense closure\n  set Viscosity time = 0\nend\n" :
-                 "");
-  const scene::Scene scene = scene::parse_scene(
-    read_text_file(argv[1]) + variant +
-      "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
-      "  set Write checkpoint = false\n  set Write summary = false\n  set Verbose = false\nend\n",
-    argv[1]);
+    {
+      overrides.push_back(std::string("Effects/Gravity=") +
+                          (kind.find("_rest") != std::string::npos ? "3.3552, -9.2184" : "3.9901, -8.9619"));
+      if (kind.find("_nofriction") != std::string::npos)
+        overrides.push_back("Dense closure/Viscosity time=0");
+    }
+  const scene::Scene scene = scene::read_scene(argv[1], overrides);
   AssertThrow(scene.model == physics::Model::granular, ExcMessage("the hard cases are granular scenes"));
   switch (scene.dimension)
     {

@@ -90,21 +90,15 @@ namespace
     return chk.failed;
   }
 
-  std::string column(const std::string &velocity, const bool cohesionless, const bool closure)
+  /// frictional_column.prm (kinetic stress, cohesionless) with the velocity, the
+  /// cohesionless bound and, for the dense case, the closure
+  scene::Scene column(const std::string &velocity, const bool cohesionless, const bool closure)
   {
-    std::ostringstream os;
-    os << "set Dimension = 1\nsubsection Domain\n  set Lower corner = 0\n  set Upper corner = 0.02\n"
-       << "  set Cells = 20\n  set Boundary x- = slip wall\n  set Boundary x+ = slip wall\nend\n"
-       << "subsection Material\n  set Model = granular\n  set Restitution coefficient = 1\n"
-       << "  set Cohesionless = " << (cohesionless ? "true" : "false") << "\nend\n"
-       << "subsection Dense closure\n  set Model = " << (closure ? "johnson-jackson" : "none")
-       << "\n  set Minimum packing fraction = 0.5\n  set Frictional stress = srivastava-sundaresan\nend\n"
-       << "subsection Effects\n  set Gravity = 0\nend\n"
-       << "subsection Initial state\n  set Packing fraction = " << (closure ? "0.56" : "0.3")
-       << "\n  set Velocity = " << velocity
-       << "\n  set Temperature = 1e-9\n  set Quadrature points = 1\nend\n"
-       << quiet_output;
-    return os.str();
+    std::vector<std::string> o{"Initial state/Velocity=" + velocity,
+                               std::string("Material/Cohesionless=") + (cohesionless ? "true" : "false")};
+    if (closure)
+      o.insert(o.end(), {"Dense closure/Model=johnson-jackson", "Initial state/Packing fraction=0.56"});
+    return test_scene("frictional_column.prm", o);
   }
 
   int pulled_apart()
@@ -118,7 +112,7 @@ namespace
           double pull[2] = {0, 0}; // largest (tau_dd - p)/p over the faces: bounded, literal
           for (const bool cohesionless : {true, false})
             {
-              const scene::Scene sc = scene::parse_scene(column(v, cohesionless, closure), "pulled apart");
+              const scene::Scene sc = column(v, cohesionless, closure);
               Sim                sim(sc, MPI_COMM_SELF, std::cout);
               sim.setup();
               const auto         &patch = sim.patch();

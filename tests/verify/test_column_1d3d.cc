@@ -21,13 +21,17 @@ using namespace granhydro::testing;
 
 namespace
 {
-  const std::string overrides =
-    "\nsubsection Numerics\n  set Fixed time step = 5e-4\n  set CFL number = 0.9\nend\n"
-    "subsection Diffusion step\n  set Integrator = gauss-legendre\n  set Newton tolerance = 1e-13\nend\n"
-    "subsection Time\n  set End time = 0.02\nend\n"
-    "subsection Output\n  set Interval = 0.005\n  set Write VTU = false\n  set Write profiles = false\n  set "
-    "Write checkpoint = false\n"
-    "  set Verbose = false\nend\n";
+  /// what both scenes of parameters/ are run with (-p overrides)
+  const std::vector<std::string> overrides = {"Numerics/Fixed time step=5e-4",
+                                              "Numerics/CFL number=0.9",
+                                              "Diffusion step/Integrator=gauss-legendre",
+                                              "Diffusion step/Newton tolerance=1e-13",
+                                              "Time/End time=0.02",
+                                              "Output/Interval=0.005",
+                                              "Output/Write VTU=false",
+                                              "Output/Write profiles=false",
+                                              "Output/Write checkpoint=false",
+                                              "Output/Verbose=false"};
 
   /// layer averages of (n, n u_vertical, nE) [SI]
   template <int dim>
@@ -60,16 +64,15 @@ int main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   Checker                                  chk;
-  const std::string                        dir = argc > 1 ? argv[1] : "parameters";
-  const scene::Scene s1 = scene::parse_scene(read_text_file(dir + "/sedimentation_column_1d.prm") +
-                                               overrides + "subsection Domain\n  set Cells = 50\nend\n",
-                                             "sedimentation_column_1d.prm");
-  const scene::Scene s3 =
-    scene::parse_scene(read_text_file(dir + "/sedimentation-ci.prm") + overrides, "sedimentation-ci.prm");
-  unsigned int n1, n3;
-  const auto   a1       = layers<1>(s1, 0, n1);
-  const auto   a3       = layers<3>(s3, 1, n3);
-  double       worst[3] = {0, 0, 0}, scale[3] = {0, 0, 0};
+  const std::string                        dir    = argc > 1 ? argv[1] : "parameters";
+  std::vector<std::string>                 column = overrides;
+  column.push_back("Domain/Cells=50");
+  const scene::Scene s1 = scene::read_scene(dir + "/sedimentation_column_1d.prm", column);
+  const scene::Scene s3 = scene::read_scene(dir + "/sedimentation-ci.prm", overrides);
+  unsigned int       n1, n3;
+  const auto         a1       = layers<1>(s1, 0, n1);
+  const auto         a3       = layers<3>(s3, 1, n3);
+  double             worst[3] = {0, 0, 0}, scale[3] = {0, 0, 0};
   for (unsigned int l = 0; l < a1.size(); ++l)
     for (unsigned int k = 0; k < 3; ++k)
       {

@@ -15,31 +15,32 @@ using namespace granhydro::testing;
 
 namespace
 {
-  const double       sigma = 1e-3, rho_s = 2600, phi = 0.3, eps = 0.9, gdot = 10, T0 = 1e-8;
-  const double       H = 20 * sigma;
-  const unsigned int N = 40; // h = sigma/2
+  // the scene is couette.prm beside this file; the numbers of the exact solution
+  // are read back from it (constants_from()), not written here again
+  double       sigma, rho_s, phi, eps, gdot, T0, H;
+  unsigned int N;
 
-  std::string scene_text(const double t_end, const std::string &walls)
+  void constants_from(const scene::Scene &s)
   {
-    std::ostringstream os;
-    os.precision(17);
-    os << "set Dimension = 2\nsubsection Domain\n  set Lower corner = 0, 0\n"
-       << "  set Upper corner = " << H / N << ", " << H << "\n  set Cells = 1, " << N << "\n"
-       << "  set Boundary x- = periodic\n  set Boundary x+ = periodic\n"
-       << "  set Boundary y- = " << walls << "\n  set Boundary y+ = " << walls << "\n";
-    if (walls == "no-slip wall")
-      os << "  set Wall velocity y- = " << -gdot * H / 2 << ", 0\n  set Wall velocity y+ = " << gdot * H / 2
-         << ", 0\n";
-    os << "end\nsubsection Material\n  set Model = granular\n  set Restitution coefficient = " << eps
-       << "\n  set Grain diameter = " << sigma << "\n  set Material density = " << rho_s
-       << "\nend\nsubsection Initial state\n  set Packing fraction = " << phi << "\n  set Velocity = " << gdot
-       << "*(y - " << H / 2 << "); 0\n  set Temperature = " << T0 << "\n  set Quadrature points = 3\nend\n"
-       << "subsection Diffusion step\n  set Newton tolerance = 1e-12\nend\n"
-       << "subsection Time\n  set End time = " << t_end << "\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint "
-          "= false\n"
-       << "  set Verbose = false\nend\n";
-    return os.str();
+    sigma = s.grain_diameter;
+    rho_s = s.material_density;
+    eps   = s.restitution;
+    phi   = constant_expression(s.initial_packing_fraction);
+    T0    = constant_expression(s.initial_temperature);
+    H     = s.upper[1] - s.lower[1];
+    N     = s.cells[1];
+    gdot  = (s.wall_velocity[3][0] - s.wall_velocity[2][0]) / H; // walls at -+ gdot H/2
+  }
+
+  /// the scene of a case: couette.prm (no-slip walls) with the end time and the
+  /// walls set
+  scene::Scene make_scene(const double t_end, const std::string &walls)
+  {
+    std::vector<std::string> o{"Time/End time=" + number(t_end)};
+    if (walls != "no-slip wall")
+      o.insert(o.end(), {"Domain/Boundary y-=" + walls, "Domain/Boundary y+=" + walls,
+                         "Domain/Wall velocity y-=0, 0, 0", "Domain/Wall velocity y+=0, 0, 0"});
+    return test_scene("couette.prm", o);
   }
 
   /// exact homogeneous temperature under shear (doc/physics.md 6(c))
@@ -61,8 +62,7 @@ namespace
   /// max relative deviation of the cell temperatures from T_exact(t_end)
   double run(const double t_end, const std::string &walls, double &T_mean)
   {
-    driver::Simulation<2, physics::GranularGas<2>> sim(
-      scene::parse_scene(scene_text(t_end, walls), "couette"), MPI_COMM_SELF, std::cout);
+    driver::Simulation<2, physics::GranularGas<2>> sim(make_scene(t_end, walls), MPI_COMM_SELF, std::cout);
     sim.setup();
     const auto sum = sim.run();
     AssertThrow(sum.diffusion.newton_failures == 0, dealii::ExcMessage("Newton failed"));
@@ -91,6 +91,7 @@ int main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   Checker                                  chk;
+  constants_from(test_scene("couette.prm"));
   // the exact formula reproduces doc/physics.md's numbers
   chk.check(
     std::abs(T_exact(0.05, gdot) / 1.896610e-9 - 1) < 1e-6 &&

@@ -25,12 +25,6 @@ namespace
 {
   constexpr int dim1 = 1, dim2 = 2;
 
-  std::string output_off()
-  {
-    return "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
-           "  set Write checkpoint = false\n  set Write summary = false\n  set Verbose = false\nend\n";
-  }
-
   /// granular temperatures (scaled) of the owned cells
   template <int dim>
   std::vector<double> temperatures(const driver::Simulation<dim, physics::GranularGas<dim>> &sim)
@@ -54,27 +48,11 @@ namespace
     double              contact_ratio = 0; // max n w / (3/2 n T): how large nE is against 3/2 n T
     for (const bool closure : {false, true})
       {
-        std::ostringstream os;
-        os.precision(17);
-        os << "set Dimension = 1\nsubsection Domain\n  set Lower corner = 0\n  set Upper corner = 0.02\n"
-              "  set Cells = 40\n  set Boundary x- = slip wall\n  set Boundary x+ = slip wall\nend\n"
-              "subsection Material\n  set Model = granular\n  set Grain diameter = 1e-3\n"
-              "  set Material density = 2600\n  set Restitution coefficient = 0.8\nend\n"
-              "subsection Dense closure\n  set Model = "
-           << (closure ? "johnson-jackson" : "none")
-           << "\n  set Minimum packing fraction = 0.5\nend\n"
-              "subsection Effects\n  set Convection = false\n  set Cooling = false\nend\n"
-              "subsection Initial state\n  set Packing fraction = 0.5 + 0.13 * x / 0.02\n"
-              "  set Velocity = 0\n  set Temperature = 1e-8\n  set Quadrature points = 1\nend\n"
-              "subsection Numerics\n  set Fixed time step = 1e-5\nend\n"
-              // one integrator for both runs (cost-based would pick RKL2 stages from the
-              // explicit limit, which the closure's frictional viscosity changes)
-              "subsection Diffusion step\n  set Integrator = gauss-legendre\n  set Newton tolerance = 1e-14\n"
-              "  set Linear solver tolerance = 1e-14\nend\n"
-              "subsection Time\n  set End time = 1e-5\nend\n"
-           << output_off();
-        driver::Simulation<dim1, physics::GranularGas<dim1>> sim(scene::parse_scene(os.str(), "uniform T"),
-                                                                 MPI_COMM_SELF, std::cout);
+        // dense_uniform_temperature.prm (with the closure) or without the closure
+        const scene::Scene                                   sc = test_scene("dense_uniform_temperature.prm",
+                                           closure ? std::vector<std::string>{} :
+                                                                                       std::vector<std::string>{"Dense closure/Model=none"});
+        driver::Simulation<dim1, physics::GranularGas<dim1>> sim(sc, MPI_COMM_SELF, std::cout);
         sim.setup();
         if (!closure)
           T0 = temperatures(sim);
@@ -115,39 +93,23 @@ namespace
   // ---- A2: frictional dissipation in uniform shear --------------------------------------
   int frictional_shear()
   {
-    Checker             chk;
-    const double        H = 0.01, Uw = 0.05, dt = 2e-5; // layer height [m], wall speed, step
-    const unsigned int  steps = 10;
+    Checker chk;
+    // frictional_shear.prm; the numbers of the reference are read back from it
+    const scene::Scene layer = test_scene("frictional_shear.prm");
+    const double       H = layer.upper[1] - layer.lower[1], width = layer.upper[0] - layer.lower[0];
+    const double       Uw = layer.wall_velocity[3][0],
+                 dt       = layer.fixed_time_step; // wall speed, step
+    const double phi = constant_expression(layer.initial_packing_fraction), sigma = layer.grain_diameter;
+    const unsigned int  steps = std::lround(layer.end_time / dt);
     std::vector<double> T[2];
     double              sink = 0, reference = 0, T_init = 0;
     for (const bool friction : {true, false})
       {
-        std::ostringstream os;
-        os.precision(17);
-        os
-          << "set Dimension = 2\nsubsection Domain\n  set Lower corner = 0, 0\n  set Upper corner = 0.004, "
-          << H << "\n  set Cells = 4, 20\n  set Boundary x- = periodic\n  set Boundary x+ = periodic\n"
-          << "  set Boundary y- = no-slip wall\n  set Boundary y+ = no-slip wall\n"
-          << "  set Wall velocity y- = " << -Uw << ", 0\n  set Wall velocity y+ = " << Uw << ", 0\nend\n"
-          << "subsection Material\n  set Model = granular\n  set Grain diameter = 1e-3\n"
-             "  set Material density = 2600\n  set Restitution coefficient = 0.9\nend\n"
-             "subsection Dense closure\n  set Model = johnson-jackson\n  set Minimum packing fraction = 0.5\n"
-             "  set Frictional stress = newtonian\n  set Viscosity time = "
-          << (friction ? 0.5 : 0.) << "\nend\n"
-          << "subsection Effects\n  set Convection = false\nend\n"
-          << "subsection Initial state\n  set Packing fraction = 0.6\n"
-          << "  set Velocity = " << Uw << " * (2 * y / " << H << " - 1); 0\n"
-          << "  set Temperature = 1e-14\n  set Quadrature points = 1\nend\n"
-             "subsection Numerics\n  set Fixed time step = "
-          << dt
-          << "\nend\nsubsection Diffusion step\n  set Integrator = gauss-legendre\n  set Newton tolerance = "
-             "1e-14\n"
-             "  set Linear solver tolerance = 1e-14\nend\n"
-             "subsection Time\n  set End time = "
-          << steps * dt << "\nend\n"
-          << output_off();
-        driver::Simulation<dim2, physics::GranularGas<dim2>> sim(
-          scene::parse_scene(os.str(), "frictional shear"), MPI_COMM_SELF, std::cout);
+        // as in frictional_shear.prm, or without the frictional stress (mu_f = 0)
+        const scene::Scene sc = test_scene(
+          "frictional_shear.prm",
+          friction ? std::vector<std::string>{} : std::vector<std::string>{"Dense closure/Viscosity time=0"});
+        driver::Simulation<dim2, physics::GranularGas<dim2>> sim(sc, MPI_COMM_SELF, std::cout);
         sim.setup();
         T_init                       = temperatures(sim)[0];
         const driver::RunSummary sum = sim.run();
@@ -157,10 +119,10 @@ namespace
             // mu_f gamma_dot^2 x volume x dt per step, all in scaled units; the volume of a
             // 2D run is its area (scaled), as in the summary
             const auto  &u    = sim.units();
-            const double n    = 0.6 / (M_PI / 6.); // scaled: sigma = 1
+            const double n    = phi / (M_PI / 6.); // scaled: sigma = 1
             const double mu_f = sim.description().contact.viscosity(n);
             const double gdot = 2 * Uw / H * u.time();
-            const double area = 0.004 * H / (u.length * u.length);
+            const double area = width * H / (u.length * u.length);
             reference         = mu_f * gdot * gdot * area * dt / u.time() * sum.steps;
             sink              = sum.diffusion.friction_dissipation;
             chk.check(sum.steps == steps, "frictional shear: " + std::to_string(sum.steps) + " steps");
@@ -184,8 +146,8 @@ namespace
     // T is the small difference nE - n|u|^2/2 - n w, and the frictional terms are large, so
     // "unaffected" is round-off relative to that rise: |T - T(mu_f = 0)| <= 1e-12 rise
     // (measured ~1e-15)
-    const double n    = 0.6 / (M_PI / 6.);
-    const double area = 0.004 * H / std::pow(1e-3, 2); // scaled, sigma = 1 mm
+    const double n    = phi / (M_PI / 6.);
+    const double area = width * H / std::pow(sigma, 2); // scaled, sigma = 1 mm
     const double rise = sink / (1.5 * n * area);
     b << "frictional shear: T with mu_f vs without differs by " << std::scientific << std::setprecision(2)
       << diff / rise << " of the rise the frictional work would cause (" << rise / Tmin
@@ -200,12 +162,11 @@ namespace
     Checker chk;
     for (const double t_end : {0.15, 0.2})
       {
-        std::ostringstream over;
-        over << "subsection Initial state\n  set Temperature = 3.4e-7\nend\n"
-             << "subsection Time\n  set End time = " << t_end << "\nend\n";
-        driver::Simulation<dim1, physics::GranularGas<dim1>> sim(
-          scene::parse_scene(read_text_file(file) + over.str() + output_off(), file), MPI_COMM_SELF,
-          std::cout);
+        // the scene file of parameters/ with T0, the end time and no output
+        std::vector<std::string> o = no_output;
+        o.insert(o.end(), {"Initial state/Temperature=3.4e-7", "Time/End time=" + number(t_end)});
+        driver::Simulation<dim1, physics::GranularGas<dim1>> sim(scene::read_scene(file, o), MPI_COMM_SELF,
+                                                                 std::cout);
         sim.setup();
         const driver::RunSummary sum       = sim.run();
         const auto               T         = temperatures(sim);

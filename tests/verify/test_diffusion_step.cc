@@ -24,52 +24,34 @@ using namespace granhydro::testing;
 
 namespace
 {
-  struct Spec
+  /// A case: a base scene beside this source (diffusion_step.prm;
+  /// diffusion_step_2d.prm and diffusion_vortex.prm modify it) and the case's
+  /// modifications, -p overrides
+  struct Case
   {
-    unsigned int dim = 1;
-    unsigned int nx = 40, ny = 1;
-    double       lx = 0.02, ly = 0.02;
-    std::string  phi, vel, T;
-    double       eps = 0.9, dt = 1e-3, t_end = 0.02;
-    bool         convection = false;
-    std::string  integrator = "gauss-legendre", flux = "full";
-    std::string  splitting = "merged";
+    std::string              file = "diffusion_step.prm";
+    std::vector<std::string> overrides;
+
+    /// this case with one more override "Section/Name=value"
+    Case with(const std::string &o) const
+    {
+      Case c = *this;
+      c.overrides.push_back(o);
+      return c;
+    }
+    Case with_dt(const double dt) const { return with("Numerics/Fixed time step=" + number(dt)); }
+    Case with_end(const double t) const { return with("Time/End time=" + number(t)); }
   };
 
-  std::string scene_text(const Spec &s)
+  scene::Scene make_scene(const Case &c)
   {
-    std::ostringstream os;
-    os.precision(17);
-    os << "set Dimension = " << s.dim << "\nsubsection Domain\n";
-    if (s.dim == 1)
-      os << "  set Lower corner = 0\n  set Upper corner = " << s.lx << "\n  set Cells = " << s.nx << "\n";
-    else
-      os << "  set Lower corner = 0, 0\n  set Upper corner = " << s.lx << ", " << s.ly
-         << "\n  set Cells = " << s.nx << ", " << s.ny << "\n";
-    for (unsigned int i = 0; i < 2 * s.dim; ++i)
-      os << "  set Boundary " << std::string(i < 2 ? "x" : "y") << (i % 2 ? "+" : "-") << " = periodic\n";
-    os << "end\nsubsection Material\n  set Model = granular\n  set Restitution coefficient = " << s.eps
-       << "\nend\nsubsection Initial state\n  set Packing fraction = " << s.phi
-       << "\n  set Velocity = " << s.vel << "\n  set Temperature = " << s.T
-       << "\n  set Quadrature points = 4\nend\n"
-       << "subsection Effects\n  set Convection = " << (s.convection ? "true" : "false")
-       << "\n  set Diffusive flux = " << s.flux << "\nend\n"
-       << "subsection Numerics\n  set Fixed time step = " << s.dt << "\n  set CFL number = 0.9\n"
-       << "  set Strang splitting = " << s.splitting << "\nend\n"
-       << "subsection Diffusion step\n  set Integrator = " << s.integrator
-       << "\n  set Newton tolerance = 1e-14\n  set Linear solver tolerance = 1e-14\nend\n"
-       << "subsection Time\n  set End time = " << s.t_end << "\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint "
-          "= false\n"
-       << "  set Verbose = false\nend\n";
-    return os.str();
+    return test_scene(c.file, c.overrides);
   }
 
   template <int dim>
-  std::vector<physics::State<dim>> run(const Spec &s, driver::RunSummary *summary = nullptr)
+  std::vector<physics::State<dim>> run(const Case &s, driver::RunSummary *summary = nullptr)
   {
-    driver::Simulation<dim, physics::GranularGas<dim>> sim(
-      scene::parse_scene(scene_text(s), "diffusion test"), MPI_COMM_SELF, std::cout);
+    driver::Simulation<dim, physics::GranularGas<dim>> sim(make_scene(s), MPI_COMM_SELF, std::cout);
     sim.setup();
     const auto sum = sim.run();
     if (summary)
@@ -104,15 +86,13 @@ int main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   Checker                                  chk;
-  Spec                                     base;
-  base.phi = "0.3 + 0.1*sin(2*pi*x/0.02)";
-  base.vel = "0.01*sin(2*pi*x/0.02)";
-  base.T   = "1e-7*(1 + 0.3*cos(2*pi*x/0.02))";
+  const Case                               base;
+  // the base case's end time, read back from diffusion_step.prm (the step sizes)
+  const double t_end = make_scene(base).end_time;
 
   // ---- A: temporal order of the integrators (diffusion + sources only) ----------
   {
-    Spec ref         = base;
-    ref.dt           = base.t_end / 256;
+    const Case ref   = base.with_dt(t_end / 256);
     const auto U_ref = run<1>(ref);
     for (const auto &[integrator, steps, min_order] :
          {std::tuple<std::string, unsigned, double>{"gauss-legendre", 8, 3.8},
@@ -124,9 +104,7 @@ int main(int argc, char **argv)
         driver::RunSummary sum;
         for (unsigned int k = 0; k < 2; ++k)
           {
-            Spec s       = base;
-            s.integrator = integrator;
-            s.dt         = base.t_end / (steps << k);
+            const Case s = base.with("Diffusion step/Integrator=" + integrator).with_dt(t_end / (steps << k));
             e[k]         = difference<1>(run<1>(s, &sum), U_ref);
           }
         const double       order = std::log(e[0] / e[1]) / std::log(2.);
@@ -138,9 +116,7 @@ int main(int argc, char **argv)
         chk.check(order >= min_order, os.str());
       }
     // how far beyond the explicit limit: the explicit baseline's sub-step count
-    Spec ex       = base;
-    ex.integrator = "explicit euler";
-    ex.dt         = base.t_end / 4;
+    const Case         ex = base.with("Diffusion step/Integrator=explicit euler").with_dt(t_end / 4);
     driver::RunSummary sum;
     const auto         U_ex = run<1>(ex, &sum);
     std::ostringstream os;
@@ -159,21 +135,15 @@ int main(int argc, char **argv)
   // at dt/16
   for (const std::string splitting : {"symmetric", "merged"})
     {
-      Spec s           = base;
-      s.convection     = true;
-      s.t_end          = 0.01;
-      s.dt             = 2.5e-4; // below the convective CFL limit (~1.3e-3 s) at every level
-      s.splitting      = splitting;
-      Spec ref         = s;
-      ref.dt           = s.dt / 16;
-      ref.splitting    = "symmetric";
+      const double dt = 2.5e-4; // below the convective CFL limit (~1.3e-3 s) at every level
+      const Case   s =
+        base.with("Effects/Convection=true").with_end(0.01).with("Numerics/Strang splitting=" + splitting);
+      const Case ref   = s.with_dt(dt / 16).with("Numerics/Strang splitting=symmetric");
       const auto U_ref = run<1>(ref);
       double     e[2];
       for (unsigned int k = 0; k < 2; ++k)
         {
-          Spec t = s;
-          t.dt   = s.dt / (1u << k);
-          e[k]   = difference<1>(run<1>(t), U_ref);
+          e[k] = difference<1>(run<1>(s.with_dt(dt / (1u << k))), U_ref);
         }
       const double       order = std::log(e[0] / e[1]) / std::log(2.);
       std::ostringstream os;
@@ -185,15 +155,9 @@ int main(int argc, char **argv)
 
   // ---- C: full vs diagonal-only diffusive flux ---------------------------------------
   {
-    Spec s                  = base;
-    s.dim                   = 2;
-    s.ny                    = 4;
-    s.vel                   = "0.01*sin(2*pi*x/0.02); 0.005*cos(2*pi*x/0.02)";
-    s.t_end                 = 0.01;
-    s.dt                    = 2.5e-3;
-    const auto full         = run<2>(s);
-    s.flux                  = "diagonal";
-    const auto         diag = run<2>(s);
+    const Case         s{"diffusion_step_2d.prm", {}};
+    const auto         full = run<2>(s);
+    const auto         diag = run<2>(s.with("Effects/Diffusive flux=diagonal"));
     const double       d    = difference<2>(diag, full);
     std::ostringstream os;
     os << "fields varying along x only (2D): full and diagonal flux agree, difference " << d;
@@ -204,26 +168,18 @@ int main(int argc, char **argv)
   {
     // viscous vortex: uniform n, T, velocity from a Gaussian stream function;
     // elastic, so only the viscous stress (and heat from dissipation) acts
-    Spec v;
-    v.dim = 2;
-    v.eps = 1;
-    v.lx = v.ly = 0.02;
-    v.phi       = "0.3";
-    v.T         = "1e-7";
-    v.vel       = "-0.02*(y-0.01)/0.003*exp(-((x-0.01)^2+(y-0.01)^2)/0.003^2)*2;"
-                  " 0.02*(x-0.01)/0.003*exp(-((x-0.01)^2+(y-0.01)^2)/0.003^2)*2";
-    v.t_end     = 0.004;
-    v.dt        = 1e-3;
+    const Case v{"diffusion_vortex.prm", {}};
+    const auto cells = [&](const unsigned int N) {
+      return v.with("Domain/Cells=" + std::to_string(N) + ", " + std::to_string(N));
+    };
     std::vector<double> ef, ed;
-    Spec                r = v;
-    r.nx = r.ny    = 64;
-    const auto ref = run<2>(r);
+    const Case          r   = cells(64);
+    const auto          ref = run<2>(r);
     // restrict the reference to coarse cells by averaging
     auto coarse = [&](unsigned int N) {
       std::vector<physics::State<2>> c(N * N, physics::State<2>{});
       // reference slots are in DoF order; rebuild by lattice index from a run's patch
-      driver::Simulation<2, physics::GranularGas<2>> sim(scene::parse_scene(scene_text(r), "ref"),
-                                                         MPI_COMM_SELF, std::cout);
+      driver::Simulation<2, physics::GranularGas<2>> sim(make_scene(r), MPI_COMM_SELF, std::cout);
       sim.setup();
       const unsigned int f = 64 / N;
       for (unsigned int i = 0; i < sim.patch().n_owned(); ++i)
@@ -237,10 +193,8 @@ int main(int argc, char **argv)
     };
     for (const unsigned int N : {16u, 32u})
       {
-        Spec a = v;
-        a.nx = a.ny = N;
-        driver::Simulation<2, physics::GranularGas<2>> sim(scene::parse_scene(scene_text(a), "v"),
-                                                           MPI_COMM_SELF, std::cout);
+        const Case                                     a = cells(N);
+        driver::Simulation<2, physics::GranularGas<2>> sim(make_scene(a), MPI_COMM_SELF, std::cout);
         sim.setup();
         std::vector<physics::State<2>> Uf, Ud, Rc(N * N);
         driver::RunSummary             sum;
@@ -251,8 +205,7 @@ int main(int argc, char **argv)
                     ": modified Newton with lagged cross terms converges, " +
                     std::to_string(double(sum.diffusion.newton_iterations) / sum.diffusion.steps) +
                     " iterations per step to 1e-14");
-        a.flux          = "diagonal";
-        const auto diag = run<2>(a);
+        const auto diag = run<2>(a.with("Effects/Diffusive flux=diagonal"));
         const auto cref = coarse(N);
         for (unsigned int i = 0; i < sim.patch().n_owned(); ++i)
           {
@@ -278,12 +231,12 @@ int main(int argc, char **argv)
     // mode with the largest eigenvalue of the discrete conduction operator. In the
     // linear regime each step multiplies its amplitude by R(z), so the ratio of the
     // amplitudes after 2 and after 1 step is R(z), free of the initial averaging.
-    Spec s         = base;
-    s.eps          = 1.;
-    s.phi          = "0.3";
-    s.vel          = "0";
-    s.T            = "1e-7*(1 + 1e-3*sin(pi*x/0.0005))";
-    s.dt           = 0.2; // ~1700 x the explicit limit, |z| ~ 3000
+    const double dt = 0.2; // ~1700 x the explicit limit, |z| ~ 3000
+    const Case   s  = base.with("Material/Restitution coefficient=1")
+                     .with("Initial state/Packing fraction=0.3")
+                     .with("Initial state/Velocity=0")
+                     .with("Initial state/Temperature=1e-7*(1 + 1e-3*sin(pi*x/0.0005))")
+                     .with_dt(dt);
     auto amplitude = [](const std::vector<physics::State<1>> &U) {
       double a = 0;
       for (std::size_t i = 0; i < U.size(); ++i)
@@ -301,11 +254,9 @@ int main(int argc, char **argv)
           std::tuple<std::string, double, double>{"implicit midpoint", -1., -0.99}})
       {
         driver::RunSummary sum;
-        s.integrator          = integrator;
-        s.t_end               = s.dt;
-        const double a1       = amplitude(run<1>(s, &sum));
-        s.t_end               = 2 * s.dt;
-        const double       a2 = amplitude(run<1>(s));
+        const Case         c  = s.with("Diffusion step/Integrator=" + integrator);
+        const double       a1 = amplitude(run<1>(c.with_end(dt), &sum));
+        const double       a2 = amplitude(run<1>(c.with_end(2 * dt)));
         const double       R  = a2 / a1;
         std::ostringstream os;
         os << integrator << ": stiffest mode over one step " << std::fixed << std::setprecision(0)

@@ -17,26 +17,7 @@ using namespace granhydro;
 using namespace granhydro::testing;
 
 namespace
-{
-  std::string scene_text(const std::string &effects, const double eps, const double t_end,
-                         const std::string &gravity)
-  {
-    std::ostringstream os;
-    os << "set Dimension = 2\nsubsection Domain\n  set Lower corner = 0, 0\n"
-       << "  set Upper corner = 0.016, 0.012\n  set Cells = 16, 12\n"
-       << "  set Boundary x- = periodic\n  set Boundary x+ = periodic\n"
-       << "  set Boundary y- = slip wall\n  set Boundary y+ = slip wall\nend\n"
-       << "subsection Material\n  set Model = granular\n  set Restitution coefficient = " << eps << "\nend\n"
-       << "subsection Effects\n"
-       << effects << "  set Gravity = " << gravity << "\nend\n"
-       << "subsection Initial state\n  set Packing fraction = 0.2 + 0.1*sin(2*pi*x/0.016)*cos(pi*y/0.012)\n"
-       << "  set Velocity = 0.02*cos(2*pi*y/0.012); 0.01*sin(2*pi*x/0.016)\n"
-       << "  set Temperature = 1e-7*(1 + 0.2*cos(2*pi*x/0.016))\nend\n"
-       << "subsection Time\n  set End time = " << t_end << "\n  set Maximum steps = 20\nend\n"
-       << quiet_output;
-    return os.str();
-  }
-} // namespace
+{} // namespace
 
 int main(int argc, char **argv)
 {
@@ -45,9 +26,10 @@ int main(int argc, char **argv)
   using Sim = driver::Simulation<2, physics::GranularGas<2>>;
   // ---- a: no diffusion step when nothing calls for it ------------------------------
   {
-    const scene::Scene sc = scene::parse_scene(
-      scene_text("  set Viscosity = false\n  set Heat conduction = false\n", 1.0, 1.0, "0, 0"),
-      "no transport");
+    // effects.prm with eps = 1, no gravity, no transport
+    const scene::Scene sc = test_scene(
+      "effects.prm", {"Effects/Viscosity=false", "Effects/Heat conduction=false",
+                      "Material/Restitution coefficient=1", "Effects/Gravity=0, 0", "Time/End time=1"});
     Sim sim(sc, MPI_COMM_SELF, std::cout);
     sim.setup();
     const auto sum = sim.run();
@@ -75,14 +57,14 @@ int main(int argc, char **argv)
   }
   // ---- b: each effect contributes exactly its term -----------------------------------
   {
-    const std::string  all = "  set Viscosity = true\n  set Heat conduction = true\n  set Cooling = true\n";
-    const scene::Scene sc  = scene::parse_scene(scene_text(all, 0.8, 1e-3, "0, -9.81"), "all effects");
+    const scene::Scene sc = test_scene("effects.prm"); // every effect on
     Sim                sim(sc, MPI_COMM_SELF, std::cout);
     sim.setup();
     const auto         &patch = sim.patch();
     std::vector<double> W;
     patch.gather(sim.state(), W);
-    const double L = sim.units().length, g_scaled = -9.81 * L / std::pow(sim.units().velocity, 2);
+    // gravity along y as the scene sets it
+    const double L = sim.units().length, g_scaled = sc.gravity[1] * L / std::pow(sim.units().velocity, 2);
     auto         residual = [&](bool visc, bool heat, bool cool, bool grav) {
       diffusion::DiffusionSettings s;
       s.viscous         = visc;

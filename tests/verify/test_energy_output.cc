@@ -86,15 +86,16 @@ namespace
     return csv;
   }
 
-  /// the scene file with these overrides, writing profiles and VTU to directory
-  scene::Scene make_scene(const std::string &file, const std::string &overrides, const std::string &directory)
+  /// the scene file with these overrides (-p form), writing profiles and VTU to
+  /// directory
+  scene::Scene make_scene(const std::string &file, std::vector<std::string> overrides,
+                          const std::string &directory)
   {
     std::filesystem::remove_all(directory);
-    return scene::parse_scene(
-      read_text_file(file) + overrides + "\nsubsection Output\n  set Directory = " + directory +
-        "\n  set Write VTU = true\n  set Write profiles = true\n  set Write checkpoint = false\n"
-        "  set Write summary = false\n  set Verbose = false\nend\n",
-      file);
+    overrides.insert(overrides.end(),
+                     {"Output/Directory=" + directory, "Output/Write VTU=true", "Output/Write profiles=true",
+                      "Output/Write checkpoint=false", "Output/Write summary=false", "Output/Verbose=false"});
+    return scene::read_scene(file, overrides);
   }
 
   struct Split
@@ -189,7 +190,7 @@ int main(int argc, char **argv)
 
   { // the paper's column with the dense closure
     const std::string                              out = "energy_output_closure";
-    const scene::Scene                             s   = make_scene(column, "", out);
+    const scene::Scene                             s   = make_scene(column, {}, out);
     driver::Simulation<1, physics::GranularGas<1>> sim(s, MPI_COMM_SELF, std::cout);
     sim.setup();
     sim.run();
@@ -218,8 +219,7 @@ int main(int argc, char **argv)
       "closure on: VTU has the kinetic, thermal, contact and total energy fields and granular_temperature");
   }
 
-  const std::string no_closure = "\nsubsection Dense closure\n  set Model = none\nend\n"
-                                 "subsection Time\n  set End time = 0.05\nend\n";
+  const std::vector<std::string> no_closure = {"Dense closure/Model=none", "Time/End time=0.05"};
   { // closure off
     const std::string                              out = "energy_output_no_closure";
     driver::Simulation<1, physics::GranularGas<1>> sim(make_scene(column, no_closure, out), MPI_COMM_SELF,
@@ -233,12 +233,11 @@ int main(int argc, char **argv)
   }
 
   { // vibrated container (closure off): kinetic energy in the lab frame
-    const std::string  out = "energy_output_vibrated";
-    const scene::Scene s =
-      make_scene(column,
-                 no_closure + "subsection Effects\n  set Vibration amplitude = 0.0005\n"
-                              "  set Vibration frequency = 30\n  set Vibration direction = x\nend\n",
-                 out);
+    const std::string        out      = "energy_output_vibrated";
+    std::vector<std::string> vibrated = no_closure;
+    vibrated.insert(vibrated.end(), {"Effects/Vibration amplitude=0.0005", "Effects/Vibration frequency=30",
+                                     "Effects/Vibration direction=x"});
+    const scene::Scene                             s = make_scene(column, vibrated, out);
     driver::Simulation<1, physics::GranularGas<1>> sim(s, MPI_COMM_SELF, std::cout);
     sim.setup();
     sim.run();
@@ -268,8 +267,7 @@ int main(int argc, char **argv)
   { // ideal gas: no contact energy, thermal = total - kinetic
     const std::string                           out = "energy_output_ideal";
     driver::Simulation<1, physics::IdealGas<1>> sim(
-      make_scene(dir + "/sod_1d.prm", "\nsubsection Time\n  set End time = 0.05\nend\n", out), MPI_COMM_SELF,
-      std::cout);
+      make_scene(dir + "/sod_1d.prm", {"Time/End time=0.05"}, out), MPI_COMM_SELF, std::cout);
     sim.setup();
     const driver::RunSummary sum = sim.run();
     const Csv                csv = read_csv(out + "/solution_profiles.csv");

@@ -22,31 +22,26 @@ using namespace granhydro::testing;
 
 namespace
 {
-  const double sigma = 1e-3, rho_s = 2600, T0 = 1e-8;
+  // the scene is haff.prm beside this file; sigma, rho_s and T0 of Haff's law are
+  // read back from it (constants_from()), the parameters a case varies are C++
+  // values passed as overrides (haff_scene())
+  double sigma, rho_s, T0;
 
-  std::string haff_scene(double eps, double phi, double dt, double t_end, const std::string &integrator,
-                         double mu)
+  void constants_from(const scene::Scene &s)
   {
-    std::ostringstream os;
-    os.precision(17);
-    os << "set Dimension = 3\nsubsection Domain\n  set Lower corner = 0,0,0\n"
-       << "  set Upper corner = 0.01, 0.01, 0.01\n  set Cells = 2, 2, 2\n";
-    for (const char *b : {"x-", "x+", "y-", "y+", "z-", "z+"})
-      os << "  set Boundary " << b << " = periodic\n";
-    os << "end\nsubsection Material\n  set Model = granular\n  set Grain diameter = " << sigma
-       << "\n  set Material density = " << rho_s << "\n  set Restitution coefficient = " << eps
-       << "\n  set Friction coefficient = " << mu
-       << "\nend\nsubsection Initial state\n  set Packing fraction = " << phi
-       << "\n  set Velocity = 0;0;0\n  set Temperature = " << T0 << "\n  set Quadrature points = 1\nend\n"
-       << "subsection Numerics\n  set Reconstruction = first order\n  set CFL number = 0.9\n"
-       << "  set Fixed time step = " << dt << "\nend\n"
-       << "subsection Diffusion step\n  set Integrator = " << integrator
-       << "\n  set Newton tolerance = 1e-13\nend\n"
-       << "subsection Time\n  set End time = " << t_end << "\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint "
-          "= false\n"
-       << "  set Verbose = false\nend\n";
-    return os.str();
+    sigma = s.grain_diameter;
+    rho_s = s.material_density;
+    T0    = constant_expression(s.initial_temperature);
+  }
+
+  scene::Scene haff_scene(double eps, double phi, double dt, double t_end, const std::string &integrator,
+                          double mu)
+  {
+    return test_scene(
+      "haff.prm",
+      {"Material/Restitution coefficient=" + number(eps), "Material/Friction coefficient=" + number(mu),
+       "Initial state/Packing fraction=" + number(phi), "Numerics/Fixed time step=" + number(dt),
+       "Diffusion step/Integrator=" + integrator, "Time/End time=" + number(t_end)});
   }
 
   /// relative error of T at t_end against Haff's law, and the number of steps taken
@@ -62,8 +57,7 @@ namespace
     const double                                   z0    = gd.zeta0(n, T0, m, sigma);
     const double                                   t_end = 10 / nu0;
     driver::Simulation<3, physics::GranularGas<3>> sim(
-      scene::parse_scene(haff_scene(eps, phi, t_end / steps, t_end, integrator, mu), "haff"), MPI_COMM_SELF,
-      std::cout);
+      haff_scene(eps, phi, t_end / steps, t_end, integrator, mu), MPI_COMM_SELF, std::cout);
     sim.setup();
     const auto sum     = sim.run();
     taken              = sum.steps;
@@ -83,6 +77,7 @@ int main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   Checker                                  chk;
+  constants_from(test_scene("haff.prm"));
   struct Case
   {
     std::string integrator;

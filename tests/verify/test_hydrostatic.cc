@@ -18,13 +18,30 @@ using namespace granhydro::testing;
 
 namespace
 {
-  const double sigma = 1e-3, rho_s = 2600, g = 9.81;
-  const double m = rho_s * M_PI * sigma * sigma * sigma / 6;
+  // the scene is hydrostatic.prm beside this file; sigma, rho_s and g of the
+  // exact profile are read back from it (constants_from()), each column's height,
+  // cell count and temperature are C++ values passed as overrides (make_scene())
+  double sigma, rho_s, g, m;
+
+  void constants_from(const scene::Scene &s)
+  {
+    sigma = s.grain_diameter;
+    rho_s = s.material_density;
+    g     = -s.gravity[0];
+    m     = rho_s * M_PI * sigma * sigma * sigma / 6;
+  }
 
   struct Column
   {
     double phi0, T, height;
   };
+
+  scene::Scene make_scene(const Column &c, const unsigned int N)
+  {
+    return test_scene("hydrostatic.prm",
+                      {"Domain/Upper corner=" + number(c.height), "Domain/Cells=" + std::to_string(N),
+                       "Initial state/Temperature=" + number(c.T)});
+  }
 
   double G(const physics::GarzoDufty1999 &gd, const double phi)
   {
@@ -44,31 +61,11 @@ namespace
     return 0.5 * (lo + hi);
   }
 
-  std::string scene_text(const Column &c, const unsigned int N)
-  {
-    std::ostringstream os;
-    os.precision(17);
-    os << "set Dimension = 1\nsubsection Domain\n  set Lower corner = 0\n  set Upper corner = " << c.height
-       << "\n  set Cells = " << N << "\n  set Boundary x- = slip wall\n  set Boundary x+ = slip wall\nend\n"
-       << "subsection Material\n  set Model = granular\n  set Restitution coefficient = 1\n"
-       << "  set Grain diameter = " << sigma << "\n  set Material density = " << rho_s << "\nend\n"
-       << "subsection Effects\n  set Gravity = " << -g << "\nend\n"
-       << "subsection Initial state\n  set Packing fraction = 0.1\n  set Velocity = 0\n"
-       << "  set Temperature = " << c.T << "\nend\n"
-       << "subsection Diffusion step\n  set Newton tolerance = 1e-12\nend\n"
-       << "subsection Time\n  set End time = 100\n  set Maximum steps = 1000\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint "
-          "= false\n"
-       << "  set Verbose = false\nend\n";
-    return os.str();
-  }
-
   /// returns (max relative density deviation, max |u| / sqrt(g sigma))
   std::pair<double, double> run(const Column &c, const unsigned int N)
   {
     const physics::GarzoDufty1999                  gd(1.0);
-    driver::Simulation<1, physics::GranularGas<1>> sim(scene::parse_scene(scene_text(c, N), "column"),
-                                                       MPI_COMM_SELF, std::cout);
+    driver::Simulation<1, physics::GranularGas<1>> sim(make_scene(c, N), MPI_COMM_SELF, std::cout);
     sim.setup();
     sim.set_initial_state(
       [&](const dealii::Point<1> &x) {
@@ -97,6 +94,7 @@ int main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   Checker                                  chk;
+  constants_from(test_scene("hydrostatic.prm"));
   for (const Column &c : {Column{0.5, 1e-6, 0.05}, Column{0.62, 1e-7, 0.02}})
     {
       std::vector<double> us;

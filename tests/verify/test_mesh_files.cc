@@ -78,10 +78,9 @@ namespace
   {
     const MPI_Comm     world     = MPI_COMM_WORLD;
     const scene::Scene generated = scene::parse_scene(text, "<generated box>");
-    const scene::Scene from_file =
-      scene::parse_scene(text + "subsection Domain\n  set Mesh file = " + mesh +
-                           "\n  set Mesh refinements = " + std::to_string(refinements) + "\nend\n",
-                         "<box from file>");
+    const scene::Scene from_file = scene::parse_scene(
+      text, "<box from file>",
+      {"Domain/Mesh file=" + mesh, "Domain/Mesh refinements=" + std::to_string(refinements)});
     const auto         a      = run<dim, Description>(generated, world);
     const auto         b      = run<dim, Description>(from_file, world);
     const unsigned int nranks = Utilities::MPI::n_mpi_processes(world);
@@ -171,13 +170,11 @@ int main(int argc, char **argv)
     }
   else if (mode == "closed" || mode == "discharge")
     {
-      std::string text = read_text_file(arg) +
-                         "\nsubsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
-                         "  set Verbose = false\nend\n";
+      std::vector<std::string> overrides = {"Output/Write VTU=false", "Output/Write profiles=false",
+                                            "Output/Verbose=false"};
       if (mode == "closed") // outlet bottom closed by a no-slip wall; 40 steps
-        text += "subsection Domain\n  set Boundary y- = no-slip wall\nend\nsubsection Time\n"
-                "  set Maximum steps = 40\nend\n";
-      const scene::Scene scene = scene::parse_scene(text, arg);
+        overrides.insert(overrides.end(), {"Domain/Boundary y-=no-slip wall", "Time/Maximum steps=40"});
+      const scene::Scene scene = scene::read_scene(arg, overrides);
       Sim3               sim(scene, MPI_COMM_WORLD, std::cout);
       sim.setup();
       const double M0      = mass(sim, scene);

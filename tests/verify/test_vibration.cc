@@ -17,25 +17,16 @@ using namespace granhydro::testing;
 
 namespace
 {
-  const double A = 0.004, f = 12, w = 2 * M_PI * f;
+  // the scene is vibration.prm beside this file (the periodic box); the
+  // vibration's A and f of the exact solution are read back from it
+  // (constants_from())
+  double A, f, w;
 
-  std::string scene_text(const std::string &walls, double phi, double T, double t_end, double dt)
+  void constants_from(const scene::Scene &s)
   {
-    std::ostringstream os;
-    os.precision(17);
-    os
-      << "set Dimension = 1\nsubsection Domain\n  set Lower corner = 0\n  set Upper corner = 0.02\n"
-      << "  set Cells = 20\n  set Boundary x- = " << walls << "\n  set Boundary x+ = " << walls << "\nend\n"
-      << "subsection Material\n  set Model = granular\n  set Restitution coefficient = 1\nend\n"
-      << "subsection Effects\n  set Vibration amplitude = " << A << "\n  set Vibration frequency = " << f
-      << "\n  set Vibration direction = x\nend\n"
-      << "subsection Initial state\n  set Packing fraction = " << phi << "\n  set Velocity = 0\n"
-      << "  set Temperature = " << T << "\nend\n"
-      << "subsection Numerics\n  set Fixed time step = " << dt << "\nend\n"
-      << "subsection Diffusion step\n  set Integrator = gauss-legendre\n  set Newton tolerance = 1e-13\nend\n"
-      << "subsection Time\n  set End time = " << t_end << "\nend\n"
-      << quiet_output;
-    return os.str();
+    A = s.vibration_amplitude;
+    f = s.vibration_frequency;
+    w = 2 * M_PI * f;
   }
 } // namespace
 
@@ -43,17 +34,16 @@ int main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   Checker                                  chk;
+  const scene::Scene                       periodic = test_scene("vibration.prm");
+  constants_from(periodic);
   {
-    const double                                   t_end = 0.03;
-    driver::Simulation<1, physics::GranularGas<1>> sim(
-      scene::parse_scene(scene_text("periodic", 0.3, 1e-7, t_end, 1e-4), "periodic"), MPI_COMM_SELF,
-      std::cout);
+    driver::Simulation<1, physics::GranularGas<1>> sim(periodic, MPI_COMM_SELF, std::cout);
     sim.setup();
     const auto   s0    = sim.state_si(0);
     const auto   sum   = sim.run();
     const double exact = A * w * (1 - std::cos(w * sum.time_si));
     double       du = 0, dn = 0, dT = 0;
-    const double m = 2600 * M_PI * 1e-9 / 6;
+    const double m = periodic.grain_mass();
     for (unsigned int c = 0; c < sim.patch().n_owned(); ++c)
       {
         const auto   S  = sim.state_si(c);
@@ -71,10 +61,12 @@ int main(int argc, char **argv)
     chk.check(du < 1e-8 && dn < 1e-13 && dT < 1e-10, os.str());
   }
   {
-    const double                                   period = 1 / f;
-    driver::Simulation<1, physics::GranularGas<1>> sim(
-      scene::parse_scene(scene_text("slip wall", 0.5, 1e-6, period, 2e-5), "closed"), MPI_COMM_SELF,
-      std::cout);
+    // the closed box: slip walls, a dense stiff gas, one period
+    const scene::Scene closed =
+      test_scene("vibration.prm", {"Domain/Boundary x-=slip wall", "Domain/Boundary x+=slip wall",
+                                   "Initial state/Packing fraction=0.5", "Initial state/Temperature=1e-6",
+                                   "Time/End time=" + number(1 / f), "Numerics/Fixed time step=2e-5"});
+    driver::Simulation<1, physics::GranularGas<1>> sim(closed, MPI_COMM_SELF, std::cout);
     sim.setup();
     const auto before = sim.totals();
     double     umax   = 0; // at the end of the period

@@ -15,27 +15,7 @@ using namespace granhydro;
 using namespace granhydro::testing;
 
 namespace
-{
-  std::string granular_box(const std::string &walls, const double eps_w, const unsigned steps,
-                           const std::string &phi, const std::string &T, const double dt)
-  {
-    std::ostringstream os;
-    os.precision(17);
-    os << "set Dimension = 2\nsubsection Domain\n  set Lower corner = 0, 0\n  set Upper corner = 0.02, 0.02\n"
-       << "  set Cells = 16, 16\n";
-    for (const char *b : {"x-", "x+", "y-", "y+"})
-      os << "  set Boundary " << b << " = " << walls << "\n  set Wall restitution " << b << " = " << eps_w
-         << "\n";
-    os << "end\nsubsection Material\n  set Model = granular\n  set Restitution coefficient = 1\nend\n"
-       << "subsection Initial state\n  set Packing fraction = " << phi << "\n  set Velocity = 0; 0\n"
-       << "  set Temperature = " << T << "\nend\n"
-       << "subsection Numerics\n  set Fixed time step = " << dt << "\nend\n"
-       << "subsection Diffusion step\n  set Newton tolerance = 1e-13\nend\n"
-       << "subsection Time\n  set End time = 10\n  set Maximum steps = " << steps << "\nend\n"
-       << quiet_output;
-    return os.str();
-  }
-} // namespace
+{} // namespace
 
 int main(int argc, char **argv)
 {
@@ -86,11 +66,12 @@ int main(int argc, char **argv)
   // ---- 2. elastic closed boxes conserve mass and energy ------------------------------
   for (const std::string walls : {"slip wall", "no-slip wall"})
     {
-      driver::Simulation<2, physics::GranularGas<2>> sim(
-        scene::parse_scene(granular_box(walls, 1., 40, "0.3 + 0.1*exp(-((x-0.008)^2+(y-0.011)^2)/0.003^2)",
-                                        "1e-7*(1 + 0.5*exp(-((x-0.012)^2+(y-0.009)^2)/0.003^2))", 1e-3),
-                           "box"),
-        MPI_COMM_SELF, std::cout);
+      // walls_box.prm as it is, or with no-slip walls
+      std::vector<std::string> o;
+      for (const char *b : {"x-", "x+", "y-", "y+"})
+        o.push_back(std::string("Domain/Boundary ") + b + "=" + walls);
+      const scene::Scene                             box = test_scene("walls_box.prm", o);
+      driver::Simulation<2, physics::GranularGas<2>> sim(box, MPI_COMM_SELF, std::cout);
       sim.setup();
       const auto   before = sim.totals();
       const auto   sum    = sim.run();
@@ -105,10 +86,18 @@ int main(int argc, char **argv)
     }
   // ---- 3. dissipative walls drain energy at the rate of doc/physics.md 5.2 ----------------
   {
-    const double sigma = 1e-3, m = 2600 * M_PI * 1e-9 / 6, phi = 0.2, T = 1e-8, eps_w = 0.8, dt = 1e-6;
-    driver::Simulation<2, physics::GranularGas<2>> sim(
-      scene::parse_scene(granular_box("slip wall", eps_w, 1, "0.2", "1e-8", dt), "box"), MPI_COMM_SELF,
-      std::cout);
+    // walls_box.prm with dissipative walls, a uniform gas and one step: the
+    // values of the rate formula are these C++ constants, passed as overrides;
+    // sigma, the grain mass and the box side are read back from the scene
+    const double             phi = 0.2, T = 1e-8, eps_w = 0.8, dt = 1e-6;
+    std::vector<std::string> o{"Initial state/Packing fraction=" + number(phi),
+                               "Initial state/Temperature=" + number(T),
+                               "Numerics/Fixed time step=" + number(dt), "Time/Maximum steps=1"};
+    for (const char *b : {"x-", "x+", "y-", "y+"})
+      o.push_back(std::string("Domain/Wall restitution ") + b + "=" + number(eps_w));
+    const scene::Scene box   = test_scene("walls_box.prm", o);
+    const double       sigma = box.grain_diameter, m = box.grain_mass(), L = box.upper[0] - box.lower[0];
+    driver::Simulation<2, physics::GranularGas<2>> sim(box, MPI_COMM_SELF, std::cout);
     sim.setup();
     const auto before = sim.totals();
     sim.run();
@@ -120,7 +109,7 @@ int main(int argc, char **argv)
     // totals() are scaled: energy density * area / sigma^2 -> SI energy per unit depth
     const double       E_unit = sim.units().pressure() * sigma * sigma;
     const double       rate   = (after[3] - before[3]) * E_unit / dt; // W per m of depth
-    const double       exact  = -qw * 4 * 0.02;                       // four walls of 0.02 m
+    const double       exact  = -qw * 4 * L;                          // four walls of 0.02 m
     std::ostringstream os;
     os << "dissipative walls (eps_w = 0.8): energy loss rate " << std::scientific << std::setprecision(6)
        << rate << " W/m vs (1 - eps_w) p sqrt(2T/(pi m)) x perimeter = " << exact;
@@ -141,11 +130,11 @@ int main(int argc, char **argv)
     double drift[2];
     for (const bool pressure : {false, true})
       {
-        std::string text = scene_text(spec) + "subsection Initial state\n  set Velocity = 1; 0\nend\n";
+        std::vector<std::string> o{"Initial state/Velocity=1; 0"};
         if (pressure)
-          text += "subsection Numerics\n  set No-slip wall flux = pressure\nend\n";
-        driver::Simulation<2, physics::IdealGas<2>> sim(scene::parse_scene(text, "sliding gas"),
-                                                        MPI_COMM_SELF, std::cout);
+          o.push_back("Numerics/No-slip wall flux=pressure");
+        const scene::Scene sliding = scene::parse_scene(scene_text(spec), "sliding gas", o);
+        driver::Simulation<2, physics::IdealGas<2>> sim(sliding, MPI_COMM_SELF, std::cout);
         sim.setup();
         const auto before = sim.totals();
         sim.run();
