@@ -167,13 +167,13 @@ namespace granhydro::convection
       // evaluated once per state and stage for its pressure, wave speed and admissibility
       auto tL = desc.density_terms(UL[0]), tR = desc.density_terms(UR[0]);
       V    pL = desc.pressure(UL, tL), pR = desc.pressure(UR, tR);
+      // each state's physical flux and wave speed next to its pressure (and admissibility):
+      // the formulas share its velocity, kinetic energy and temperature
+      V aL = physical_flux(UL, tL, pL, d, FL), aR = physical_flux(UR, tR, pR, d, FR);
       for (unsigned int l = 0; l < max_stages; ++l)
         {
           for (unsigned int i = 0; i < L; ++i)
             stats.stages += lanes::set(active, i);
-          desc.flux(UL, pL, d, FL);
-          desc.flux(UR, pR, d, FR);
-          const V aL = desc.max_wave_speed(UL, d, pL, tL), aR = desc.max_wave_speed(UR, d, pR, tR);
           const V smax = aL < aR ? aR : aL; // std::max(aL, aR)
           const V r    = cloc / smax;       // local dt/dx
           for (unsigned int c = 0; c < NC; ++c)
@@ -238,6 +238,8 @@ namespace granhydro::convection
             break;
           pL    = desc.pressure(UL, tL);
           pR    = desc.pressure(UR, tR);
+          aL    = physical_flux(UL, tL, pL, d, FL);
+          aR    = physical_flux(UR, tR, pR, d, FR);
           Fprev = F;
         }
       for (unsigned int i = 0; i < L; ++i)
@@ -252,6 +254,17 @@ namespace granhydro::convection
     }
 
   private:
+    /// the flux F of the state U (its density terms t, pressure p); returns its largest
+    /// wave speed
+    template <class V, class Terms>
+    __attribute__((always_inline)) inline V physical_flux(const std::array<V, NC> &U, const Terms &t,
+                                                          const V p, const unsigned int d,
+                                                          std::array<V, NC> &F) const
+    {
+      desc.flux(U, p, d, F);
+      return desc.max_wave_speed(U, d, p, t);
+    }
+
     const Description &desc;
     FluxType           type;
     unsigned int       max_stages, min_stages;
