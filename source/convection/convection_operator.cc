@@ -172,10 +172,26 @@ namespace granhydro::convection
       // the counts are of this rank's faces only (its low-side cell owned, or a boundary
       // face of an owned cell): a face between two ranks is computed by both, and the run
       // summary's flux_points and musta_stages must not depend on the partition
-      FluxStatistics     shared;
-      const unsigned int n_owned = patch.n_owned();
+      FluxStatistics        shared;
+      const unsigned int    n_owned = patch.n_owned();
+      constexpr std::size_t ahead   = 4; // faces: the point values are read from memory (L3)
       for (std::size_t k = 0; k < faces.size(); ++k)
         {
+          if (k + ahead < faces.size())
+            {
+              const char *pl =
+                reinterpret_cast<const char *>(fin + (std::size_t(faces[k + ahead].l) * 2 + 1) * npts * NC);
+              const char *pr =
+                reinterpret_cast<const char *>(fin + std::size_t(faces[k + ahead].r) * 2 * npts * NC);
+              const std::size_t bytes = npts * NC * sizeof(double);
+              for (std::size_t b = 0; b < bytes; b += 64)
+                {
+                  __builtin_prefetch(pl + b);
+                  __builtin_prefetch(pr + b);
+                }
+              __builtin_prefetch(pl + bytes - 1);
+              __builtin_prefetch(pr + bytes - 1);
+            }
           const unsigned int sl = faces[k].l, sr = faces[k].r;
           FluxStatistics    &counted = sl < n_owned || (sr < n_owned && !patch.is_cell(sl)) ? stats : shared;
           const double      *vl      = fin + (std::size_t(sl) * 2 + 1) * npts * NC;

@@ -19,9 +19,9 @@
  * Everything depends only on (U_L, U_R, d): two ranks computing the same
  * face get bit-identical results.
  */
+#include <granhydro/convection/settings.h>
 #include <granhydro/physics/ideal_gas.h>
 #include <granhydro/physics/lanes.h>
-#include <granhydro/convection/settings.h>
 
 #include <algorithm>
 #include <cmath>
@@ -40,7 +40,7 @@ namespace granhydro::convection
   class NumericalFlux
   {
   public:
-    using State = physics::State<dim>;
+    using State                      = physics::State<dim>;
     static constexpr unsigned int NC = dim + 2;
 
     NumericalFlux(const Description &desc, const ConvectionSettings &settings)
@@ -109,9 +109,9 @@ namespace granhydro::convection
      * result and the statistics are bit for bit those of operator() point by point.
      */
     template <class V>
-    __attribute__((always_inline)) inline void points(const State *UL, const State *UR,
-                                                      const unsigned int n, const unsigned int d,
-                                                      State *F, FluxStatistics &stats) const
+    __attribute__((always_inline)) inline void points(const State *UL, const State *UR, const unsigned int n,
+                                                      const unsigned int d, State *F,
+                                                      FluxStatistics &stats) const
     {
       unsigned int q = 0;
       if constexpr (Description::vector_lanes)
@@ -148,7 +148,7 @@ namespace granhydro::convection
                                                            const unsigned int d, State *Fout,
                                                            FluxStatistics &stats) const
     {
-      namespace lanes        = physics::lanes;
+      namespace lanes          = physics::lanes;
       constexpr unsigned int L = lanes::width<V>;
       using VS                 = std::array<V, NC>;
       using M                  = lanes::Mask<V>;
@@ -163,24 +163,28 @@ namespace granhydro::convection
           F[c] = Fprev[c] = V();
         }
       M active = V() == V(), fallback = V() != V(); // all lanes, none
-      V pL = desc.pressure(UL), pR = desc.pressure(UR);
+      // what the formulas read of each state's density (the dense closure's potential, chi),
+      // evaluated once per state and stage for its pressure, wave speed and admissibility
+      auto tL = desc.density_terms(UL[0]), tR = desc.density_terms(UR[0]);
+      V    pL = desc.pressure(UL, tL), pR = desc.pressure(UR, tR);
+      // each state's physical flux and wave speed next to its pressure (and admissibility):
+      // the formulas share its velocity, kinetic energy and temperature
+      V aL = physical_flux(UL, tL, pL, d, FL), aR = physical_flux(UR, tR, pR, d, FR);
       for (unsigned int l = 0; l < max_stages; ++l)
         {
           for (unsigned int i = 0; i < L; ++i)
             stats.stages += lanes::set(active, i);
-          desc.flux(UL, pL, d, FL);
-          desc.flux(UR, pR, d, FR);
-          const V aL = desc.max_wave_speed(UL, d, pL), aR = desc.max_wave_speed(UR, d, pR);
           const V smax = aL < aR ? aR : aL; // std::max(aL, aR)
-          const V r    = cloc / smax;        // local dt/dx
+          const V r    = cloc / smax;       // local dt/dx
           for (unsigned int c = 0; c < NC; ++c)
             Uh[c] = 0.5 * (UL[c] + UR[c]) - 0.5 * r * (FR[c] - FL[c]); // eq. 4.7a
-          const M ok = desc.admissible(Uh);
-          fallback   = fallback || (active && !ok);
-          active     = active && ok;
+          const auto th = desc.density_terms(Uh[0]);
+          const M    ok = desc.admissible(Uh, th);
+          fallback      = fallback || (active && !ok);
+          active        = active && ok;
           if (!lanes::any(active))
             break;
-          desc.flux(Uh, d, Fh);
+          desc.flux(Uh, desc.pressure(Uh, th), d, Fh);
           // the 1 % rule for mass, momentum (as a vector) and energy separately, each
           // against its own scale: its flux, or the wave speed times its state (for a
           // flux near 0, e.g. mass at rest), so the decision is the same in any unit
@@ -189,26 +193,33 @@ namespace granhydro::convection
           // estimated by S_max |U_R - U_L| (a stage moves the states by about C_loc
           // |U_R - U_L| / 2, and the flux with them at wave speeds <= S_max): a face
           // whose jump is that small keeps the FORCE flux
-          V change[3] = {V(), V(), V()}, flux2[3] = {V(), V(), V()}, state2[3] = {V(), V(), V()};
+          // (a stage before the minimum count stops no lane: its test is skipped)
+          const bool judged    = l + 1 >= min_stages;
+          V          change[3] = {V(), V(), V()}, flux2[3] = {V(), V(), V()}, state2[3] = {V(), V(), V()};
           for (unsigned int c = 0; c < NC; ++c)
             {
               const V Fc = 0.25 * (FL[c] + 2 * Fh[c] + FR[c] - (UR[c] - UL[c]) / r); // eq. 4.7b, P12
-              const unsigned int g  = c == 0 ? 0 : (c + 1 == NC ? 2 : 1);
-              const V            Uc = 0.5 * (lanes::abs(UL[c]) + lanes::abs(UR[c]));
-              const V            dF = l == 0 ? smax * (UR[c] - UL[c]) : Fc - Fprev[c];
-              change[g] += dF * dF;
-              flux2[g] += Fc * Fc;
-              state2[g] += Uc * Uc;
+              if (judged)
+                {
+                  const unsigned int g  = c == 0 ? 0 : (c + 1 == NC ? 2 : 1);
+                  const V            Uc = 0.5 * (lanes::abs(UL[c]) + lanes::abs(UR[c]));
+                  const V            dF = l == 0 ? smax * (UR[c] - UL[c]) : Fc - Fprev[c];
+                  change[g] += dF * dF;
+                  flux2[g] += Fc * Fc;
+                  state2[g] += Uc * Uc;
+                }
               F[c] = active ? Fc : F[c];
             }
-          M converged = V() == V();
-          for (unsigned int g = 0; g < 3; ++g)
+          if (judged)
             {
-              const V scale2 = smax * smax * state2[g];
-              converged      = converged && (change[g] <= tol * tol * (flux2[g] < scale2 ? scale2 : flux2[g]));
+              M converged = V() == V();
+              for (unsigned int g = 0; g < 3; ++g)
+                {
+                  const V scale2 = smax * smax * state2[g];
+                  converged = converged && (change[g] <= tol * tol * (flux2[g] < scale2 ? scale2 : flux2[g]));
+                }
+              active = active && !converged;
             }
-          if (l + 1 >= min_stages)
-            active = active && !converged;
           if (l + 1 == max_stages || !lanes::any(active))
             break;
           for (unsigned int c = 0; c < NC; ++c)
@@ -218,13 +229,17 @@ namespace granhydro::convection
             }
           // keep the last FORCE flux, computed from admissible states (counted)
           const M was = active;
-          active      = active && desc.admissible(UL) && desc.admissible(UR);
+          tL          = desc.density_terms(UL[0]);
+          tR          = desc.density_terms(UR[0]);
+          active      = active && desc.admissible(UL, tL) && desc.admissible(UR, tR);
           for (unsigned int i = 0; i < L; ++i)
             stats.early_stops += lanes::set(was, i) && !lanes::set(active, i);
           if (!lanes::any(active))
             break;
-          pL    = desc.pressure(UL);
-          pR    = desc.pressure(UR);
+          pL    = desc.pressure(UL, tL);
+          pR    = desc.pressure(UR, tR);
+          aL    = physical_flux(UL, tL, pL, d, FL);
+          aR    = physical_flux(UR, tR, pR, d, FR);
           Fprev = F;
         }
       for (unsigned int i = 0; i < L; ++i)
@@ -239,6 +254,17 @@ namespace granhydro::convection
     }
 
   private:
+    /// the flux F of the state U (its density terms t, pressure p); returns its largest
+    /// wave speed
+    template <class V, class Terms>
+    __attribute__((always_inline)) inline V physical_flux(const std::array<V, NC> &U, const Terms &t,
+                                                          const V p, const unsigned int d,
+                                                          std::array<V, NC> &F) const
+    {
+      desc.flux(U, p, d, F);
+      return desc.max_wave_speed(U, d, p, t);
+    }
+
     const Description &desc;
     FluxType           type;
     unsigned int       max_stages, min_stages;

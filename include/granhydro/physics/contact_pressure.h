@@ -43,20 +43,20 @@ namespace granhydro::physics
 {
   struct ContactPressure
   {
-    bool   active    = false;
-    double F         = 0;    ///< scaled pressure
-    double phi_min   = 0.62;
-    double phi_c     = 0.64;
-    double r         = 2;
-    double s         = 5;
-    double delta     = 1e-3; ///< continuation beyond phi_c - delta
-    FrictionalStress friction; ///< the frictional shear stress (physics/frictional_stress.h)
+    bool             active  = false;
+    double           F       = 0; ///< scaled pressure
+    double           phi_min = 0.62;
+    double           phi_c   = 0.64;
+    double           r       = 2;
+    double           s       = 5;
+    double           delta   = 1e-3; ///< continuation beyond phi_c - delta
+    FrictionalStress friction;       ///< the frictional shear stress (physics/frictional_stress.h)
 
     static constexpr double v = M_PI / 6.;
 
     ContactPressure() = default;
-    ContactPressure(const double F, const double phi_min, const double phi_c, const double r,
-                    const double s, const double delta, const FrictionalStress &friction)
+    ContactPressure(const double F, const double phi_min, const double phi_c, const double r, const double s,
+                    const double delta, const FrictionalStress &friction)
       : active(F > 0)
       , F(F)
       , phi_min(phi_min)
@@ -81,9 +81,9 @@ namespace granhydro::physics
       const double g = (r + 1) * x + (s - 1) * y, gp = s - r - 2;
       // two pow calls (y > 0, x >= delta > 0 here): y^r / x^s, the rest by products
       const double q = a * std::pow(y, r) / std::pow(x, s); // a y^r / x^s
-      w  = q * y * x;
-      w1 = q * g;
-      w2 = q * (r * g / y + gp + s * g / x);
+      w              = q * y * x;
+      w1             = q * g;
+      w2             = q * (r * g / y + gp + s * g / x);
       if (phi > pm)
         {
           w += w1 * (phi - pm);
@@ -137,7 +137,16 @@ namespace granhydro::physics
     /// n w, p_f and dp_f/dn from one evaluation of the potential (the flux hot loop)
     void evaluate(const double n, double &energy, double &p, double &dp_dn) const
     {
-      energy = p = dp_dn = 0;
+      double p_n2;
+      evaluate(n, energy, p, dp_dn, p_n2);
+    }
+
+    /// the same and p_f as pressure() rounds it (n^2 v w' in that order; evaluate()'s p is
+    /// n phi w'): everything the convective formulas of one state read, from one
+    /// evaluation of the potential (each keeps its own rounding)
+    void evaluate(const double n, double &energy, double &p, double &dp_dn, double &p_n2) const
+    {
+      energy = p = dp_dn = p_n2 = 0;
       if (!active)
         return;
       const double phi = n * v;
@@ -146,6 +155,7 @@ namespace granhydro::physics
       energy = n * w;
       p      = n * phi * w1;
       dp_dn  = 2 * phi * w1 + phi * phi * w2;
+      p_n2   = n * n * v * w1;
     }
 
     /// the largest frictional shear viscosity at n, t_f sin(theta_f) p_f (the Newtonian law,

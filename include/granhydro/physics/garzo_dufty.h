@@ -53,10 +53,8 @@ namespace granhydro::physics
      * @param zeta_u_mode  first-order cooling (doc/physics.md 3.6), off by default
      * @throws std::invalid_argument naming the parameter and its allowed range.
      */
-    explicit GarzoDufty1999(const double                   eps,
-                            const PairCorrelationTorquato &pair_correlation,
-                            const double                   T_floor     = 0.,
-                            const ZetaUMode                zeta_u_mode = ZetaUMode::off)
+    explicit GarzoDufty1999(const double eps, const PairCorrelationTorquato &pair_correlation,
+                            const double T_floor = 0., const ZetaUMode zeta_u_mode = ZetaUMode::off)
       : chi_(pair_correlation)
     {
       initialize(eps, T_floor, zeta_u_mode);
@@ -68,11 +66,8 @@ namespace granhydro::physics
      * invalid choices listed at PairCorrelationTorquato) with
      * std::invalid_argument.
      */
-    explicit GarzoDufty1999(const double    eps     = 1.,
-                            const double    phi_f   = 0.49,
-                            const double    phi_c   = 0.64,
-                            const double    delta   = 1.e-3,
-                            const double    T_floor = 0.,
+    explicit GarzoDufty1999(const double eps = 1., const double phi_f = 0.49, const double phi_c = 0.64,
+                            const double delta = 1.e-3, const double T_floor = 0.,
                             const ZetaUMode zeta_u_mode = ZetaUMode::off)
       : chi_(phi_f, phi_c, delta)
     {
@@ -110,7 +105,7 @@ namespace granhydro::physics
       if (!(mu >= 0. && mu <= 1.))
         fail("mu (friction coefficient)", mu, "[0, 1]");
       friction_mu_ = mu;
-      e_eff_     = effective_restitution(a_, mu);
+      e_eff_       = effective_restitution(a_, mu);
       cooling_fac_ = cooling_factor(e_eff_, c_star_);
     }
     /// the friction coefficient mu (0: smooth spheres)
@@ -159,6 +154,18 @@ namespace granhydro::physics
       Number c, dc;
       chi_.chi_and_derivative(phi, c, dc);
       return dZ_(phi, c, dc);
+    }
+
+    /// Z and dZ/dphi from one evaluation of chi and dchi/dphi: bit for bit Z(phi) and
+    /// dZ_dphi(phi) (chi_and_derivative()'s chi is chi())
+    template <typename Number>
+    __attribute__((always_inline)) inline void Z_and_derivative(const Number phi, Number &Zv,
+                                                                Number &dZ) const
+    {
+      Number c, dc;
+      chi_.chi_and_derivative(phi, c, dc);
+      Zv = Z_(phi, c);
+      dZ = dZ_(phi, c, dc);
     }
 
     /// zeta* = (5/12) chi (1 - a^2)(1 + 3c*/32), doc/physics.md 3.3 (GD99 zeroth-order cooling rate / nu0).
@@ -258,7 +265,7 @@ namespace granhydro::physics
     DimensionlessCoefficientsT<Number> dimensionless(const Number phi) const
     {
       DimensionlessCoefficientsT<Number> r;
-      Number c, dc;
+      Number                             c, dc;
       chi_.chi_and_derivative(phi, c, dc);
       r.phi           = phi;
       r.chi           = c;
@@ -277,7 +284,7 @@ namespace granhydro::physics
       r.kappa_star    = kappa_(phi, c, r.kappa_k_star);
       r.mu_k_star     = mu_k_(phi, c, dc, r.kappa_k_star);
       r.mu_star       = mu_(phi, c, r.mu_k_star);
-      r.zeta_U        = zeta_u_mode_ == ZetaUMode::off ? lanes::constant<Number>(0.) : zeta_U_(phi, c, zeta_u_mode_);
+      r.zeta_U = zeta_u_mode_ == ZetaUMode::off ? lanes::constant<Number>(0.) : zeta_U_(phi, c, zeta_u_mode_);
       return r;
     }
 
@@ -343,28 +350,32 @@ namespace granhydro::physics
       chi_.chi_and_derivative(phi, c, dc);
       const Number Zv = Z_(phi, c);
       const Number dZ = dZ_(phi, c, dc);
-      return sqrt(T / lanes::constant<Number>(m) * (Zv + phi * dZ + lanes::constant<Number>(2. / 3.) * Zv * Zv));
+      return sqrt(T / lanes::constant<Number>(m) *
+                  (Zv + phi * dZ + lanes::constant<Number>(2. / 3.) * Zv * Zv));
     }
 
     /// eta0 = 5/(16 sigma^2) sqrt(m T/pi) [Pa s], doc/physics.md 3.1 (elastic Boltzmann viscosity). n unused.
     template <typename Number>
     Number eta0(const Number /*n*/, const Number T, const double m, const double sigma) const
     {
-      return lanes::constant<Number>(5. / (16. * sigma * sigma)) * lanes::any_sqrt(lanes::constant<Number>(m / pi_) * floored(T));
+      return lanes::constant<Number>(5. / (16. * sigma * sigma)) *
+             lanes::any_sqrt(lanes::constant<Number>(m / pi_) * floored(T));
     }
 
     /// kappa0 = 15/(4m) eta0 = 75/(64 sigma^2) sqrt(T/(pi m)) [1/(m s)], doc/physics.md 3.1. n unused.
     template <typename Number>
     Number kappa0(const Number /*n*/, const Number T, const double m, const double sigma) const
     {
-      return lanes::constant<Number>(75. / (64. * sigma * sigma)) * lanes::any_sqrt(floored(T) / lanes::constant<Number>(pi_ * m));
+      return lanes::constant<Number>(75. / (64. * sigma * sigma)) *
+             lanes::any_sqrt(floored(T) / lanes::constant<Number>(pi_ * m));
     }
 
     /// nu0 = n T/eta0 = (16/5) n sigma^2 sqrt(pi T/m) [1/s], doc/physics.md 3.1.
     template <typename Number>
     Number nu0(const Number n, const Number T, const double m, const double sigma) const
     {
-      return lanes::constant<Number>(16. / 5. * sigma * sigma) * n * lanes::any_sqrt(lanes::constant<Number>(pi_ / m) * floored(T));
+      return lanes::constant<Number>(16. / 5. * sigma * sigma) * n *
+             lanes::any_sqrt(lanes::constant<Number>(pi_ / m) * floored(T));
     }
 
     /// Shear viscosity eta = eta0 eta*(phi) [Pa s], doc/physics.md 3.4.
@@ -418,8 +429,8 @@ namespace granhydro::physics
     template <typename Number>
     Number mean_free_path(const Number n, const double sigma) const
     {
-      return lanes::constant<Number>(1.) /
-             (lanes::constant<Number>(std::sqrt(2.) * pi_ * sigma * sigma) * n * chi_.chi(packing_fraction(n, sigma)));
+      return lanes::constant<Number>(1.) / (lanes::constant<Number>(std::sqrt(2.) * pi_ * sigma * sigma) * n *
+                                            chi_.chi(packing_fraction(n, sigma)));
     }
 
     /**
@@ -428,23 +439,25 @@ namespace granhydro::physics
      * in the individual functions (not in p and c).
      */
     template <typename Number>
-    TransportCoefficientsT<Number>
-    transport(const Number n, const Number T, const double m, const double sigma) const
+    TransportCoefficientsT<Number> transport(const Number n, const Number T, const double m,
+                                             const double sigma) const
     {
       TransportCoefficientsT<Number> r;
-      r.star           = dimensionless(packing_fraction(n, sigma));
-      const auto &s    = r.star;
-      const Number Tc  = floored(T);
-      const Number e0  = lanes::constant<Number>(5. / (16. * sigma * sigma)) * lanes::any_sqrt(lanes::constant<Number>(m / pi_) * Tc);
-      const Number k0  = lanes::constant<Number>(15. / (4. * m)) * e0;
-      r.p              = n * T * s.Z;
-      r.c              = lanes::any_sqrt(T / lanes::constant<Number>(m) * (s.Z + s.phi * s.dZ_dphi + lanes::constant<Number>(2. / 3.) * s.Z * s.Z));
-      r.eta            = e0 * s.eta_star;
-      r.gamma          = e0 * s.gamma_star;
-      r.kappa          = k0 * s.kappa_star;
-      r.mu             = Tc * k0 / n * s.mu_star;
-      r.zeta0          = n * Tc / e0 * (lanes::constant<Number>(cooling_fac_) * s.chi); // = s.zeta_star when smooth
-      r.zeta_U         = s.zeta_U;
+      r.star          = dimensionless(packing_fraction(n, sigma));
+      const auto  &s  = r.star;
+      const Number Tc = floored(T);
+      const Number e0 = lanes::constant<Number>(5. / (16. * sigma * sigma)) *
+                        lanes::any_sqrt(lanes::constant<Number>(m / pi_) * Tc);
+      const Number k0 = lanes::constant<Number>(15. / (4. * m)) * e0;
+      r.p             = n * T * s.Z;
+      r.c             = lanes::any_sqrt(T / lanes::constant<Number>(m) *
+                                        (s.Z + s.phi * s.dZ_dphi + lanes::constant<Number>(2. / 3.) * s.Z * s.Z));
+      r.eta           = e0 * s.eta_star;
+      r.gamma         = e0 * s.gamma_star;
+      r.kappa         = k0 * s.kappa_star;
+      r.mu            = Tc * k0 / n * s.mu_star;
+      r.zeta0  = n * Tc / e0 * (lanes::constant<Number>(cooling_fac_) * s.chi); // = s.zeta_star when smooth
+      r.zeta_U = s.zeta_U;
       return r;
     }
     ///@}
@@ -463,10 +476,7 @@ namespace granhydro::physics
      * (n, T) is the wall state; T used as given (T >= 0), 0 <= eps_w <= 1.
      */
     template <typename Number>
-    Number wall_heat_flux(const Number            n,
-                          const Number            T,
-                          const double            m,
-                          const double            sigma,
+    Number wall_heat_flux(const Number n, const Number T, const double m, const double sigma,
                           const double            eps_w,
                           const WallHeatFluxModel model = WallHeatFluxModel::contact_theorem) const
     {
@@ -474,10 +484,11 @@ namespace granhydro::physics
       switch (model)
         {
           case WallHeatFluxModel::dilute:
-            return lanes::constant<Number>(1. - eps_w * eps_w) * n * T * sqrt(T / lanes::constant<Number>(2. * pi_ * m));
-          case WallHeatFluxModel::n_chi:
-            return lanes::constant<Number>(1. - eps_w * eps_w) * n * chi_.chi(packing_fraction(n, sigma)) * T *
+            return lanes::constant<Number>(1. - eps_w * eps_w) * n * T *
                    sqrt(T / lanes::constant<Number>(2. * pi_ * m));
+          case WallHeatFluxModel::n_chi:
+            return lanes::constant<Number>(1. - eps_w * eps_w) * n * chi_.chi(packing_fraction(n, sigma)) *
+                   T * sqrt(T / lanes::constant<Number>(2. * pi_ * m));
           case WallHeatFluxModel::contact_theorem:
           default:
             return wall_heat_flux_from_pressure(pressure(n, T, m, sigma), T, m, eps_w);
@@ -486,8 +497,8 @@ namespace granhydro::physics
 
     /// Contact-theorem wall heat flux from a given wall pressure p_w: (1 - eps_w) p_w sqrt(2T/(pi m)), doc/physics.md 5.2.
     template <typename Number>
-    static Number
-    wall_heat_flux_from_pressure(const Number p_w, const Number T, const double m, const double eps_w)
+    static Number wall_heat_flux_from_pressure(const Number p_w, const Number T, const double m,
+                                               const double eps_w)
     {
       using std::sqrt;
       return lanes::constant<Number>(1. - eps_w) * p_w * sqrt(lanes::constant<Number>(2. / (pi_ * m)) * T);
@@ -499,10 +510,7 @@ namespace granhydro::physics
      * contact theorem). Returns 0 for T <= 0.
      */
     template <typename Number>
-    Number wall_heat_flux_dT(const Number            n,
-                             const Number            T,
-                             const double            m,
-                             const double            sigma,
+    Number wall_heat_flux_dT(const Number n, const Number T, const double m, const double sigma,
                              const double            eps_w,
                              const WallHeatFluxModel model = WallHeatFluxModel::contact_theorem) const
     {
@@ -516,8 +524,7 @@ namespace granhydro::physics
     void initialize(const double eps, const double T_floor, const ZetaUMode zeta_u_mode)
     {
       if (!(eps >= 0.5 && eps <= 1.))
-        fail("eps (normal coefficient of restitution)",
-             eps,
+        fail("eps (normal coefficient of restitution)", eps,
              "[0.5, 1] (doc/physics.md 3.4: positivity of eta and kappa is verified only there)");
       set_T_floor(T_floor);
       zeta_u_mode_ = zeta_u_mode;
@@ -553,6 +560,6 @@ namespace granhydro::physics
     double                  a_           = 1.;
     double                  T_floor_     = 0.;
     ZetaUMode               zeta_u_mode_ = ZetaUMode::off;
-    double friction_mu_ = 0., e_eff_ = 1., cooling_fac_ = 0.; ///< friction (set_friction)
+    double                  friction_mu_ = 0., e_eff_ = 1., cooling_fac_ = 0.; ///< friction (set_friction)
   };
 } // namespace granhydro::physics

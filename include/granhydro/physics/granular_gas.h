@@ -49,10 +49,7 @@ namespace granhydro::physics
 
     /// T = (2/3)(E - |u|^2/2 - w(phi)) (doc/physics.md 1, primitive recovery; w = contact
     /// potential per grain of the optional dense closure, 0 without it)
-    double temperature(const State<dim> &U) const
-    {
-      return temperature(U, contact.energy_density(U[0]));
-    }
+    double temperature(const State<dim> &U) const { return temperature(U, contact.energy_density(U[0])); }
 
     /// the same with the contact energy density n w already evaluated (T = double, or a
     /// GCC vector of doubles: states side by side, each lane bit for bit the double result)
@@ -62,46 +59,71 @@ namespace granhydro::physics
       return (2. / 3.) * (U[energy] - physics::kinetic_energy<dim>(U) - nw) / U[0];
     }
 
-    /// n w, p_f and dp_f/dn of the dense closure (ContactPressure::evaluate) for each
-    /// lane of n (its branches and pow calls lane by lane; zeros without the closure)
+    /**
+     * What the convective formulas of a state read of its density n, evaluated once (MUSTA:
+     * once per state and stage, for its pressure, wave speed and admissibility): phi, Z and
+     * dZ/dphi (one chi), and the dense closure's n w, p_f, dp_f/dn and p_f as
+     * ContactPressure::pressure() rounds it (one evaluation of the potential, lane by lane;
+     * zeros without the closure). The functions that take it are bit for bit those without.
+     */
     template <class Number>
-    __attribute__((always_inline)) inline void contact_lanes(const Number n, Number &W, Number &pf, Number &dpf) const
+    struct DensityTerms
     {
+      Number phi, Z, dZ, W, pf, dpf, pf_n2;
+    };
+
+    template <class Number>
+    __attribute__((always_inline)) inline DensityTerms<Number> density_terms(const Number n) const
+    {
+      DensityTerms<Number> t;
+      t.phi = n * phi_per_n;
+      model.Z_and_derivative(t.phi, t.Z, t.dZ);
       if constexpr (lanes::is_vector<Number>)
         {
-          W = pf = dpf = Number{};
+          t.W = t.pf = t.dpf = t.pf_n2 = Number{};
           if (contact.active)
             for (unsigned int i = 0; i < lanes::width<Number>; ++i)
-              contact.evaluate(lanes::get(n, i), lanes::ref(W, i), lanes::ref(pf, i),
-                               lanes::ref(dpf, i));
+              contact.evaluate(lanes::get(n, i), lanes::ref(t.W, i), lanes::ref(t.pf, i),
+                               lanes::ref(t.dpf, i), lanes::ref(t.pf_n2, i));
         }
       else
-        contact.evaluate(n, W, pf, dpf);
+        contact.evaluate(n, t.W, t.pf, t.dpf, t.pf_n2);
+      return t;
     }
 
     /// p = n T Z(phi) (+ p_f(n) with the dense closure)
     template <class Number>
     __attribute__((always_inline)) inline Number pressure(const StateT<Number> &U) const
     {
+      return pressure(U, density_terms(U[0]));
+    }
+
+    /// the same with the density's terms t = density_terms(U[0])
+    template <class Number>
+    __attribute__((always_inline)) inline Number pressure(const StateT<Number>       &U,
+                                                          const DensityTerms<Number> &t) const
+    {
       const Number n = U[0];
       if (!contact.active)
-        return n * temperature(U, Number{}) * model.Z(n * phi_per_n);
-      Number W, pf, dpf;
-      contact_lanes(n, W, pf, dpf);
-      return n * temperature(U, W) * model.Z(n * phi_per_n) + pf;
+        return n * temperature(U, Number{}) * t.Z;
+      return n * temperature(U, t.W) * t.Z + t.pf;
     }
 
     /// c^2 = T [Z + phi dZ/dphi + (2/3) Z^2] (doc/physics.md 1.1) (+ dp_f/dn), from n and p
     template <class Number>
     __attribute__((always_inline)) inline Number sound_speed(const Number n, const Number p) const
     {
-      const Number phi = n * phi_per_n, Z = model.Z(phi);
-      Number       W, pf, dpf; // one evaluation of the contact potential
-      contact_lanes(n, W, pf, dpf);
-      const Number T = (p - pf) / (n * Z);
-      return lanes::any_sqrt((T < Number{} ? Number{} : T) *
-                               (Z + phi * model.dZ_dphi(phi) + (2. / 3.) * Z * Z) +
-                             dpf);
+      return sound_speed(n, p, density_terms(n));
+    }
+
+    /// the same with the density's terms t = density_terms(n)
+    template <class Number>
+    __attribute__((always_inline)) inline Number sound_speed(const Number n, const Number p,
+                                                             const DensityTerms<Number> &t) const
+    {
+      const Number T = (p - t.pf) / (n * t.Z);
+      return lanes::any_sqrt((T < Number{} ? Number{} : T) * (t.Z + t.phi * t.dZ + (2. / 3.) * t.Z * t.Z) +
+                             t.dpf);
     }
 
     /// Energy flux into a dissipative wall [scaled W/m^2] from the state of the cell at
@@ -112,8 +134,7 @@ namespace granhydro::physics
     double wall_heat_flux(const State<dim> &U, const double eps_w) const
     {
       const double T = std::max(temperature(U), 0.);
-      return GarzoDufty1999::wall_heat_flux_from_pressure(U[0] * T * model.Z(U[0] * phi_per_n),
-                                                          T, 1., eps_w);
+      return GarzoDufty1999::wall_heat_flux_from_pressure(U[0] * T * model.Z(U[0] * phi_per_n), T, 1., eps_w);
     }
 
     double max_wave_speed(const State<dim> &U, const unsigned int d) const
@@ -124,21 +145,29 @@ namespace granhydro::physics
     /// the same with the state's pressure p = pressure(U) already evaluated (Riemann
     /// solvers that need p for the flux too; with the dense closure p is not used)
     template <class Number>
-    __attribute__((always_inline)) inline Number max_wave_speed(const StateT<Number> &U, const unsigned int d, const Number p) const
+    __attribute__((always_inline)) inline Number max_wave_speed(const StateT<Number> &U, const unsigned int d,
+                                                                const Number p) const
+    {
+      return max_wave_speed(U, d, p, density_terms(U[0]));
+    }
+
+    /// the same with the density's terms t = density_terms(U[0])
+    template <class Number>
+    __attribute__((always_inline)) inline Number max_wave_speed(const StateT<Number> &U, const unsigned int d,
+                                                                const Number                p,
+                                                                const DensityTerms<Number> &t) const
     {
       if (!contact.active)
-        return lanes::abs(U[1 + d] / U[0]) + sound_speed(U[0], p > Number{} ? p : Number{});
-      // with the closure: one evaluation of the contact potential for p_f, n w and dp_f/dn
-      const Number n = U[0], phi = n * phi_per_n, Z = model.Z(phi);
-      Number       W, pf, dpf;
-      contact_lanes(n, W, pf, dpf);
-      const Number Tn = temperature(U, W), T = Tn < Number{} ? Number{} : Tn;
-      return lanes::abs(U[1 + d] / n) +
-             lanes::any_sqrt(T * (Z + phi * model.dZ_dphi(phi) + (2. / 3.) * Z * Z) + dpf);
+        return lanes::abs(U[1 + d] / U[0]) + sound_speed(U[0], p > Number{} ? p : Number{}, t);
+      // with the closure: the temperature from the state, p_f, n w and dp_f/dn from t
+      const Number n = U[0], Z = t.Z;
+      const Number Tn = temperature(U, t.W), T = Tn < Number{} ? Number{} : Tn;
+      return lanes::abs(U[1 + d] / n) + lanes::any_sqrt(T * (Z + t.phi * t.dZ + (2. / 3.) * Z * Z) + t.dpf);
     }
 
     template <class Number>
-    __attribute__((always_inline)) inline Number flux(const StateT<Number> &U, const unsigned int d, StateT<Number> &F) const
+    __attribute__((always_inline)) inline Number flux(const StateT<Number> &U, const unsigned int d,
+                                                      StateT<Number> &F) const
     {
       const Number p = pressure(U);
       flux(U, p, d, F);
@@ -147,7 +176,8 @@ namespace granhydro::physics
 
     /// the same with the state's pressure p = pressure(U) already evaluated
     template <class Number>
-    __attribute__((always_inline)) inline void flux(const StateT<Number> &U, const Number p, const unsigned int d, StateT<Number> &F) const
+    __attribute__((always_inline)) inline void flux(const StateT<Number> &U, const Number p,
+                                                    const unsigned int d, StateT<Number> &F) const
     {
       euler_flux<dim>(U, p, d, F);
     }
@@ -167,7 +197,7 @@ namespace granhydro::physics
     /// part of it (repair_temperature(), counted in the run summary). Without the closure
     /// the test is e > 0 as before.
     static constexpr double temperature_repair_tolerance = 1e-4;
-    double                  repair_energy = 0; ///< per grain, scaled; see above
+    double                  repair_energy                = 0; ///< per grain, scaled; see above
     /// scaled units (m g sigma, ~1e-8 J for 1 mm glass): 1e-12 of it, thermal speed ~1e-7 m/s
     static constexpr double temperature_floor = 1e-12;
 
@@ -175,7 +205,16 @@ namespace granhydro::physics
     /// the contact enthalpy per volume n w + p_f, plus the splitting allowance
     double repair_allowance(const double n, const double nw) const
     {
-      return temperature_repair_tolerance * (nw + contact.pressure(n)) + n * repair_energy;
+      return repair_allowance(n, nw, contact.pressure(n));
+    }
+
+    /// the same with p_f = ContactPressure::pressure(n) already evaluated (T = double or
+    /// a vector of doubles)
+    template <class Number>
+    __attribute__((always_inline)) inline Number repair_allowance(const Number n, const Number nw,
+                                                                  const Number pf) const
+    {
+      return temperature_repair_tolerance * (nw + pf) + n * repair_energy;
     }
 
     /// n > 0, phi < phi_c, finite energy and positive thermal energy (with the closure:
@@ -184,19 +223,20 @@ namespace granhydro::physics
     template <class Number>
     __attribute__((always_inline)) inline lanes::Mask<Number> admissible(const StateT<Number> &U) const
     {
+      return admissible(U, density_terms(U[0]));
+    }
+
+    /// the same with the density's terms t = density_terms(U[0]) (n w and p_f from there)
+    template <class Number>
+    __attribute__((always_inline)) inline lanes::Mask<Number> admissible(const StateT<Number>       &U,
+                                                                         const DensityTerms<Number> &t) const
+    {
       const Number n    = U[0];
       const auto   base = (n > Number{}) & lanes::isfinite(U[energy]) & (n * phi_per_n < phi_c);
       const Number e    = U[energy] - physics::kinetic_energy<dim>(U);
       if (!contact.active)
         return base & (e > Number{}) & lanes::isfinite(e);
-      Number w, allowance;
-      for (unsigned int i = 0; i < lanes::width<Number>; ++i)
-        {
-          const double ni          = lanes::get(n, i);
-          lanes::ref(w, i)         = contact.energy_density(ni);
-          lanes::ref(allowance, i) = repair_allowance(ni, lanes::get(w, i));
-        }
-      return base & (e - w > -allowance) & lanes::isfinite(e);
+      return base & (e - t.W > -repair_allowance(n, t.W, t.pf_n2)) & lanes::isfinite(e);
     }
 
     /// the test inside the convective step (reconstructed face states, a-posteriori

@@ -40,12 +40,31 @@ namespace granhydro::physics
     double heat_capacity() const { return 1. / (gamma - 1.); }
 
     template <class T>
-    T kinetic_energy(const StateT<T> &U) const { return physics::kinetic_energy<dim>(U); }
+    T kinetic_energy(const StateT<T> &U) const
+    {
+      return physics::kinetic_energy<dim>(U);
+    }
 
     template <class T>
     T pressure(const StateT<T> &U) const
     {
       return (gamma - 1.) * (U[energy] - kinetic_energy(U));
+    }
+
+    /// what the formulas read of a state's density, evaluated once per state (the
+    /// interface of GranularGas::density_terms(): nothing for an ideal gas)
+    template <class T>
+    struct DensityTerms
+    {};
+    template <class T>
+    DensityTerms<T> density_terms(const T) const
+    {
+      return {};
+    }
+    template <class T>
+    T pressure(const StateT<T> &U, const DensityTerms<T> &) const
+    {
+      return pressure(U);
     }
 
     /// granular temperature in energy units: T = p / n
@@ -69,6 +88,11 @@ namespace granhydro::physics
     T max_wave_speed(const StateT<T> &U, const unsigned int d, const T p) const
     {
       return lanes::abs(U[1 + d] / U[0]) + sound_speed(U[0], p > T() ? p : T());
+    }
+    template <class T>
+    T max_wave_speed(const StateT<T> &U, const unsigned int d, const T p, const DensityTerms<T> &) const
+    {
+      return max_wave_speed(U, d, p);
     }
 
     /// physical flux F_d(U) (paper 2.6 with m = 1); returns the pressure too
@@ -95,6 +119,12 @@ namespace granhydro::physics
       return (U[0] > T()) & lanes::isfinite(U[energy]) & (p > T()) & lanes::isfinite(p);
     }
 
+    template <class T>
+    lanes::Mask<T> admissible(const StateT<T> &U, const DensityTerms<T> &) const
+    {
+      return admissible(U);
+    }
+
     /// the same test inside the convective step (GranularGas distinguishes them)
     bool convectively_admissible(const State<dim> &U) const { return admissible(U); }
 
@@ -102,8 +132,8 @@ namespace granhydro::physics
     State<dim> from_primitive(const double n, const double *u, const double T) const
     {
       State<dim> U;
-      U[0]       = n;
-      double ke  = 0;
+      U[0]      = n;
+      double ke = 0;
       for (int d = 0; d < dim; ++d)
         {
           U[1 + d] = n * u[d];

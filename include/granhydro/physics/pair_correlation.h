@@ -41,8 +41,7 @@ namespace granhydro::physics
      * @throws std::invalid_argument naming the offending parameter and its
      *         allowed range.
      */
-    explicit PairCorrelationTorquato(const double phi_f = 0.49,
-                                     const double phi_c = 0.64,
+    explicit PairCorrelationTorquato(const double phi_f = 0.49, const double phi_c = 0.64,
                                      const double delta = 1.e-3)
       : phi_f_(phi_f)
       , phi_c_(phi_c)
@@ -55,13 +54,13 @@ namespace granhydro::physics
       if (!(delta > 0. && delta < phi_c - phi_f))
         fail("delta", delta, "0 < delta < phi_c - phi_f (= " + str(phi_c - phi_f) + ")");
 
-      phi_max_ = phi_c_ - delta_;
-      chi_f_   = carnahan_starling(phi_f_);
-      A_       = chi_f_ * (phi_c_ - phi_f_);
-      chi_max_ = A_ / (phi_c_ - phi_max_);
+      phi_max_  = phi_c_ - delta_;
+      chi_f_    = carnahan_starling(phi_f_);
+      A_        = chi_f_ * (phi_c_ - phi_f_);
+      chi_max_  = A_ / (phi_c_ - phi_max_);
       dchi_max_ = A_ / ((phi_c_ - phi_max_) * (phi_c_ - phi_max_));
-      X_f_     = integral_cs(phi_f_);
-      X_max_   = X_f_ + A_ * std::log((phi_c_ - phi_f_) / (phi_c_ - phi_max_));
+      X_f_      = integral_cs(phi_f_);
+      X_max_    = X_f_ + A_ * std::log((phi_c_ - phi_f_) / (phi_c_ - phi_max_));
     }
 
     /** @name Parameters and derived constants (doc/physics.md section 2) */
@@ -108,15 +107,15 @@ namespace granhydro::physics
       if constexpr (lanes::is_vector<Number>)
         {
           // every branch in every lane, then the lane's own: each lane is the scalar result
-          const Number tq  = constant<Number>(A_) / (constant<Number>(phi_c_) - phi);
-          const Number lin = constant<Number>(chi_max_) + constant<Number>(dchi_max_) * (phi - constant<Number>(phi_max_));
+          const Number tq = constant<Number>(A_) / (constant<Number>(phi_c_) - phi);
+          const Number lin =
+            constant<Number>(chi_max_) + constant<Number>(dchi_max_) * (phi - constant<Number>(phi_max_));
           // carnahan_starling(phi), written out: the vector path calls nothing that could
           // be left out of line (a 4-wide vector function compiled for the default target
           // has another calling convention than the AVX2 kernels that inline this one)
           const Number w  = constant<Number>(1.) - phi;
           const Number cs = (constant<Number>(1.) - constant<Number>(0.5) * phi) / (w * w * w);
-          return phi <= constant<Number>(phi_f_) ? cs :
-                                                   (phi <= constant<Number>(phi_max_) ? tq : lin);
+          return phi <= constant<Number>(phi_f_) ? cs : (phi <= constant<Number>(phi_max_) ? tq : lin);
         }
       else
         {
@@ -124,7 +123,8 @@ namespace granhydro::physics
             return carnahan_starling(phi);
           if (phi <= lanes::constant<Number>(phi_max_))
             return lanes::constant<Number>(A_) / (lanes::constant<Number>(phi_c_) - phi);
-          return lanes::constant<Number>(chi_max_) + lanes::constant<Number>(dchi_max_) * (phi - lanes::constant<Number>(phi_max_));
+          return lanes::constant<Number>(chi_max_) +
+                 lanes::constant<Number>(dchi_max_) * (phi - lanes::constant<Number>(phi_max_));
         }
     }
 
@@ -146,45 +146,61 @@ namespace granhydro::physics
       return lanes::constant<Number>(dchi_max_);
     }
 
+    /// chi and dchi/dphi on the Carnahan-Starling branch (phi <= phi_f)
+    template <typename Number>
+    __attribute__((always_inline)) static inline void carnahan_starling_pair(const Number phi, Number &c,
+                                                                             Number &dc)
+    {
+      const Number w  = lanes::constant<Number>(1.) - phi;
+      const Number w3 = w * w * w;
+      c               = (lanes::constant<Number>(1.) - lanes::constant<Number>(0.5) * phi) / w3;
+      dc              = (lanes::constant<Number>(2.5) - phi) / (w3 * w);
+    }
+
+    /// chi and dchi/dphi on the Torquato branch (phi_f < phi <= phi_max)
+    template <typename Number>
+    __attribute__((always_inline)) inline void torquato_pair(const Number phi, Number &c, Number &dc) const
+    {
+      const Number w = lanes::constant<Number>(phi_c_) - phi;
+      c              = lanes::constant<Number>(A_) / w;
+      dc             = c / w;
+    }
+
     /// chi and dchi/dphi together (one branch decision), doc/physics.md section 2.
     template <typename Number>
-    __attribute__((always_inline)) inline void chi_and_derivative(const Number phi, Number &chi_value, Number &dchi_value) const
+    __attribute__((always_inline)) inline void chi_and_derivative(const Number phi, Number &chi_value,
+                                                                  Number &dchi_value) const
     {
+      using lanes::constant;
       if constexpr (lanes::is_vector<Number>)
         {
-          // the three branches below in every lane, then each lane's own (bit for bit)
-          using lanes::constant;
-          const Number w   = constant<Number>(1.) - phi;
-          const Number w3  = w * w * w;
-          const Number c1  = (constant<Number>(1.) - constant<Number>(0.5) * phi) / w3;
-          const Number d1  = (constant<Number>(2.5) - phi) / (w3 * w);
-          const Number wt  = constant<Number>(phi_c_) - phi;
-          const Number c2  = constant<Number>(A_) / wt;
-          const Number d2  = c2 / wt;
-          const Number c3  = constant<Number>(chi_max_) + constant<Number>(dchi_max_) * (phi - constant<Number>(phi_max_));
-          const auto   lo  = phi <= constant<Number>(phi_f_), mid = phi <= constant<Number>(phi_max_);
-          chi_value        = lo ? c1 : (mid ? c2 : c3);
-          dchi_value       = lo ? d1 : (mid ? d2 : constant<Number>(dchi_max_));
+          // the three branches in every lane, then each lane's own (bit for bit); when all
+          // lanes take the same branch (the usual case: a dilute gas or a dense pile), only
+          // that one
+          const auto lo = phi <= constant<Number>(phi_f_), mid = phi <= constant<Number>(phi_max_);
+          if (!lanes::any(!lo))
+            return carnahan_starling_pair(phi, chi_value, dchi_value);
+          if (!lanes::any(lo || !mid))
+            return torquato_pair(phi, chi_value, dchi_value);
+          Number c1, d1, c2, d2;
+          carnahan_starling_pair(phi, c1, d1);
+          torquato_pair(phi, c2, d2);
+          const Number c3 =
+            constant<Number>(chi_max_) + constant<Number>(dchi_max_) * (phi - constant<Number>(phi_max_));
+          chi_value  = lo ? c1 : (mid ? c2 : c3);
+          dchi_value = lo ? d1 : (mid ? d2 : constant<Number>(dchi_max_));
         }
       else
         {
-          if (phi <= lanes::constant<Number>(phi_f_))
-            {
-              const Number w  = lanes::constant<Number>(1.) - phi;
-              const Number w3 = w * w * w;
-              chi_value  = (lanes::constant<Number>(1.) - lanes::constant<Number>(0.5) * phi) / w3;
-              dchi_value = (lanes::constant<Number>(2.5) - phi) / (w3 * w);
-            }
-          else if (phi <= lanes::constant<Number>(phi_max_))
-            {
-              const Number w = lanes::constant<Number>(phi_c_) - phi;
-              chi_value  = lanes::constant<Number>(A_) / w;
-              dchi_value = chi_value / w;
-            }
+          if (phi <= constant<Number>(phi_f_))
+            carnahan_starling_pair(phi, chi_value, dchi_value);
+          else if (phi <= constant<Number>(phi_max_))
+            torquato_pair(phi, chi_value, dchi_value);
           else
             {
-              chi_value  = lanes::constant<Number>(chi_max_) + lanes::constant<Number>(dchi_max_) * (phi - lanes::constant<Number>(phi_max_));
-              dchi_value = lanes::constant<Number>(dchi_max_);
+              chi_value =
+                constant<Number>(chi_max_) + constant<Number>(dchi_max_) * (phi - constant<Number>(phi_max_));
+              dchi_value = constant<Number>(dchi_max_);
             }
         }
     }
@@ -208,9 +224,13 @@ namespace granhydro::physics
       if (phi <= lanes::constant<Number>(phi_f_))
         return integral_cs(phi);
       if (phi <= lanes::constant<Number>(phi_max_))
-        return lanes::constant<Number>(X_f_) + lanes::constant<Number>(A_) * log(lanes::constant<Number>(phi_c_ - phi_f_) / (lanes::constant<Number>(phi_c_) - phi));
+        return lanes::constant<Number>(X_f_) +
+               lanes::constant<Number>(A_) *
+                 log(lanes::constant<Number>(phi_c_ - phi_f_) / (lanes::constant<Number>(phi_c_) - phi));
       const Number s = phi - lanes::constant<Number>(phi_max_);
-      return lanes::constant<Number>(X_max_) + s * (lanes::constant<Number>(chi_max_) + lanes::constant<Number>(0.5) * lanes::constant<Number>(dchi_max_) * s);
+      return lanes::constant<Number>(X_max_) +
+             s * (lanes::constant<Number>(chi_max_) +
+                  lanes::constant<Number>(0.5) * lanes::constant<Number>(dchi_max_) * s);
     }
 
   private:
@@ -218,7 +238,8 @@ namespace granhydro::physics
     static Number integral_cs(const Number phi)
     {
       const Number w = lanes::constant<Number>(1.) - phi;
-      return phi * (lanes::constant<Number>(4.) - lanes::constant<Number>(3.) * phi) / (lanes::constant<Number>(4.) * w * w);
+      return phi * (lanes::constant<Number>(4.) - lanes::constant<Number>(3.) * phi) /
+             (lanes::constant<Number>(4.) * w * w);
     }
 
     static std::string str(const double x)
@@ -231,8 +252,8 @@ namespace granhydro::physics
 
     [[noreturn]] static void fail(const char *name, const double value, const std::string &range)
     {
-      throw std::invalid_argument(std::string("PairCorrelationTorquato: parameter ") + name +
-                                  " = " + str(value) + " is outside the allowed range " + range);
+      throw std::invalid_argument(std::string("PairCorrelationTorquato: parameter ") + name + " = " +
+                                  str(value) + " is outside the allowed range " + range);
     }
 
     double phi_f_, phi_c_, delta_;
