@@ -164,7 +164,7 @@ namespace granhydro::convection
     __attribute__((always_inline)) inline void
     face_fluxes_impl(const NumericalFlux<dim, Description> &numflux, const mesh::CartesianPatch<dim> &patch,
                      const unsigned int d, const double *fin, const unsigned int npts, const double wq,
-                     double *F, FluxStatistics &stats)
+                     double *F, FluxStatistics &stats, const double repair_energy)
     {
       constexpr unsigned int NC    = dim + 2;
       const auto            &faces = patch.faces(d);
@@ -209,7 +209,7 @@ namespace granhydro::convection
                   UR[q][c] = vr[qr * NC + c];
                 }
             }
-          numflux.template points<V>(UL, UR, npts, d, Fq, counted);
+          numflux.template points<V>(UL, UR, npts, d, Fq, counted, repair_energy);
           double *Fsum = F + k * NC;
           for (unsigned int c = 0; c < NC; ++c)
             Fsum[c] = 0.;
@@ -229,23 +229,23 @@ namespace granhydro::convection
     __attribute__((target("avx2"), flatten)) void
     face_fluxes_avx2(const NumericalFlux<dim, Description> &numflux, const mesh::CartesianPatch<dim> &patch,
                      const unsigned int d, const double *fin, const unsigned int npts, const double wq,
-                     double *F, FluxStatistics &stats)
+                     double *F, FluxStatistics &stats, const double repair_energy)
     {
-      face_fluxes_impl<v4d>(numflux, patch, d, fin, npts, wq, F, stats);
+      face_fluxes_impl<v4d>(numflux, patch, d, fin, npts, wq, F, stats, repair_energy);
     }
 #endif
 
     template <int dim, class Description>
     void face_fluxes(const NumericalFlux<dim, Description> &numflux, const mesh::CartesianPatch<dim> &patch,
                      const unsigned int d, const double *fin, const unsigned int npts, const double wq,
-                     double *F, FluxStatistics &stats)
+                     double *F, FluxStatistics &stats, const double repair_energy)
     {
 #if defined(__x86_64__) || defined(__i386__)
       if (Description::vector_lanes && use_avx2())
-        face_fluxes_avx2(numflux, patch, d, fin, npts, wq, F, stats);
+        face_fluxes_avx2(numflux, patch, d, fin, npts, wq, F, stats, repair_energy);
       else
 #endif
-        face_fluxes_impl<v2d>(numflux, patch, d, fin, npts, wq, F, stats);
+        face_fluxes_impl<v2d>(numflux, patch, d, fin, npts, wq, F, stats, repair_energy);
     }
 
 #if defined(__x86_64__) || defined(__i386__)
@@ -386,29 +386,31 @@ namespace granhydro::convection
   }
 
   template <int dim, class Description>
-  void ConvectionOperator<dim, Description>::apply(const double *Wp, double *rhs) const
+  void ConvectionOperator<dim, Description>::apply(const double *Wp, double *rhs,
+                                                   const double repair_energy) const
   {
     const auto t0 = std::chrono::steady_clock::now();
     switch (rtype)
       {
         case ReconstructionType::first_order:
-          apply_impl(rec1, Wp, rhs);
+          apply_impl(rec1, Wp, rhs, repair_energy);
           break;
         case ReconstructionType::muscl:
-          apply_impl(rec_muscl, Wp, rhs);
+          apply_impl(rec_muscl, Wp, rhs, repair_energy);
           break;
         case ReconstructionType::weno3:
-          apply_impl(rec3, Wp, rhs);
+          apply_impl(rec3, Wp, rhs, repair_energy);
           break;
         default:
-          apply_impl(rec5, Wp, rhs);
+          apply_impl(rec5, Wp, rhs, repair_energy);
       }
     busy_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
 
   template <int dim, class Description>
   template <class Recon>
-  void ConvectionOperator<dim, Description>::apply_impl(const Recon &rec, const double *Wp, double *rhs) const
+  void ConvectionOperator<dim, Description>::apply_impl(const Recon &rec, const double *Wp, double *rhs,
+                                                        const double repair_energy) const
   {
     constexpr int      r       = Recon::r;
     constexpr int      w       = 2 * r + 1;
@@ -492,7 +494,7 @@ namespace granhydro::convection
       const auto          &faces = patch.faces(d);
       std::vector<double> &Fpd   = Fp[d];
       Fpd.resize(faces.size() * NC);
-      face_fluxes(numflux, patch, d, stage_array(ns - 1), npts, wq, Fpd.data(), stats.flux);
+      face_fluxes(numflux, patch, d, stage_array(ns - 1), npts, wq, Fpd.data(), stats.flux, repair_energy);
       for (std::size_t k = 0; k < faces.size(); ++k)
         if (wall[d][k])
           wall_flux(wall[d][k], d, &Fpd[k * NC], owned_wall_face(d, k));

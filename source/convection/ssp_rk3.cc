@@ -1,10 +1,10 @@
 // ConvectionOperator: the SSP-RK3 time step of eq. (4.10), its stage update with the
 // a-posteriori first-order fallback, the convective rate for the CFL condition and the
 // admissibility check of a step's result (the operator L(U) is in convection_operator.cc)
-#include <granhydro/physics/models.h>
-#include <granhydro/physics/packing_fraction.h>
 #include <granhydro/convection/convection_operator.h>
 #include <granhydro/physics/granular_gas.h>
+#include <granhydro/physics/models.h>
+#include <granhydro/physics/packing_fraction.h>
 
 #include <deal.II/base/mpi.h>
 
@@ -17,9 +17,9 @@ namespace granhydro::convection
   using namespace dealii;
 
   template <int dim, class Description>
-  bool ConvectionOperator<dim, Description>::stage_update(Vector &U, const double a,
-                                                          const double b, const double den,
-                                                          const double dt) const
+  bool ConvectionOperator<dim, Description>::stage_update(Vector &U, const double a, const double b,
+                                                          const double den, const double dt,
+                                                          const double repair_energy) const
   {
     // candidate u_new = a U0 + b (u + dt L(u)); cells whose candidate is inadmissible
     // get first-order Rusanov fluxes (cell averages of this stage) on all their faces,
@@ -29,7 +29,7 @@ namespace granhydro::convection
     const unsigned int n_owned = patch.n_owned();
     const std::size_t  n       = std::size_t(n_owned) * NC;
     double            *u       = n ? &U.local_element(0) : nullptr;
-    apply(W.data(), rhs0.data());
+    apply(W.data(), rhs0.data(), repair_energy);
     cand.resize(n);
     if (flags.get_partitioner() != patch.partitioner())
       flags.reinit(patch.partitioner()); // once per mesh
@@ -43,7 +43,7 @@ namespace granhydro::convection
           {
             physics::State<dim> S;
             std::copy(&cand[std::size_t(s) * NC], &cand[std::size_t(s + 1) * NC], S.begin());
-            const bool bad = !desc.convectively_admissible(S);
+            const bool bad                           = !desc.convectively_admissible(S);
             flags.local_element(std::size_t(s) * NC) = bad || low[s] ? 1. : 0.;
             if (bad && !low[s])
               ++new_flags;
@@ -54,8 +54,9 @@ namespace granhydro::convection
                   {
                     std::ostringstream os;
                     os << "convective stage at x = " << patch.center(s)
-                       << " m even with first-order fluxes: packing fraction " << physics::packing_fraction(S[0])
-                       << ", T = " << desc.temperature(S) << " (scaled units)";
+                       << " m even with first-order fluxes: packing fraction "
+                       << physics::packing_fraction(S[0]) << ", T = " << desc.temperature(S)
+                       << " (scaled units)";
                     last_failure = os.str();
                   }
               }
@@ -111,7 +112,8 @@ namespace granhydro::convection
   }
 
   template <int dim, class Description>
-  bool ConvectionOperator<dim, Description>::ssp_rk3_step(Vector &U, const double dt) const
+  bool ConvectionOperator<dim, Description>::ssp_rk3_step(Vector &U, const double dt,
+                                                          const double repair_energy) const
   {
     const std::size_t n = std::size_t(patch.n_owned()) * NC;
     last_failure.clear();
@@ -123,13 +125,13 @@ namespace granhydro::convection
     // integer weights and one division ((U0 + 2 v)/3, not U0/3 + 2v/3): the rounded
     // weights 1/3 and 2/3 sum to 1 - 5.6e-17, a systematic mass loss of that size per step
     patch.gather(U, W);
-    if (!stage_update(U, 0., 1., 1., dt))
+    if (!stage_update(U, 0., 1., 1., dt, repair_energy))
       return false;
     patch.gather(U, W);
-    if (!stage_update(U, 3., 1., 4., dt))
+    if (!stage_update(U, 3., 1., 4., dt, repair_energy))
       return false;
     patch.gather(U, W);
-    if (!stage_update(U, 1., 2., 3., dt))
+    if (!stage_update(U, 1., 2., 3., dt, repair_energy))
       return false;
     return true;
   }
@@ -149,13 +151,12 @@ namespace granhydro::convection
     const bool ok = Utilities::MPI::min(bad < 0 ? 1 : 0, patch.communicator()) == 1;
     if (!ok && what != nullptr && bad >= 0)
       {
-        std::ostringstream os;
+        std::ostringstream  os;
         physics::State<dim> S;
         for (unsigned int c = 0; c < NC; ++c)
           S[c] = U.local_element(std::size_t(bad) * NC + c);
-        os << "cell at x = " << patch.center(bad) << " m: n*sigma^3 = " << S[0]
-           << ", packing fraction " << physics::packing_fraction(S[0]) << ", T = " << desc.temperature(S)
-           << " (scaled units)";
+        os << "cell at x = " << patch.center(bad) << " m: n*sigma^3 = " << S[0] << ", packing fraction "
+           << physics::packing_fraction(S[0]) << ", T = " << desc.temperature(S) << " (scaled units)";
         *what = os.str();
       }
     return ok;

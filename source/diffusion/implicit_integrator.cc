@@ -1,5 +1,5 @@
-#include <granhydro/physics/packing_fraction.h>
 #include <granhydro/diffusion/implicit_integrator.h>
+#include <granhydro/physics/packing_fraction.h>
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
@@ -31,13 +31,12 @@ namespace granhydro::diffusion
       {
         physics::State<dim> S;
         std::copy(&Uv[std::size_t(s) * NC], &Uv[std::size_t(s + 1) * NC], S.begin());
-        ok = desc.admissible(S);
+        ok = desc.admissible(S, desc.density_terms(S[0]), repair_energy_);
         if (!ok)
           {
             std::ostringstream os;
-            os << "diffusion step result inadmissible at x = " << patch.center(s)
-               << " m: packing fraction " << physics::packing_fraction(S[0]) << ", T = " << desc.temperature(S)
-               << " (scaled units)";
+            os << "diffusion step result inadmissible at x = " << patch.center(s) << " m: packing fraction "
+               << physics::packing_fraction(S[0]) << ", T = " << desc.temperature(S) << " (scaled units)";
             last_failure = os.str();
           }
       }
@@ -45,9 +44,10 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
-  bool ImplicitIntegrator<dim>::step(Vector &U, const double t, const double dt)
+  bool ImplicitIntegrator<dim>::step(Vector &U, const double t, const double dt, const double repair_energy)
   {
     ++stats.steps;
+    repair_energy_                 = repair_energy;
     static const ButcherTableau gl = butcher_tableau(ImplicitMethod::gauss_legendre),
                                 mp = butcher_tableau(ImplicitMethod::implicit_midpoint),
                                 sd = butcher_tableau(ImplicitMethod::sdirk2);
@@ -80,10 +80,10 @@ namespace granhydro::diffusion
           {
             // cost in evaluations of f, from global quantities only (dt and the explicit
             // limit): the same choice on any number of ranks and after a restart
-            constexpr double NC     = dim + 2;
-            const double     ratio  = dt / explicit_limit;
-            const double     stages = rkl2_stages(ratio);
-            const bool       blocks = settings.block_ilu && !settings.amg;
+            constexpr double NC            = dim + 2;
+            const double     ratio         = dt / explicit_limit;
+            const double     stages        = rkl2_stages(ratio);
+            const bool       blocks        = settings.block_ilu && !settings.amg;
             const double     implicit_cost = sdirk2_cost(NC, blocks);
             if (rkl2_blocked > 0)
               --rkl2_blocked;
@@ -166,8 +166,8 @@ namespace granhydro::diffusion
   bool ImplicitIntegrator<dim>::irk_attempt(Vector &U, const double t, const double dt,
                                             const ButcherTableau &tableau, const bool full)
   {
-    const Table &A = tableau.A;
-    const auto  &b = tableau.b, &c = tableau.c;
+    const Table           &A = tableau.A;
+    const auto            &b = tableau.b, &c = tableau.c;
     constexpr unsigned int NC     = dim + 2;
     const unsigned int     stages = A.size();
     last_failure.clear();
@@ -197,8 +197,8 @@ namespace granhydro::diffusion
     // while dt stays within 10 % of the dt it was built for. I - dt N (x) J is then off by
     // the change of J and dt, which only slows the contraction of the modified Newton
     // iteration; if that fails, the step is redone with a fresh matrix (counted).
-    const bool reuse = settings.reuse_matrix && matrix_valid && matrix_coupled == coupled &&
-                       matrix_N == N && std::abs(dt / matrix_dt - 1) <= 0.1 && matrix_age < 8;
+    const bool reuse = settings.reuse_matrix && matrix_valid && matrix_coupled == coupled && matrix_N == N &&
+                       std::abs(dt / matrix_dt - 1) <= 0.1 && matrix_age < 8;
     if (reuse)
       {
         ++matrix_age;
@@ -225,7 +225,7 @@ namespace granhydro::diffusion
           }
       }
     unsigned int iterations = 0, max_iterations = 0; // per stage (DIRK) or per step
-    auto         failed     = [&]() {
+    auto         failed = [&]() {
       matrix_valid = false;
       if (!reuse)
         {
@@ -315,9 +315,9 @@ namespace granhydro::diffusion
   template <int dim>
   bool ImplicitIntegrator<dim>::rkl2_step(Vector &U, const double t, const double dt)
   {
-    Timer             timer;
+    Timer                  timer;
     constexpr unsigned int NC = dim + 2;
-    const std::size_t n       = std::size_t(patch.n_owned()) * NC;
+    const std::size_t      n  = std::size_t(patch.n_owned()) * NC;
     last_failure.clear();
     // stage count from the stability bound dt <= dt_E (s^2 + s - 2) / 4 (W and
     // explicit_limit hold U's gather and its explicit limit, from step())
@@ -336,11 +336,11 @@ namespace granhydro::diffusion
     op.residual(W.data(), L0.data());
     // weights beta_j,k: Y_j = Y_0 + dt sum_k beta_j,k f(Y_k), for the frictional dissipation
     std::vector<double> power(s, 0.), beta_jm2(s, 0.), beta_jm1(s, 0.), beta_j(s, 0.);
-    power[0] = op.friction_power();
+    power[0]         = op.friction_power();
     const double mu1 = rkl2_stage(1, s).mu_tilde;
     for (std::size_t i = 0; i < n; ++i)
       Yjm1[i] = U0[i] + mu1 * dt * L0[i];
-    beta_jm1[0]   = mu1;
+    beta_jm1[0]  = mu1;
     double c_jm2 = 0, c_jm1 = mu1; // stage times (fractions of dt)
     for (unsigned int j = 2; j <= s; ++j)
       {
@@ -356,8 +356,8 @@ namespace granhydro::diffusion
         for (unsigned int k = 0; k < s; ++k)
           beta_j[k] = mu * beta_jm1[k] + nu * beta_jm2[k] + (k == j - 1 ? mut : 0.) + (k == 0 ? gt : 0.);
         const double c_j = mu * c_jm1 + nu * c_jm2 + mut + gt;
-        c_jm2 = c_jm1;
-        c_jm1 = c_j;
+        c_jm2            = c_jm1;
+        c_jm1            = c_j;
         Yjm2.swap(Yjm1);
         Yjm1.swap(Yj);
         beta_jm2.swap(beta_jm1);
@@ -421,10 +421,10 @@ namespace granhydro::diffusion
   template <int dim>
   IntegratorStatistics ImplicitIntegrator<dim>::global_statistics() const
   {
-    IntegratorStatistics g = stats; // identical on all ranks (collective decisions)
-    const FaceFluxCounts &c = op.face_counts(); // each face counted by one rank
-    const unsigned long long local[5] = {c.faces, c.tension_bounded, c.tension_bounded_walls, c.friction_capped,
-                                         c.negative_temperature};
+    IntegratorStatistics     g        = stats;            // identical on all ranks (collective decisions)
+    const FaceFluxCounts    &c        = op.face_counts(); // each face counted by one rank
+    const unsigned long long local[5] = {c.faces, c.tension_bounded, c.tension_bounded_walls,
+                                         c.friction_capped, c.negative_temperature};
     unsigned long long       total[5];
     Utilities::MPI::sum(ArrayView<const unsigned long long>(local, 5), op.get_patch().communicator(),
                         ArrayView<unsigned long long>(total, 5));

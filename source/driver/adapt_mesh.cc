@@ -3,8 +3,9 @@
  * Adaptive meshes of Simulation: the refinement flags from n and p (mesh/adaptivity.h),
  * the partition's weights, and the adaptation of the patch with the state.
  */
-#include <granhydro/driver/simulation_instances.h>
 #include <granhydro/mesh/adaptivity.h>
+
+#include "simulation_instances.h"
 
 #include <algorithm>
 #include <cmath>
@@ -35,10 +36,11 @@ namespace granhydro::driver
       }
     const std::vector<signed char> flags = mesh::refinement_flags(P, n, p, adaptation.indicator, initial);
     // new children: limited linear prolongation where all siblings stay admissible
+    // (with the splitting allowance of the last step, whose states they come from)
     const auto admissible = [this](const double *u) {
       State S;
       std::copy(u, u + NC, S.begin());
-      return desc.admissible(S);
+      return desc.admissible(S, desc.density_terms(S[0]), split_->repair_energy());
     };
     // the partition (Adaptivity/Load balance): with the measured cost, each rank's cells
     // weigh its convective seconds per cell since the last adaptation (waits for other
@@ -63,10 +65,10 @@ namespace granhydro::driver
       return false;
     busy_at_adapt_ = conv ? conv->busy_seconds() : 0.;
     mesh_changed();
-    ++adaptations;
-    refined_cells += patch_->last_refined();
-    coarsened_cells += patch_->last_coarsened();
-    max_cells = std::max<unsigned long long>(max_cells, patch_->n_global_cells());
+    ++adapted_.adaptations;
+    adapted_.refined_cells += patch_->last_refined();
+    adapted_.coarsened_cells += patch_->last_coarsened();
+    adapted_.max_cells = std::max<unsigned long long>(adapted_.max_cells, patch_->n_global_cells());
     return true;
   }
 

@@ -6,9 +6,10 @@
  * and the summary's rows.
  */
 #include <granhydro/driver/phase_times.h>
-#include <granhydro/driver/simulation_instances.h>
 
 #include <deal.II/base/mpi.h>
+
+#include "time_loop_instances.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -77,11 +78,11 @@ namespace granhydro::driver
   }
 
   template <int dim, class Description>
-  void Simulation<dim, Description>::measure_phases(RunSummary &sum) const
+  void TimeLoop<dim, Description>::measure_phases(RunSummary &sum) const
   {
     // this rank's seconds; the driver's sections do not overlap and lie within the wall
     // time (from the start of run() to now), so "other" is what they leave (never < 0)
-    const auto section = [times = timers_.get_summary_data(TimerOutput::total_wall_time)](const char *name) {
+    const auto section = [times = timers.get_summary_data(TimerOutput::total_wall_time)](const char *name) {
       const auto it = times.find(name);
       return it == times.end() ? 0. : it->second;
     };
@@ -91,8 +92,8 @@ namespace granhydro::driver
       integrator ? integrator->statistics() : diffusion::IntegratorStatistics();
     const std::vector<double> local = {sum.wall_seconds,
                                        convection,
-                                       conv->halo_wait_seconds(),
-                                       conv->vote_seconds(),
+                                       conv.halo_wait_seconds(),
+                                       conv.vote_seconds(),
                                        diffusion,
                                        ds.jacobian_seconds,
                                        ds.preconditioner_seconds,
@@ -119,5 +120,5 @@ namespace granhydro::driver
       }
   }
 
-  GRANHYDRO_SIMULATION_INSTANCES
+  GRANHYDRO_TIME_LOOP_INSTANCES
 } // namespace granhydro::driver

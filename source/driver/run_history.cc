@@ -4,7 +4,7 @@
  * (Output/History interval) and the values of a row, from the state's totals
  * (io::state_totals) and the run's counts so far, the earlier segments' included.
  */
-#include <granhydro/driver/simulation_instances.h>
+#include "time_loop_instances.h"
 
 #include <cmath>
 #include <limits>
@@ -15,8 +15,7 @@
 namespace granhydro::driver
 {
   template <int dim, class Description>
-  void Simulation<dim, Description>::start_history(TimeLoopState &L, const bool fresh,
-                                                   const io::StateTotals<dim> &s0)
+  void TimeLoop<dim, Description>::start_history(const bool fresh, const io::StateTotals<dim> &s0)
   {
     if (files.history_steps == 0 && files.history_seconds == 0)
       return;
@@ -36,7 +35,7 @@ namespace granhydro::driver
     if (fresh)
       {
         history_->start();
-        write_history_row(L, s0);
+        write_history_row(s0);
       }
     else
       {
@@ -48,7 +47,7 @@ namespace granhydro::driver
   }
 
   template <int dim, class Description>
-  bool Simulation<dim, Description>::history_due(const TimeLoopState &L, const double t_before) const
+  bool TimeLoop<dim, Description>::history_due(const double t_before) const
   {
     if (!history_)
       return false;
@@ -62,7 +61,7 @@ namespace granhydro::driver
   }
 
   template <int dim, class Description>
-  void Simulation<dim, Description>::write_history_row(TimeLoopState &L, const io::StateTotals<dim> &s)
+  void TimeLoop<dim, Description>::write_history_row(const io::StateTotals<dim> &s)
   {
     L.history_step = L.step;
     using N        = unsigned long long;
@@ -83,12 +82,12 @@ namespace granhydro::driver
     row.emplace_back(s.max_speed * units_.velocity);
     // the counts of the whole run so far: the earlier segments' and this one's (the
     // integrator's counts are the same on every rank: no reduction)
-    const auto                           &e = earlier_.diffusion;
+    const auto                           &e = start_.earlier.diffusion;
     const diffusion::IntegratorStatistics none;
     const auto                           &d = integrator ? integrator->statistics() : none;
-    row.emplace_back(N(earlier_.rejected_steps + L.sum.rejected_steps));
-    row.emplace_back(integrator ? report.integrator : std::string("none"));
-    row.emplace_back(N(earlier_.convective_steps + split_->counters().convective_pieces));
+    row.emplace_back(N(start_.earlier.rejected_steps + L.sum.rejected_steps));
+    row.emplace_back(integrator ? integrator_name : std::string("none"));
+    row.emplace_back(N(start_.earlier.convective_steps + split.counters().convective_pieces));
     row.emplace_back(N(e.steps + d.steps));
     row.emplace_back(N(e.rkl2_steps + d.rkl2_steps));
     row.emplace_back(N(e.rkl2_stages + d.rkl2_stages));
@@ -98,5 +97,5 @@ namespace granhydro::driver
     history_->write(row);
   }
 
-  GRANHYDRO_SIMULATION_INSTANCES
+  GRANHYDRO_TIME_LOOP_INSTANCES
 } // namespace granhydro::driver

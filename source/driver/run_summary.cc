@@ -173,6 +173,15 @@ namespace granhydro::driver
     return all;
   }
 
+  RecordUnits record_units(const Units &units, const unsigned int dim)
+  {
+    RecordUnits r;
+    r.time   = units.time();
+    r.energy = units.energy();
+    r.extent = std::pow(units.length, dim - 3.);
+    return r;
+  }
+
   std::vector<std::pair<std::string, double>> to_run_record(const RunSummary &sum, const RecordUnits &units)
   {
     std::vector<std::pair<std::string, double>> r;

@@ -2,15 +2,16 @@
  * @file simulation.cc
  * The composition root of a run: Simulation's model, mesh, operators, output and
  * initial state from the scene, and run_scene(), which picks the model and dimension.
- * The parts of a run: split_step.cc (one time step), time_loop.cc (the time loop),
- * adapt_mesh.cc, simulation_checkpoint.cc and run_summary.cc.
+ * The parts of a run: SplitStep (one time step), TimeLoop (the time loop), Checkpointing,
+ * RunReport, InitialState; adapt_mesh.cc and simulation_checkpoint.cc are the root's own.
  */
 #include <granhydro/driver/initial_state.h>
 #include <granhydro/driver/run_records.h>
-#include <granhydro/driver/simulation_instances.h>
 #include <granhydro/io/diagnostics.h>
 
 #include <deal.II/base/mpi.h>
+
+#include "simulation_instances.h"
 
 #include <algorithm>
 #include <cmath>
@@ -224,8 +225,8 @@ namespace granhydro::driver
           is.full_jacobian         = scene.full_jacobian;
           integrator               = std::make_unique<diffusion::ImplicitIntegrator<dim>>(*diff, desc, is);
         }
-    split_ =
-      std::make_unique<SplitStep<dim, Description>>(desc, loop.convection, units_.time(), timers_, pcout);
+    split_ = std::make_unique<SplitStep<dim, Description>>(
+      desc, loop.convection, units_.time(), loop.max_body_acceleration, units_.velocity, timers_, pcout);
     split_->set_operators(*patch_, *conv, integrator.get());
     U.reinit(patch_->partitioner());
     print_header();
@@ -302,6 +303,23 @@ namespace granhydro::driver
       t[1 + d] = s.nu[d];
     t[dim + 1] = s.energy;
     return t;
+  }
+
+  template <int dim, class Description>
+  RunSummary Simulation<dim, Description>::run()
+  {
+    const TimeLoopParts<dim, Description> parts{U,       *patch_, desc,         *conv,    integrator.get(),
+                                                *split_, *output, *run_report_, adapted_, timers_};
+    TimeLoopHooks                         hooks;
+    hooks.adapt_mesh       = [this] { adapt_mesh(false); };
+    hooks.write_checkpoint = [this](const std::string &file, const double t, const unsigned int step,
+                                    const bool                                         with_history,
+                                    const std::vector<std::pair<std::string, double>> &record) {
+      record_ = record;
+      write_checkpoint(file, t, step, with_history);
+    };
+    TimeLoop<dim, Description> time_loop(loop, files, report.integrator, units_, comm, pcout, parts, hooks);
+    return time_loop.run(start_);
   }
 
   template <int dim, class Description>

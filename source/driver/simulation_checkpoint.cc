@@ -5,7 +5,7 @@
  * convective time, the implicit step's history, the earlier segments' record, the output
  * count).
  */
-#include <granhydro/driver/simulation_instances.h>
+#include "simulation_instances.h"
 
 namespace granhydro::driver
 {
@@ -31,26 +31,26 @@ namespace granhydro::driver
   {
     const typename Checkpointing<dim>::Restart r =
       checkpoints_->read(file, *patch_, U, integrator != nullptr, [this] { mesh_changed(); });
-    start_time_ = r.contents.time;
-    start_step_ = r.contents.step;
+    start_.time = r.contents.time;
+    start_.step = r.contents.step;
     split_->set_owed(r.contents.convection_owed);
     if (integrator && r.same_units)
       integrator->restore(r.contents.history);
     // the record of the run's earlier segments (none in a checkpoint of format v5: the
     // counts then start at this checkpoint's step)
     RunSummary earlier;
-    if (from_run_record(r.contents.record, record_units(), earlier))
-      earlier_ = earlier;
+    if (from_run_record(r.contents.record, record_units(units_, dim), earlier))
+      start_.earlier = earlier;
     else
       {
-        earlier_                   = RunSummary();
-        earlier_.segments          = 0;
-        earlier_.counted_from_step = r.contents.step;
+        start_.earlier                   = RunSummary();
+        start_.earlier.segments          = 0;
+        start_.earlier.counted_from_step = r.contents.step;
         pcout << "  the checkpoint carries no record of the run before it (format v" << r.version
               << "): the summary counts from step " << r.contents.step << "\n";
       }
     output->resume(r.contents.outputs, start_time());
-    pcout << "  initial state: checkpoint " << file << " (t = " << start_time() << " s, step " << start_step_
+    pcout << "  initial state: checkpoint " << file << " (t = " << start_time() << " s, step " << start_.step
           << (r.with_history ? ", with the implicit step's history" : "") << ")\n";
   }
 

@@ -14,11 +14,14 @@ namespace granhydro::driver
 {
   template <int dim, class Description>
   SplitStep<dim, Description>::SplitStep(const Description &desc, const bool convection,
-                                         const double time_unit, dealii::TimerOutput &timers,
+                                         const double time_unit, const double max_body_acceleration,
+                                         const double velocity_unit, dealii::TimerOutput &timers,
                                          const dealii::ConditionalOStream &pcout)
     : desc(desc)
     , convection_(convection)
     , time_unit_(time_unit)
+    , max_body_acceleration_(max_body_acceleration)
+    , velocity_unit_(velocity_unit)
     , timers_(timers)
     , pcout(pcout)
   {}
@@ -53,7 +56,7 @@ namespace granhydro::driver
             physics::State<dim> S;
             double             *u = &V.local_element(std::size_t(s) * (dim + 2));
             std::copy(u, u + dim + 2, S.begin());
-            const double added = desc.repair_temperature(S);
+            const double added = desc.repair_temperature(S, repair_energy_);
             if (added > 0)
               {
                 ++counters_.temperature_repairs;
@@ -70,7 +73,7 @@ namespace granhydro::driver
     bool                             ok = true;
     for (unsigned int i = 0; i < pieces && ok; ++i)
       {
-        ok = conv_->ssp_rk3_step(V, h / pieces);
+        ok = conv_->ssp_rk3_step(V, h / pieces, repair_energy_);
         ++counters_.convective_pieces; // every step taken (also without splitting, also retried ones)
         if (ok)
           repair(V);
@@ -95,6 +98,9 @@ namespace granhydro::driver
   bool SplitStep<dim, Description>::advance(Vector &U, const double t, const double dt, const bool sync,
                                             const double max_convective_step)
   {
+    if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
+      repair_energy_ =
+        Description::splitting_repair_energy(max_body_acceleration_ * dt * time_unit_ / velocity_unit_);
     if (!integrator_) // nothing is ever owed without the diffusion step
       return convect(U, dt);
     if (convection_)
@@ -111,7 +117,7 @@ namespace granhydro::driver
     bool       ok;
     {
       const dealii::TimerOutput::Scope scope(timers_, "diffusion");
-      ok = integrator_->step(U, t, dt);
+      ok = integrator_->step(U, t, dt, repair_energy_);
     }
     if (integrator_->statistics().switches_to_midpoint > switches)
       pcout << "  diffusion step: Gauss-Legendre Newton iteration did not converge, step "

@@ -1,16 +1,17 @@
 /**
  * @file time_loop.cc
- * The time loop of Simulation: CFL time step, rejected steps retried with half the
+ * TimeLoop (driver/time_loop.h): CFL time step, rejected steps retried with half the
  * step, the output and checkpoint schedule, the steady-state test, the stop on a signal
  * or the wall time limit, the progress line, and the final output and summary.
  */
-#include <granhydro/driver/simulation_instances.h>
+#include <granhydro/base/errors.h>
 #include <granhydro/io/checkpoint.h>
 #include <granhydro/io/diagnostics.h>
 #include <granhydro/io/summary_csv.h>
 
 #include <deal.II/base/mpi.h>
 
+#include "time_loop_instances.h"
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -93,32 +94,69 @@ namespace granhydro::driver
   }
 
   template <int dim, class Description>
-  RunSummary Simulation<dim, Description>::run()
+  TimeLoop<dim, Description>::TimeLoop(const TimeLoopSettings &settings, const RunFiles &files,
+                                       const std::string &integrator_name, const Units &units,
+                                       const MPI_Comm comm, const dealii::ConditionalOStream &pcout,
+                                       const TimeLoopParts<dim, Description> &parts,
+                                       const TimeLoopHooks                   &hooks)
+    : loop(settings)
+    , files(files)
+    , integrator_name(integrator_name)
+    , units_(units)
+    , comm(comm)
+    , pcout(pcout)
+    , U(parts.state)
+    , patch(parts.patch)
+    , desc(parts.desc)
+    , conv(parts.convection)
+    , integrator(parts.integrator)
+    , split(parts.split)
+    , output(parts.output)
+    , report(parts.report)
+    , adaptation(parts.adaptation)
+    , timers(parts.timers)
+    , hooks(hooks)
+  {}
+
+  template <int dim, class Description>
+  TimeLoop<dim, Description>::~TimeLoop() = default;
+
+  template <int dim, class Description>
+  void TimeLoop<dim, Description>::write_output(const Vector &V, const double time_si,
+                                                const unsigned int step)
   {
-    TimeLoopState L;
+    const TimerOutput::Scope scope(timers, "output");
+    output.write(V, time_si, step);
+  }
+
+  template <int dim, class Description>
+  RunSummary TimeLoop<dim, Description>::run(const TimeLoopStart &start)
+  {
+    start_  = start;
+    L       = TimeLoopState();
     L.start = clock::now();
-    start_run(L);
+    start_run();
     while (L.t < L.t_end * (1 - 1e-12) && (loop.max_steps == 0 || L.step < loop.max_steps))
       {
         // adaptation on absolute step numbers: a restarted run adapts where the
         // uninterrupted one did
         if (loop.adapt_interval > 0 && L.step % loop.adapt_interval == 0 && L.step > 0)
           {
-            const TimerOutput::Scope scope(timers_, "adaptation");
-            adapt_mesh(false);
+            const TimerOutput::Scope scope(timers, "adaptation");
+            hooks.adapt_mesh();
           }
         double       dt_cfl   = 0;
-        const double dt_uncut = step_size(L, dt_cfl);
+        const double dt_uncut = step_size(dt_cfl);
         double       dt       = std::min(dt_uncut, L.t_end - L.t);
         dt                    = std::min(dt, L.next_output - L.t);
         unsigned int tries    = 0;
-        dt                    = take_step(L, dt, dt_cfl, tries);
+        dt                    = take_step(dt, dt_cfl, tries);
         const double t_before = L.t;
         L.t += dt;
         ++L.step;
         L.last_dt = dt;
-        if (history_due(L, t_before))
-          write_history_row(L, io::state_totals(*patch_, U, desc, units_.length, comm));
+        if (history_due(t_before))
+          write_history_row(io::state_totals(patch, U, desc, units_.length, comm));
         // a step cut short to land on an output or end time says nothing about the
         // scheme's step; halved (retried) steps do and are kept
         if (tries == 0 && dt < dt_uncut)
@@ -126,11 +164,11 @@ namespace granhydro::driver
         else
           L.min_dt = std::min(L.min_dt, dt);
         L.max_dt = std::max(L.max_dt, dt);
-        if (L.t >= L.next_output * (1 - 1e-12) && output_time(L))
+        if (L.t >= L.next_output * (1 - 1e-12) && output_time())
           break;
-        if (stop_requested(L))
+        if (stop_requested())
           break;
-        progress_line(L, dt);
+        progress_line(dt);
       }
     // Time/Maximum steps reached before the end time: say so, not "completed"
     const bool step_limited =
@@ -139,70 +177,69 @@ namespace granhydro::driver
       pcout << "  step limit (Time/Maximum steps = " << loop.max_steps << ") reached at t = " << L.t * L.t0
             << " s of " << loop.end_time << " s\n";
     L.sum.interrupted_by = L.interrupted_by;
-    finish(L, L.sum.steady ? "steady" :
-              L.interrupted_by ?
-                             (L.interrupted_by == SIGINT ? "interrupted (SIGINT)" : "interrupted (SIGTERM)") :
-              L.wall_limited ? "wall time limit" :
-              step_limited   ? "maximum steps" :
-                               "completed");
+    finish(L.sum.steady ? "steady" :
+           L.interrupted_by ?
+                          (L.interrupted_by == SIGINT ? "interrupted (SIGINT)" : "interrupted (SIGTERM)") :
+           L.wall_limited ? "wall time limit" :
+           step_limited   ? "maximum steps" :
+                            "completed");
     return L.sum;
   }
 
   template <int dim, class Description>
-  void Simulation<dim, Description>::start_run(TimeLoopState &L)
+  void TimeLoop<dim, Description>::start_run()
   {
-    run_report_->set_start_time(utc_now()); // rank 0's clock gives the summary's start_time
+    report.set_start_time(utc_now()); // rank 0's clock gives the summary's start_time
     L.t0          = units_.time();
     L.t_end       = loop.end_time / L.t0;
     L.dt_fixed    = loop.fixed_time_step / L.t0;
     L.interval    = loop.output_interval / L.t0;
-    L.t           = start_time_;
+    L.t           = start_.time;
     L.next_output = L.interval > 0 ? L.interval : L.t_end;
     // the output times after a restart are the ones the uninterrupted run would have
     // chosen (same additions), so the time steps and results are identical
     while (L.interval > 0 && L.t >= L.next_output * (1 - 1e-12) && L.next_output < L.t_end)
       L.next_output = std::min(L.next_output + L.interval, L.t_end);
-    timers_.reset();
-    split_->reset_counters();
-    L.step  = start_step_;
+    timers.reset();
+    split.reset_counters();
+    L.step  = start_.step;
     L.merge = integrator && loop.convection && loop.merge_strang;
-    if (split_->owed() > 0 && !L.merge) // a checkpoint of a merged run restarted with symmetric steps
+    if (split.owed() > 0 && !L.merge) // a checkpoint of a merged run restarted with symmetric steps
       {
-        if (!split_->convect(U, split_->owed()))
+        if (!split.convect(U, split.owed()))
           throw RunError("the convective half-step owed by the checkpoint failed");
-        split_->set_owed(0);
+        split.set_owed(0);
       }
     L.checkpoint    = files.file(".checkpoint");
     L.last_progress = L.start;
     std::string why;
-    if (!conv->admissible(U, &why))
+    if (!conv.admissible(U, &why))
       throw RunError("initial state is inadmissible (n <= 0 or T <= 0): " + why);
     if (files.summary && Utilities::MPI::this_mpi_process(comm) == 0)
-      io::write_running_summary(files.file("_summary.csv"), run_report_->record_entries());
+      io::write_running_summary(files.file("_summary.csv"), report.record_entries());
     // a run from the scene's initial state writes it; a restart (even from the t = 0
     // checkpoint) has it already
     const bool fresh = L.step == 0 && !loop.from_checkpoint;
     if (fresh)
       {
         write_output(U, L.t * L.t0, 0);
-        checkpoint_now(L);
+        checkpoint_now();
       }
     L.backup.reinit(U.get_partitioner());
     L.backup                      = U;
-    const io::StateTotals<dim> s0 = io::state_totals(*patch_, U, desc, units_.length, comm);
+    const io::StateTotals<dim> s0 = io::state_totals(patch, U, desc, units_.length, comm);
     // the mass drift is taken against the mass at the start of the counted run
-    L.mass0 = earlier_.initial_grains > 0 ? earlier_.initial_grains : s0.n;
-    start_history(L, fresh, s0);
-    L.g_eff = loop.max_body_acceleration;
+    L.mass0 = start_.earlier.initial_grains > 0 ? start_.earlier.initial_grains : s0.n;
+    start_history(fresh, s0);
   }
 
   template <int dim, class Description>
-  double Simulation<dim, Description>::step_size(TimeLoopState &L, double &dt_cfl)
+  double TimeLoop<dim, Description>::step_size(double &dt_cfl)
   {
     double dt = L.dt_fixed;
     if (loop.convection) // the convective CFL limits the step; diffusion never does
       {
-        const double rate = conv->max_rate(U);
+        const double rate = conv.max_rate(U);
         if (!(rate > 0) || !std::isfinite(rate))
           throw RunError("no finite wave speed at t = " + std::to_string(L.t * L.t0) + " s");
         dt_cfl = loop.cfl / rate;
@@ -216,7 +253,7 @@ namespace granhydro::driver
         // keep it within the CFL limit by shortening dt (the step after is then back
         // at the limit). Where the limit fell by more than that allows, the
         // convective part is split into pieces instead (advance())
-        const double owed = split_->owed();
+        const double owed = split.owed();
         const double room = 2 * (dt_cfl - owed); // the longest dt with owed + dt/2 <= dt_cfl
         if (L.merge && owed > 0 && room >= 0.5 * dt)
           dt = std::min(dt, room);
@@ -225,8 +262,7 @@ namespace granhydro::driver
   }
 
   template <int dim, class Description>
-  double Simulation<dim, Description>::take_step(TimeLoopState &L, double dt, const double dt_cfl,
-                                                 unsigned int &tries)
+  double TimeLoop<dim, Description>::take_step(double dt, const double dt_cfl, unsigned int &tries)
   {
     const double t0 = L.t0;
     // merged Strang splitting: the closing C(dt/2) is owed to the next step, except
@@ -242,18 +278,13 @@ namespace granhydro::driver
     std::string why;
     while (true)
       {
-        if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
-          {
-            // the splitting-error allowance of the temperature repair (GranularGas)
-            desc.repair_energy = 10 * std::pow(L.g_eff * dt * t0 / units_.velocity, 2);
-          }
         // a retried step (halved dt) also halves its convective pieces
-        if (advance(L.t, dt, sync_at(dt), tries == 0 ? dt_cfl : dt) && conv->admissible(U, &why))
+        if (split.advance(U, L.t, dt, sync_at(dt), tries == 0 ? dt_cfl : dt) && conv.admissible(U, &why))
           break;
         why.clear();
-        conv->admissible(U, &why); // where and what, for the message
+        conv.admissible(U, &why); // where and what, for the message
         if (why.empty())
-          why = conv->failure();
+          why = conv.failure();
         if (why.empty() && integrator)
           why = integrator->failure();
         ++L.sum.rejected_steps;
@@ -278,7 +309,7 @@ namespace granhydro::driver
             const std::string packing = overpacking_report(U);
             const std::string message =
               packing.empty() ? details : io::overpacking_message(L.t * t0, packing, details);
-            finish(L, packing.empty() ? "failed" : "overpacking");
+            finish(packing.empty() ? "failed" : "overpacking");
             pcout << "  the last admissible state (t = " << L.t * t0 << " s) is the final output\n";
             throw RunError(message);
           }
@@ -287,45 +318,45 @@ namespace granhydro::driver
         U  = L.backup;
         dt = dt / 2;
       }
-    split_->set_owed(sync_at(dt) ? 0 : 0.5 * dt);
+    split.set_owed(sync_at(dt) ? 0 : 0.5 * dt);
     return dt;
   }
 
   template <int dim, class Description>
-  bool Simulation<dim, Description>::output_time(TimeLoopState &L)
+  bool TimeLoop<dim, Description>::output_time()
   {
     if (L.t < L.t_end * (1 - 1e-12))
       {
         write_output(U, L.t * L.t0, L.step);
-        checkpoint_now(L);
+        checkpoint_now();
       }
     if (history_)
       history_->check(); // a failed history write stops every rank here
     L.next_output = L.interval > 0 ? std::min(L.next_output + L.interval, L.t_end) : L.t_end;
-    return loop.steady_tolerance > 0 && L.interval > 0 && steady_state(L);
+    return loop.steady_tolerance > 0 && L.interval > 0 && steady_state();
   }
 
   template <int dim, class Description>
-  bool Simulation<dim, Description>::steady_state(TimeLoopState &L)
+  bool TimeLoop<dim, Description>::steady_state()
   {
     // steady state: total kinetic energy and centre of mass along the profile
     // direction both change by less than the tolerance over one output interval
     const unsigned int pd   = loop.profile_direction;
     double             v[3] = {0, 0, 0}; // kinetic energy, n x_pd, n
-    for (unsigned int s = 0; s < patch_->n_owned(); ++s)
+    for (unsigned int s = 0; s < patch.n_owned(); ++s)
       {
         const double *u   = &U.local_element(std::size_t(s) * (dim + 2));
-        const double  vol = patch_->cell_volume(s);
+        const double  vol = patch.cell_volume(s);
         double        m2  = 0;
         for (unsigned int d = 0; d < dim; ++d)
           m2 += u[1 + d] * u[1 + d];
         v[0] += 0.5 * m2 / u[0] * vol;
-        v[1] += u[0] * patch_->center(s)[pd] * vol;
+        v[1] += u[0] * patch.center(s)[pd] * vol;
         v[2] += u[0] * vol;
       }
     Utilities::MPI::sum(ArrayView<const double>(v, 3), comm, ArrayView<double>(v, 3));
     const double ke = v[0], com = v[1] / v[2];
-    const double L_pd = patch_->cell_size(pd) * patch_->cells(pd);
+    const double L_pd = patch.cell_size(pd) * patch.cells(pd);
     if (L.have_steady_reference && std::abs(ke - L.steady_ke) <= loop.steady_tolerance * ke &&
         std::abs(com - L.steady_com) <= loop.steady_tolerance * L_pd)
       {
@@ -343,7 +374,7 @@ namespace granhydro::driver
   }
 
   template <int dim, class Description>
-  bool Simulation<dim, Description>::stop_requested(TimeLoopState &L)
+  bool TimeLoop<dim, Description>::stop_requested()
   {
     // SIGTERM / SIGINT (every rank stops after the same step)
     if (sigterm_at_step() > 0 && L.step == sigterm_at_step())
@@ -368,7 +399,7 @@ namespace granhydro::driver
   }
 
   template <int dim, class Description>
-  void Simulation<dim, Description>::progress_line(TimeLoopState &L, const double dt)
+  void TimeLoop<dim, Description>::progress_line(const double dt)
   {
     const auto now = clock::now();
     if (std::chrono::duration<double>(now - L.last_progress).count() < loop.progress_interval)
@@ -378,8 +409,8 @@ namespace granhydro::driver
     const double frac = L.t / L.t_end;
     // rate and ETA from this run's own steps and time (a restart starts mid-way);
     // with Time/Maximum steps the run ends at whichever comes first
-    const double done = (L.t - start_time_) / std::max(L.t_end - start_time_, 1e-300);
-    const double rate = (L.step - start_step_) / std::max(wall, 1e-12);
+    const double done = (L.t - start_.time) / std::max(L.t_end - start_.time, 1e-300);
+    const double rate = (L.step - start_.step) / std::max(wall, 1e-12);
     double       eta  = wall * (1 - done) / std::max(done, 1e-12);
     if (loop.max_steps > 0 && rate > 0)
       eta = std::min(eta, (double(loop.max_steps) - L.step) / rate);
@@ -390,15 +421,16 @@ namespace granhydro::driver
   }
 
   template <int dim, class Description>
-  void Simulation<dim, Description>::checkpoint_now(const TimeLoopState &L, const RunSummary *whole)
+  void TimeLoop<dim, Description>::checkpoint_now(const RunSummary *whole)
   {
     if (integrator && !L.interrupted_by) // a restart starts here: the integrator forgets its history too
       integrator->restart_point();
     if (!files.checkpoint)
       return;
-    const TimerOutput::Scope scope(timers_, "output");
-    record_ = to_run_record(whole ? *whole : combine_segments(earlier_, segment_summary(L)), record_units());
-    write_checkpoint(L.checkpoint, L.t, L.step, L.interrupted_by != 0);
+    const TimerOutput::Scope scope(timers, "output");
+    hooks.write_checkpoint(L.checkpoint, L.t, L.step, L.interrupted_by != 0,
+                           to_run_record(whole ? *whole : combine_segments(start_.earlier, segment_summary()),
+                                         record_units(units_, dim)));
     if (files.keep_checkpoints > 1)
       {
         // the numbered copy and the deletion of the oldest: rank 0, now that every rank
@@ -413,17 +445,7 @@ namespace granhydro::driver
   }
 
   template <int dim, class Description>
-  RecordUnits Simulation<dim, Description>::record_units() const
-  {
-    RecordUnits r;
-    r.time   = units_.time();
-    r.energy = units_.energy();
-    r.extent = std::pow(units_.length, dim - 3.);
-    return r;
-  }
-
-  template <int dim, class Description>
-  RunSummary Simulation<dim, Description>::segment_summary(const TimeLoopState &L) const
+  RunSummary TimeLoop<dim, Description>::segment_summary() const
   {
     const double t0  = L.t0;
     RunSummary   sum = L.sum; // rejected steps, steady, interrupted_by
@@ -433,14 +455,14 @@ namespace granhydro::driver
     sum.max_dt_si              = L.max_dt * t0;
     sum.min_cfl_dt_si          = std::isfinite(L.min_cfl) ? L.min_cfl * t0 : 0;
     sum.min_cfl_dt_time_si     = L.min_cfl_t * t0;
-    sum.cells                  = patch_->n_global_cells();
-    sum.max_cells              = std::max<unsigned long long>(max_cells, sum.cells);
-    sum.adaptations            = adaptations;
-    sum.refined_cells          = refined_cells;
-    sum.coarsened_cells        = coarsened_cells;
-    sum.min_rank_cells         = Utilities::MPI::min<unsigned long long>(patch_->n_owned(), comm);
-    sum.max_rank_cells         = Utilities::MPI::max<unsigned long long>(patch_->n_owned(), comm);
-    const SplitStepCounters &c = split_->counters();
+    sum.cells                  = patch.n_global_cells();
+    sum.max_cells              = std::max<unsigned long long>(adaptation.max_cells, sum.cells);
+    sum.adaptations            = adaptation.adaptations;
+    sum.refined_cells          = adaptation.refined_cells;
+    sum.coarsened_cells        = adaptation.coarsened_cells;
+    sum.min_rank_cells         = Utilities::MPI::min<unsigned long long>(patch.n_owned(), comm);
+    sum.max_rank_cells         = Utilities::MPI::max<unsigned long long>(patch.n_owned(), comm);
+    const SplitStepCounters &c = split.counters();
     sum.temperature_repairs    = Utilities::MPI::sum(c.temperature_repairs, comm);
     sum.continuation_cells     = Utilities::MPI::sum(c.continuation_cells, comm);
     sum.convective_steps       = c.convective_pieces; // the same on every rank
@@ -455,7 +477,7 @@ namespace granhydro::driver
     }
     sum.time_si          = L.t * t0;
     sum.wall_seconds     = seconds_since(L.start);
-    sum.convection       = conv->global_statistics();
+    sum.convection       = conv.global_statistics();
     sum.diffusion_active = integrator != nullptr;
     if (integrator)
       {
@@ -469,47 +491,47 @@ namespace granhydro::driver
   }
 
   template <int dim, class Description>
-  void Simulation<dim, Description>::finish(TimeLoopState &L, const std::string &status)
+  void TimeLoop<dim, Description>::finish(const std::string &status)
   {
     const double t0 = L.t0;
     if (!(status == "steady" && L.t < L.t_end * (1 - 1e-12))) // a steady stop has just written its output
       {
         // the checkpoint's record of the run: taken before the owed half-step below,
         // which the restarted run takes (and counts) itself
-        const RunSummary whole = combine_segments(earlier_, segment_summary(L));
+        const RunSummary whole = combine_segments(start_.earlier, segment_summary());
         // stopped between output times (signal, wall time, failure) with convective
         // time owed: the output shows the synchronised state, the checkpoint keeps the
         // state and the owed time, so that a restart continues exactly
-        if (split_->owed() > 0)
+        if (split.owed() > 0)
           {
             Vector V;
-            if (!synchronised_state(V))
+            if (!split.synchronised_state(U, V))
               pcout << "  the convective half-step owed at the stop failed: the final output "
                        "shows the state before it\n";
             write_output(V, L.t * t0, L.step);
           }
         else
           write_output(U, L.t * t0, L.step);
-        checkpoint_now(L, &whole);
+        checkpoint_now(&whole);
       }
     // the whole run: the earlier segments' record and this segment
-    RunSummary sum = combine_segments(earlier_, segment_summary(L));
+    RunSummary sum = combine_segments(start_.earlier, segment_summary());
     // the final state's totals, once: the summary's and the history's last row (the state
     // the checkpoint holds)
-    const io::StateTotals<dim> s = io::state_totals(*patch_, U, desc, units_.length, comm);
+    const io::StateTotals<dim> s = io::state_totals(patch, U, desc, units_.length, comm);
     sum.mass_drift               = std::abs(s.n - L.mass0) / L.mass0;
     sum.final_mass_si            = s.n * units_.mass * std::pow(units_.length, dim - 3.);
     sum.final_energy_si          = s.energy * units_.energy() * std::pow(units_.length, dim - 3.);
     if (history_)
       {
         if (L.history_step != (long long)L.step)
-          write_history_row(L, s);
+          write_history_row(s);
         history_->check();
       }
     L.sum = sum;
-    run_report_->print(sum, patch_->balance_counts());
+    report.print(sum, patch.balance_counts());
     if (files.summary)
-      run_report_->write(sum, status);
+      report.write(sum, status);
     if (files.vtu || files.profiles || files.summary)
       {
         pcout << "  output in " << files.directory << "/:";
@@ -526,10 +548,10 @@ namespace granhydro::driver
   }
 
   template <int dim, class Description>
-  std::string Simulation<dim, Description>::overpacking_report(const Vector &V) const
+  std::string TimeLoop<dim, Description>::overpacking_report(const Vector &V) const
   {
     if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
-      return io::overpacking_report(*patch_, V, desc.phi_c, comm);
+      return io::overpacking_report(patch, V, desc.phi_c, comm);
     else
       {
         (void)V;
@@ -537,5 +559,5 @@ namespace granhydro::driver
       }
   }
 
-  GRANHYDRO_SIMULATION_INSTANCES
+  GRANHYDRO_TIME_LOOP_INSTANCES
 } // namespace granhydro::driver

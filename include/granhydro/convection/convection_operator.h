@@ -65,18 +65,23 @@ namespace granhydro::convection
     /// (re)build the slot lists; call after the patch changed
     void setup();
 
-    /// W: slot array (owned + MPI ghosts + boundary ghosts); rhs: n_owned*NC
-    void apply(const double *W, double *rhs) const;
+    /// W: slot array (owned + MPI ghosts + boundary ghosts); rhs: n_owned*NC;
+    /// repair_energy: the step's splitting allowance of the temperature repair (scaled, per
+    /// grain; physics::GranularGas::admissible()), which MUSTA's predictor states may use
+    void apply(const double *W, double *rhs, const double repair_energy) const;
 
     /// max over owned cells of sum_d (|u_d| + c)/dx_d (global MPI max)
     double max_rate(const Vector &U) const;
 
     /// one SSP-RK3 step (eq. 4.10) of size dt; U must be built on patch.partitioner().
     /// Returns false (U then undefined) if a stage stays inadmissible even with
-    /// first-order fluxes: the caller retries with a smaller dt.
-    bool ssp_rk3_step(Vector &U, const double dt) const;
+    /// first-order fluxes: the caller retries with a smaller dt. repair_energy: the
+    /// splitting allowance of the step it is part of (as in apply())
+    bool ssp_rk3_step(Vector &U, const double dt, const double repair_energy) const;
 
-    /// true if every owned cell is admissible (global); on failure, where/what
+    /// true if every owned cell is admissible outside a step (no splitting allowance; a
+    /// state after the temperature repair passes with any allowance) (global); on
+    /// failure, where/what
     bool admissible(const Vector &U, std::string *what = nullptr) const;
 
     const ConvectionStatistics &statistics() const { return stats; }
@@ -97,9 +102,10 @@ namespace granhydro::convection
 
   private:
     template <class Recon>
-    void apply_impl(const Recon &rec, const double *W, double *rhs) const;
+    void apply_impl(const Recon &rec, const double *W, double *rhs, const double repair_energy) const;
     void assemble_rhs(double *rhs) const;
-    bool stage_update(Vector &U, const double a, const double b, const double den, const double dt) const;
+    bool stage_update(Vector &U, const double a, const double b, const double den, const double dt,
+                      const double repair_energy) const;
 
     const mesh::CartesianPatch<dim> &patch;
     const Description               &desc;

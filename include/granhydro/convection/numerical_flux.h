@@ -52,8 +52,10 @@ namespace granhydro::convection
       , cloc(settings.musta_local_cfl)
     {}
 
-    void operator()(const State &UL, const State &UR, const unsigned int d, State &F,
-                    FluxStatistics &stats) const
+    /// repair_energy: the step's splitting allowance of the temperature repair (scaled, per
+    /// grain; physics::GranularGas::admissible()), for MUSTA's test of its predictor states
+    void operator()(const State &UL, const State &UR, const unsigned int d, State &F, FluxStatistics &stats,
+                    const double repair_energy) const
     {
       ++stats.points;
       switch (type)
@@ -65,7 +67,7 @@ namespace granhydro::convection
             hll(UL, UR, d, F);
             return;
           default:
-            musta(UL, UR, d, F, stats);
+            musta(UL, UR, d, F, stats, repair_energy);
         }
     }
 
@@ -96,10 +98,10 @@ namespace granhydro::convection
           F[c] = (SR * FL[c] - SL * FR[c] + SL * SR * (UR[c] - UL[c])) / (SR - SL);
     }
 
-    void musta(const State &UL0, const State &UR0, const unsigned int d, State &F,
-               FluxStatistics &stats) const
+    void musta(const State &UL0, const State &UR0, const unsigned int d, State &F, FluxStatistics &stats,
+               const double repair_energy) const
     {
-      musta_lanes<double>(&UL0, &UR0, d, &F, stats);
+      musta_lanes<double>(&UL0, &UR0, d, &F, stats, repair_energy);
     }
 
     /**
@@ -110,8 +112,8 @@ namespace granhydro::convection
      */
     template <class V>
     __attribute__((always_inline)) inline void points(const State *UL, const State *UR, const unsigned int n,
-                                                      const unsigned int d, State *F,
-                                                      FluxStatistics &stats) const
+                                                      const unsigned int d, State *F, FluxStatistics &stats,
+                                                      const double repair_energy) const
     {
       unsigned int q = 0;
       if constexpr (Description::vector_lanes)
@@ -121,18 +123,18 @@ namespace granhydro::convection
             for (; q + L <= n; q += L)
               {
                 stats.points += L;
-                musta_lanes<V>(UL + q, UR + q, d, F + q, stats);
+                musta_lanes<V>(UL + q, UR + q, d, F + q, stats, repair_energy);
               }
             typedef double V2 __attribute__((vector_size(16)));
             if constexpr (L > 2)
               for (; q + 2 <= n; q += 2)
                 {
                   stats.points += 2;
-                  musta_lanes<V2>(UL + q, UR + q, d, F + q, stats);
+                  musta_lanes<V2>(UL + q, UR + q, d, F + q, stats, repair_energy);
                 }
           }
       for (; q < n; ++q)
-        operator()(UL[q], UR[q], d, F[q], stats);
+        operator()(UL[q], UR[q], d, F[q], stats, repair_energy);
     }
 
     /**
@@ -144,9 +146,9 @@ namespace granhydro::convection
      * states. The other lanes go on; every lane does the operations of one point alone.
      */
     template <class V>
-    __attribute__((always_inline)) inline void musta_lanes(const State *UL0, const State *UR0,
-                                                           const unsigned int d, State *Fout,
-                                                           FluxStatistics &stats) const
+    __attribute__((always_inline)) inline void
+    musta_lanes(const State *UL0, const State *UR0, const unsigned int d, State *Fout, FluxStatistics &stats,
+                const double repair_energy) const
     {
       namespace lanes          = physics::lanes;
       constexpr unsigned int L = lanes::width<V>;
@@ -179,7 +181,7 @@ namespace granhydro::convection
           for (unsigned int c = 0; c < NC; ++c)
             Uh[c] = 0.5 * (UL[c] + UR[c]) - 0.5 * r * (FR[c] - FL[c]); // eq. 4.7a
           const auto th = desc.density_terms(Uh[0]);
-          const M    ok = desc.admissible(Uh, th);
+          const M    ok = desc.admissible(Uh, th, repair_energy);
           fallback      = fallback || (active && !ok);
           active        = active && ok;
           if (!lanes::any(active))
@@ -231,7 +233,7 @@ namespace granhydro::convection
           const M was = active;
           tL          = desc.density_terms(UL[0]);
           tR          = desc.density_terms(UR[0]);
-          active      = active && desc.admissible(UL, tL) && desc.admissible(UR, tR);
+          active = active && desc.admissible(UL, tL, repair_energy) && desc.admissible(UR, tR, repair_energy);
           for (unsigned int i = 0; i < L; ++i)
             stats.early_stops += lanes::set(was, i) && !lanes::set(active, i);
           if (!lanes::any(active))

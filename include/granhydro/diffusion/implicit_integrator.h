@@ -128,8 +128,10 @@ namespace granhydro::diffusion
                        const IntegratorSettings &settings);
 
     /// advance U (on the patch partitioner) from time t by dt; false if the step failed.
-    /// Time-dependent sources are evaluated at the stage times t + c_i dt.
-    bool step(Vector &U, const double t, const double dt);
+    /// Time-dependent sources are evaluated at the stage times t + c_i dt. repair_energy:
+    /// the splitting allowance of the temperature repair in the step this is part of
+    /// (scaled, per grain; physics::GranularGas::admissible()), which its result may use
+    bool step(Vector &U, const double t, const double dt, const double repair_energy);
 
     /// forget the sparsity patterns and work vectors after the mesh changed
     void mesh_changed()
@@ -245,6 +247,7 @@ namespace granhydro::diffusion
     std::vector<double>                                        W, U0, f;
     std::string                                                last_failure;
     double explicit_limit = 0; ///< of the current step (scaled)
+    double repair_energy_ = 0; ///< of the current step (step()'s argument)
     Vector Y;
   };
 } // namespace granhydro::diffusion

@@ -4,6 +4,7 @@
  * What a run reports at its end: steps, times, the operators' statistics, the mesh and
  * the memory, for the summary lines of the log and for <base>_summary.csv.
  */
+#include <granhydro/base/units.h>
 #include <granhydro/convection/convection_operator.h>
 #include <granhydro/diffusion/implicit_integrator.h>
 #include <granhydro/driver/phase_times.h>
@@ -79,6 +80,9 @@ namespace granhydro::driver
     double energy = 1; ///< [J] per scaled energy (a grain's)
     double extent = 1; ///< length^(dim - 3) [m^(dim - 3)]: grains or energy per m^(3 - dim)
   };
+
+  /// the unit factors of a run record of a run in `dim` dimensions with the units `units`
+  RecordUnits record_units(const Units &units, const unsigned int dim);
 
   /// the whole run so far: the record of the earlier segments combined with this
   /// segment's figures (counts and wall times added, the extremes combined, steps and

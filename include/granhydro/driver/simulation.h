@@ -1,11 +1,11 @@
 #pragma once
 /**
  * @file simulation.h
- * The time loop of a scene: mesh and state from the scene, CFL time step on
- * the maximal convective wave speed, SSP-RK3 convection, rejected-step
- * handling (an inadmissible result is retried with half the step, counted,
- * and stops the run with a clear message when retries run out), output
- * schedule, progress line and run summary.
+ * The composition root of a run: from the scene, the model, the mesh, the operators,
+ * the output and the initial state, and the modules that run it - SplitStep (one time
+ * step), TimeLoop (step size, retries, outputs, stop rules, history, the final report),
+ * Checkpointing, RunReport - each with its own settings (run_settings.h). Only this class
+ * reads the Scene.
  */
 #include <granhydro/base/errors.h>
 #include <granhydro/convection/convection_operator.h>
@@ -39,7 +39,7 @@
 
 namespace granhydro::driver
 {
-  /// the time loop of a scene with the constitutive description Description
+  /// a run of a scene with the constitutive description Description
   /// (physics::IdealGas<dim> or physics::GranularGas<dim>)
   template <int dim, class Description = physics::IdealGas<dim>>
   class Simulation
@@ -101,8 +101,8 @@ namespace granhydro::driver
     void read_checkpoint(const std::string &file);
 
     /// time [s] and step the run starts from (0 unless restarted from a checkpoint)
-    double       start_time() const { return start_time_ * units_.time(); }
-    unsigned int start_step() const { return start_step_; }
+    double       start_time() const { return start_.time * units_.time(); }
+    unsigned int start_step() const { return start_.step; }
 
     /// adapt the mesh to the state (Adaptivity section of the scene): refine where the
     /// indicator exceeds the refine threshold (plus a buffer), coarsen where it stays
@@ -110,7 +110,7 @@ namespace granhydro::driver
     bool adapt_mesh(const bool initial);
 
     /// number of mesh adaptations so far
-    unsigned int n_adaptations() const { return adaptations; }
+    unsigned int n_adaptations() const { return adapted_.adaptations; }
 
     /// for tests: the cost per cell this rank reports at each adaptation instead of the
     /// measured one, when the partition weighs the ranks' cells by their cost
@@ -123,63 +123,6 @@ namespace granhydro::driver
     /// rebuild the operators' tables after the patch changed
     void mesh_changed();
     void print_header() const;
-
-    // the time loop (time_loop.cc)
-    /// the schedule, the counters, the owed half-step of a merged checkpoint restarted
-    /// with symmetric steps, the running summary and the initial output
-    void start_run(TimeLoopState &L);
-    /// the step size (scaled) from the CFL limit (dt_cfl, 0 without convection), the
-    /// fixed step and the merged splitting's owed time, before the cut to the next
-    /// output or end time
-    double step_size(TimeLoopState &L, double &dt_cfl);
-    /// one step of at most dt from L.t: retried with half the step while inadmissible
-    /// (tries counts the retries); returns the step taken. After all retries the run
-    /// ends with the last admissible state and throws RunError
-    double take_step(TimeLoopState &L, double dt, const double dt_cfl, unsigned int &tries);
-    /// at an output time: output and checkpoint (not at the end time), the next output
-    /// time, the steady-state test; true if the run is steady
-    bool output_time(TimeLoopState &L);
-    /// total kinetic energy and centre of mass changed by less than the tolerance over
-    /// one output interval (the first call only takes the reference)
-    bool steady_state(TimeLoopState &L);
-    /// SIGTERM/SIGINT or the wall time limit: true if the run stops after this step
-    bool stop_requested(TimeLoopState &L);
-    /// the progress line, at most every Output/Progress interval
-    void progress_line(TimeLoopState &L, const double dt);
-    /// a checkpoint (a restart starts here: the integrator forgets its history too,
-    /// unless the run was interrupted), carrying the record of the whole run so far
-    /// (`whole`, or computed now); with Output/Keep checkpoints > 1 also its numbered copy
-    void checkpoint_now(const TimeLoopState &L, const RunSummary *whole = nullptr);
-    /// this segment's figures so far (collective): what finish() reports, before it is
-    /// combined with the earlier segments' record (combine_segments())
-    RunSummary segment_summary(const TimeLoopState &L) const;
-    /// the unit factors of the run record
-    RecordUnits record_units() const;
-    // the history (run_history.cc)
-    /// <base>_history.csv with Output/History interval: started with the row of the
-    /// initial state (totals s0) by a fresh run, continued by a restarted one
-    void start_history(TimeLoopState &L, const bool fresh, const io::StateTotals<dim> &s0);
-    /// a row of <base>_history.csv is due after the step that ended at L.t, begun at t_before
-    bool history_due(const TimeLoopState &L, const double t_before) const;
-    /// a row of <base>_history.csv from the totals s of the state (collective through s)
-    void write_history_row(TimeLoopState &L, const io::StateTotals<dim> &s);
-    /// final output and checkpoint, the run summary lines and summary.csv: at the end
-    /// time, at a steady state, or (status failed/overpacking) with the last admissible
-    /// state
-    void finish(TimeLoopState &L, const std::string &status);
-
-    /// output->write(V, time_si, step), timed as the section "output"
-    void write_output(const Vector &V, const double time_si, const unsigned int step)
-    {
-      const dealii::TimerOutput::Scope scope(timers_, "output");
-      output->write(V, time_si, step);
-    }
-    /// the phases' wall times over the ranks into sum.phases and the *_seconds rows
-    /// (phase_times.cc; collective, after sum.wall_seconds is set)
-    void measure_phases(RunSummary &sum) const;
-    /// empty unless the state is near close packing (max phi >= 0.99 phi_c, granular
-    /// model): then where, how dense and how much mass sits in the near-close-packed cells
-    std::string overpacking_report(const Vector &U) const;
 
     /// the scene: read here, in the composition root (simulation.cc) only; the parts of
     /// the run read their settings below (run_settings.h)
@@ -207,23 +150,20 @@ namespace granhydro::driver
     std::unique_ptr<RunReport> run_report_;
     /// what a checkpoint holds besides the state, and its checks on restart
     std::unique_ptr<Checkpointing<dim>> checkpoints_;
-    double                              start_time_ = 0; ///< scaled
-    unsigned int                        start_step_ = 0;
     Vector                              U;
-    unsigned int                        adaptations    = 0;
-    double                              busy_at_adapt_ = 0; ///< conv->busy_seconds() at the last adaptation
-    double                              fixed_cost_    = 0; ///< set_cost_per_cell()
-    unsigned long long                  max_cells = 0, refined_cells = 0, coarsened_cells = 0;
-    /// the record of the run's earlier segments, read from the checkpoint it restarted
-    /// from (none: no segments, counted from step 0)
-    RunSummary earlier_ = [] {
-      RunSummary none;
-      none.segments = 0;
-      return none;
+    /// where the time loop starts: time and step (0 unless restarted from a checkpoint)
+    /// and the record of the run's earlier segments read from that checkpoint (none: no
+    /// segments, counted from step 0)
+    TimeLoopStart start_ = [] {
+      TimeLoopStart s;
+      s.earlier.segments = 0;
+      return s;
     }();
+    AdaptationCounts adapted_;           ///< what the mesh adaptation did so far
+    double           busy_at_adapt_ = 0; ///< conv->busy_seconds() at the last adaptation
+    double           fixed_cost_    = 0; ///< set_cost_per_cell()
     /// what the next checkpoint carries of the run (io::CheckpointHeader::run_record)
     std::vector<std::pair<std::string, double>> record_;
-    std::unique_ptr<io::HistoryFile>            history_; ///< <base>_history.csv, when written
   };
 
   class RunRecords;

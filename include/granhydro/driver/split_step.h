@@ -34,9 +34,12 @@ namespace granhydro::driver
     using Vector = dealii::LinearAlgebra::distributed::Vector<double>;
 
     /// convection: Numerics/Convection (false: the diffusion step only); time_unit [s]
-    /// for the messages; timers: the sections "convection" and "diffusion" are timed in it
+    /// for the messages; max_body_acceleration [m/s^2] (gravity plus the container's
+    /// largest acceleration) and velocity_unit [m/s] for the splitting allowance of the
+    /// temperature repair; timers: the sections "convection" and "diffusion" are timed in it
     SplitStep(const Description &desc, const bool convection, const double time_unit,
-              dealii::TimerOutput &timers, const dealii::ConditionalOStream &pcout);
+              const double max_body_acceleration, const double velocity_unit, dealii::TimerOutput &timers,
+              const dealii::ConditionalOStream &pcout);
 
     /// the operators of the current mesh (integrator may be null: no diffusion step)
     void set_operators(const mesh::CartesianPatch<dim>                  &patch,
@@ -50,12 +53,14 @@ namespace granhydro::driver
     /// C((dt0 + dt1)/2) V(dt1) ... C(dtn/2), the same scheme with half the convective
     /// steps. false if a part failed (U then undefined; the owed time is not changed: the
     /// caller commits it with set_owed()). max_convective_step (scaled; 0 = dt): the CFL
-    /// limit, the longest convective step
+    /// limit, the longest convective step. The step's splitting allowance of the
+    /// temperature repair (repair_energy()) is set from dt here.
     bool advance(Vector &U, const double t, const double dt, const bool sync = true,
                  const double max_convective_step = 0);
 
     /// SSP-RK3 over convective time h in `pieces` equal steps, then the temperature
-    /// repair; false if a stage failed or the result is inadmissible
+    /// repair, with the splitting allowance of the last advance() (0 before the first);
+    /// false if a stage failed or the result is inadmissible
     bool convect(Vector &V, const double h, const unsigned int pieces = 1);
 
     /// V = U with the owed convective time applied; false (and V = U) if that convective
@@ -65,6 +70,13 @@ namespace granhydro::driver
     /// scaled convective time the state still owes (0 after a synchronised step)
     double owed() const { return owed_; }
     void   set_owed(const double h) { owed_ = h; }
+
+    /// the splitting allowance per grain (scaled) of the temperature repair in the last
+    /// advance(): physics::GranularGas::splitting_repair_energy() of |g_eff| dt (0 before
+    /// the first step, and for an ideal gas). The states a step leaves may carry a thermal
+    /// deficit it allowed before their repair: the mesh adaptation's prolongation tests
+    /// its children with it.
+    double repair_energy() const { return repair_energy_; }
 
     const SplitStepCounters &counters() const { return counters_; }
     void                     reset_counters() { counters_ = SplitStepCounters(); }
@@ -76,6 +88,8 @@ namespace granhydro::driver
     const Description                                &desc;
     const bool                                        convection_;
     const double                                      time_unit_;
+    const double                                      max_body_acceleration_, velocity_unit_;
+    double                                            repair_energy_ = 0;
     dealii::TimerOutput                              &timers_;
     const dealii::ConditionalOStream                 &pcout;
     const mesh::CartesianPatch<dim>                  *patch_      = nullptr;

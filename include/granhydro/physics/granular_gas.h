@@ -192,51 +192,59 @@ namespace granhydro::physics
     /// not of the cell, which leaves a deficit of a small fraction of w + p_f/n per grain
     /// (largest just above phi_min, where w << p_f/n). A state whose thermal-energy
     /// deficit per grain is at most temperature_repair_tolerance * (w + p_f/n) +
-    /// repair_energy (set by the time loop to 10 (|g_eff| dt)^2 each step) is
+    /// repair_energy, the splitting allowance of the step (splitting_repair_energy(): 10
+    /// (|g_eff| dt)^2, passed by the step to every test that lies inside it), is
     /// "repairable": admissible inside a step, and set to T = temperature_floor after each
-    /// part of it (repair_temperature(), counted in the run summary). Without the closure
-    /// the test is e > 0 as before.
+    /// part of it (repair_temperature(), counted in the run summary). Outside a step (no
+    /// allowance: repair_energy = 0) only the first share applies. Without the closure the
+    /// test is e > 0 as before.
     static constexpr double temperature_repair_tolerance = 1e-4;
-    double                  repair_energy                = 0; ///< per grain, scaled; see above
+
+    /// the splitting allowance per grain (scaled) of a step in which the body force changes
+    /// the velocity by g_dt = |g_eff| dt (scaled): 10 (g_dt)^2
+    static double splitting_repair_energy(const double g_dt) { return 10 * std::pow(g_dt, 2); }
     /// scaled units (m g sigma, ~1e-8 J for 1 mm glass): 1e-12 of it, thermal speed ~1e-7 m/s
     static constexpr double temperature_floor = 1e-12;
 
     /// the largest thermal-energy deficit per volume that is repaired (see above): a share of
-    /// the contact enthalpy per volume n w + p_f, plus the splitting allowance
-    double repair_allowance(const double n, const double nw) const
+    /// the contact enthalpy per volume n w + p_f, plus the step's splitting allowance
+    /// repair_energy per grain
+    double repair_allowance(const double n, const double nw, const double repair_energy) const
     {
-      return repair_allowance(n, nw, contact.pressure(n));
+      return repair_allowance(n, nw, contact.pressure(n), repair_energy);
     }
 
     /// the same with p_f = ContactPressure::pressure(n) already evaluated (T = double or
     /// a vector of doubles)
     template <class Number>
-    __attribute__((always_inline)) inline Number repair_allowance(const Number n, const Number nw,
-                                                                  const Number pf) const
+    __attribute__((always_inline)) inline Number
+    repair_allowance(const Number n, const Number nw, const Number pf, const double repair_energy) const
     {
       return temperature_repair_tolerance * (nw + pf) + n * repair_energy;
     }
 
     /// n > 0, phi < phi_c, finite energy and positive thermal energy (with the closure:
-    /// a deficit up to repair_allowance() is admissible). For a vector of states, a mask
-    /// per lane (MUSTA's test of its predictor states), the closure's terms lane by lane.
+    /// a deficit up to repair_allowance() is admissible), outside a step (no splitting
+    /// allowance). For a vector of states, a mask per lane, the closure's terms lane by lane.
     template <class Number>
     __attribute__((always_inline)) inline lanes::Mask<Number> admissible(const StateT<Number> &U) const
     {
-      return admissible(U, density_terms(U[0]));
+      return admissible(U, density_terms(U[0]), 0.);
     }
 
-    /// the same with the density's terms t = density_terms(U[0]) (n w and p_f from there)
+    /// the same inside a step with the splitting allowance repair_energy per grain (scaled;
+    /// splitting_repair_energy()) and the density's terms t = density_terms(U[0]) (n w and
+    /// p_f from there): MUSTA's test of its predictor states, the diffusion step's result
     template <class Number>
-    __attribute__((always_inline)) inline lanes::Mask<Number> admissible(const StateT<Number>       &U,
-                                                                         const DensityTerms<Number> &t) const
+    __attribute__((always_inline)) inline lanes::Mask<Number>
+    admissible(const StateT<Number> &U, const DensityTerms<Number> &t, const double repair_energy) const
     {
       const Number n    = U[0];
       const auto   base = (n > Number{}) & lanes::isfinite(U[energy]) & (n * phi_per_n < phi_c);
       const Number e    = U[energy] - physics::kinetic_energy<dim>(U);
       if (!contact.active)
         return base & (e > Number{}) & lanes::isfinite(e);
-      return base & (e - t.W > -repair_allowance(n, t.W, t.pf_n2)) & lanes::isfinite(e);
+      return base & (e - t.W > -repair_allowance(n, t.W, t.pf_n2, repair_energy)) & lanes::isfinite(e);
     }
 
     /// the test inside the convective step (reconstructed face states, a-posteriori
@@ -258,15 +266,16 @@ namespace granhydro::physics
       return admissible(U) && U[energy] - kinetic_energy(U) - contact.energy_density(U[0]) > 0.;
     }
 
-    /// a repairable state (see admissible()) with T < temperature_floor gets T =
-    /// temperature_floor; returns the thermal energy added (0: nothing to repair)
-    double repair_temperature(State<dim> &U) const
+    /// a state repairable in a step with the splitting allowance repair_energy (see
+    /// admissible()) with T < temperature_floor gets T = temperature_floor; returns the
+    /// thermal energy added (0: nothing to repair)
+    double repair_temperature(State<dim> &U, const double repair_energy) const
     {
       if (!contact.active)
         return 0.;
       const double w = contact.energy_density(U[0]), ke = kinetic_energy(U);
       const double e = U[energy] - ke - w, e_min = 1.5 * U[0] * temperature_floor;
-      if (e >= e_min || !(e > -repair_allowance(U[0], w)))
+      if (e >= e_min || !(e > -repair_allowance(U[0], w, repair_energy)))
         return 0.;
       U[energy] = ke + w + e_min;
       return e_min - e;

@@ -119,8 +119,10 @@ namespace granhydro::physics
       return (U[0] > T()) & lanes::isfinite(U[energy]) & (p > T()) & lanes::isfinite(p);
     }
 
+    /// the same inside a step (the interface of GranularGas::admissible(); no splitting
+    /// allowance for an ideal gas)
     template <class T>
-    lanes::Mask<T> admissible(const StateT<T> &U, const DensityTerms<T> &) const
+    lanes::Mask<T> admissible(const StateT<T> &U, const DensityTerms<T> &, const double) const
     {
       return admissible(U);
     }
