@@ -10,7 +10,8 @@
 #   from the standard library only with PLAIN. Test executables are written to
 #   build/tests/ whatever their folder (the documented study commands use that path).
 #   SCENES: the source reads its scenes (.prm files beside it) from GRANHYDRO_TEST_DIR,
-#   defined as the calling folder.
+#   defined as the calling folder, and the shared ones of tests/data from
+#   GRANHYDRO_TEST_DATA_DIR.
 # COMMAND <command...>: a driver (bash script, cmake -P, python3) run as given.
 # ARGS: the arguments after the executable or the command.
 # RANKS <n>: the executable runs under ${DEAL_II_MPIEXEC} -n <n> (--oversubscribe above 2).
@@ -58,7 +59,8 @@ function(granhydro_add_test)
         deal_ii_setup_target(${T_EXE})
       endif()
       if(T_SCENES)
-        target_compile_definitions(${T_EXE} PRIVATE GRANHYDRO_TEST_DIR="${CMAKE_CURRENT_SOURCE_DIR}")
+        target_compile_definitions(${T_EXE} PRIVATE GRANHYDRO_TEST_DIR="${CMAKE_CURRENT_SOURCE_DIR}"
+                                                      GRANHYDRO_TEST_DATA_DIR="${GRANHYDRO_TEST_DATA}")
       endif()
     endif()
     set(command "$<TARGET_FILE:${T_EXE}>")

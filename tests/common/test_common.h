@@ -83,6 +83,8 @@ namespace granhydro::testing
     return scene::read_scene(file, no_output);
   }
 
+  /// A case of the ideal gas in a box (tests/data/ideal_gas_box.prm): what it changes of
+  /// that scene. make_scene() reads the file with these values as overrides.
   struct SceneSpec
   {
     unsigned int                dim = 1;
@@ -98,44 +100,51 @@ namespace granhydro::testing
     unsigned int max_steps = 0;
   };
 
-  inline std::string scene_text(const SceneSpec &s)
+  /// the overrides ("Section/Name=value", as the command line's -p) that make
+  /// tests/data/ideal_gas_box.prm the case s (every value of s, numbers to 17 digits)
+  inline std::vector<std::string> scene_overrides(const SceneSpec &s)
   {
-    std::ostringstream os;
-    os.precision(17);
     const char *sides[6] = {"x-", "x+", "y-", "y+", "z-", "z+"};
-    os << "set Dimension = " << s.dim << "\nsubsection Domain\n";
-    auto list = [&](auto a) {
-      std::ostringstream l;
-      l.precision(17);
+    auto        list     = [&](const auto &a) {
+      std::string l;
       for (unsigned int d = 0; d < s.dim; ++d)
-        l << (d ? ", " : "") << a[d];
-      return l.str();
+        {
+          std::ostringstream v;
+          v.precision(17);
+          v << a[d];
+          l += (d ? ", " : "") + v.str();
+        }
+      return l;
     };
-    os << "  set Lower corner = " << list(s.lower) << "\n  set Upper corner = " << list(s.upper)
-       << "\n  set Cells = " << list(s.cells) << "\n";
+    std::vector<std::string> o = {"Dimension=" + std::to_string(s.dim),
+                                  "Domain/Lower corner=" + list(s.lower),
+                                  "Domain/Upper corner=" + list(s.upper), "Domain/Cells=" + list(s.cells)};
     for (unsigned int i = 0; i < 2 * s.dim; ++i)
-      os << "  set Boundary " << sides[i] << " = " << s.boundary[i] << "\n";
-    os << "end\nsubsection Material\n  set Grain diameter = 1\n  set Material density = " << 6. / M_PI
-       << "\n  set Adiabatic index = " << s.gamma << "\nend\n"
-       << "subsection Initial state\n  set Packing fraction = 0.5\n  set Temperature = 1\n"
-       << "  set Velocity = " << (s.dim == 1 ? "0" : (s.dim == 2 ? "0; 0" : "0; 0; 0"))
-       << "\n  set Quadrature points = 1\nend\n"
-       << "subsection Numerics\n  set Reconstruction = " << s.reconstruction
-       << "\n  set Face quadrature = " << s.quadrature << "\n  set Flux = " << s.flux
-       << "\n  set CFL number = " << s.cfl << "\n  set Fixed time step = " << s.fixed_dt
-       << "\n  set Reference velocity = 1\nend\n"
-       << "subsection Time\n  set End time = " << s.end_time << "\n  set Maximum steps = " << s.max_steps
-       << "\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n  set Write checkpoint "
-          "= false\n"
-       << "  set Verbose = false\nend\n";
-    return os.str();
+      o.push_back(std::string("Domain/Boundary ") + sides[i] + "=" + s.boundary[i]);
+    const std::vector<std::string> rest = {"Material/Adiabatic index=" + number(s.gamma),
+                                           std::string("Initial state/Velocity=") +
+                                             (s.dim == 1 ? "0" : (s.dim == 2 ? "0; 0" : "0; 0; 0")),
+                                           "Numerics/Reconstruction=" + s.reconstruction,
+                                           "Numerics/Face quadrature=" + s.quadrature,
+                                           "Numerics/Flux=" + s.flux,
+                                           "Numerics/CFL number=" + number(s.cfl),
+                                           "Numerics/Fixed time step=" + number(s.fixed_dt),
+                                           "Time/End time=" + number(s.end_time),
+                                           "Time/Maximum steps=" + std::to_string(s.max_steps)};
+    o.insert(o.end(), rest.begin(), rest.end());
+    return o;
   }
 
-  inline scene::Scene make_scene(const SceneSpec &s)
+#ifdef GRANHYDRO_TEST_DATA_DIR
+  /// the case s of tests/data/ideal_gas_box.prm, with further overrides `more` (applied
+  /// after those of s)
+  inline scene::Scene make_scene(const SceneSpec &s, const std::vector<std::string> &more = {})
   {
-    return scene::parse_scene(scene_text(s), "<test scene>");
+    std::vector<std::string> o = scene_overrides(s);
+    o.insert(o.end(), more.begin(), more.end());
+    return scene::read_scene(std::string(GRANHYDRO_TEST_DATA_DIR) + "/ideal_gas_box.prm", o);
   }
+#endif
 
   /// primitive (rho, u vector, p) -> conservative state for the ideal gas
   template <int dim>

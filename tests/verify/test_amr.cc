@@ -68,39 +68,22 @@ using namespace granhydro::testing;
 
 namespace
 {
-  /// a scene file beside this source (tests/verify/)
-  std::string scene_file(const std::string &name)
-  {
-    return read_text_file(std::string(GRANHYDRO_TEST_DIR) + "/" + name);
-  }
 
-  std::string blast_3d(const unsigned int steps)
+  scene::Scene blast_3d(const unsigned int steps)
   {
     // a dense hot sphere off centre in a periodic box, moving diagonally: its shock
     // crosses the periodic boundaries, the refined shell follows it and the wake coarsens
-    std::string s = scene_file("blast_3d.prm");
-    const auto  i = s.find("set Maximum steps = 500\n");
-    AssertThrow(i != std::string::npos, dealii::ExcInternalError());
-    return s.replace(i, 23, "set Maximum steps = " + std::to_string(steps));
+    return test_scene("blast_3d.prm", {"Time/Maximum steps=" + std::to_string(steps)});
   }
 
   /// the blast between walls: slip walls across y, a no-slip floor and a slip lid in z,
   /// periodic in x, 8^3 cells: the refined shell meets the walls next to coarser cells, and
   /// the stencils of virtual cells reach wall ghosts across the periodic sides
-  std::string blast_3d_walls(const unsigned int steps)
+  scene::Scene blast_3d_walls(const unsigned int steps)
   {
-    std::string s   = blast_3d(steps);
-    auto        set = [&](const std::string &from, const std::string &to) {
-      const auto i = s.find(from);
-      AssertThrow(i != std::string::npos, dealii::ExcInternalError());
-      s.replace(i, from.size(), to);
-    };
-    set("set Cells = 4, 4, 4", "set Cells = 8, 8, 8");
-    set("set Boundary y- = periodic", "set Boundary y- = slip wall");
-    set("set Boundary y+ = periodic", "set Boundary y+ = slip wall");
-    set("set Boundary z- = periodic", "set Boundary z- = no-slip wall");
-    set("set Boundary z+ = periodic", "set Boundary z+ = slip wall");
-    return s;
+    return test_scene("blast_3d.prm", {"Time/Maximum steps=" + std::to_string(steps), "Domain/Cells=8, 8, 8",
+                                       "Domain/Boundary y-=slip wall", "Domain/Boundary y+=slip wall",
+                                       "Domain/Boundary z-=no-slip wall", "Domain/Boundary z+=slip wall"});
   }
 
   /// A Riemann problem along the diagonal: left/right density, normal velocity, pressure
@@ -360,7 +343,7 @@ int main(int argc, char **argv)
     {
       if (what == "conservation")
         {
-          driver::Simulation<3> sim(scene::parse_scene(blast_3d(500), "blast_3d"), world, std::cout);
+          driver::Simulation<3> sim(blast_3d(500), world, std::cout);
           sim.setup();
           const auto         T0     = sim.totals();
           const auto         cells0 = sim.patch().n_global_cells();
@@ -382,15 +365,13 @@ int main(int argc, char **argv)
         }
       else if (what == "mpi")
         {
-          compare_ranks<3, physics::IdealGas<3>>("3D blast with AMR",
-                                                 scene::parse_scene(blast_3d(60), "blast_3d"), chk, 1e-12);
+          compare_ranks<3, physics::IdealGas<3>>("3D blast with AMR", blast_3d(60), chk, 1e-12);
           compare_ranks<3, physics::IdealGas<3>>("3D blast with AMR, skewed partition (bit for bit)",
-                                                 scene::parse_scene(blast_3d(60), "blast_3d"), chk, 0., 3.);
+                                                 blast_3d(60), chk, 0., 3.);
           // GMRES + block ILU iterates depend on the partition; Newton stops at 1e-13:
           // 1 and N ranks agree to ~1e-12, asserted with 1e-10 (the tolerance)
-          compare_ranks<2, physics::GranularGas<2>>(
-            "2D granular gas with AMR, all effects",
-            scene::parse_scene(scene_file("granular_2d.prm"), "granular_2d"), chk, 1e-10);
+          compare_ranks<2, physics::GranularGas<2>>("2D granular gas with AMR, all effects",
+                                                    test_scene("granular_2d.prm"), chk, 1e-10);
         }
       else if (what == "walls-3d")
         {
@@ -398,8 +379,7 @@ int main(int argc, char **argv)
           // state carries neither); before the virtual cells outside a wall were keyed by
           // their position wrapped across the periodic sides, this scene stopped at an
           // adaptation ("stencil leaves the ghost patch")
-          driver::Simulation<3> sim(scene::parse_scene(blast_3d_walls(40), "blast_3d_walls"), world,
-                                    std::cout);
+          driver::Simulation<3> sim(blast_3d_walls(40), world, std::cout);
           sim.setup();
           const auto         T0  = sim.totals();
           const auto         sum = sim.run();
@@ -412,8 +392,7 @@ int main(int argc, char **argv)
              << " (tolerance 2e-13: round-off of 40 x 3 stage updates of ~2e4 cells; 9e-14 seen)";
           chk.check(dm <= 2e-13 && de <= 2e-13 && sum.steps == 40 && sum.adaptations >= 7, os.str());
           if (dealii::Utilities::MPI::n_mpi_processes(world) > 1)
-            compare_ranks<3, physics::IdealGas<3>>("3D blast between walls (bit for bit)",
-                                                   scene::parse_scene(blast_3d_walls(40), "blast_3d_walls"),
+            compare_ranks<3, physics::IdealGas<3>>("3D blast between walls (bit for bit)", blast_3d_walls(40),
                                                    chk, 0.);
         }
       else if (what == "slot-grid")
@@ -476,7 +455,7 @@ int main(int argc, char **argv)
         }
       else if (what == "dealii-sync")
         {
-          driver::Simulation<3> sim(scene::parse_scene(blast_3d(60), "blast_3d"), world, std::cout);
+          driver::Simulation<3> sim(blast_3d(60), world, std::cout);
           sim.setup();
           const auto             sum   = sim.run();
           const auto            &patch = sim.patch();
@@ -513,16 +492,14 @@ int main(int argc, char **argv)
         }
       else if (what == "mpi-open-2d")
         // GMRES + block ILU depend on the partition (see "mpi"): 1e-10
-        compare_ranks<2, physics::GranularGas<2>>(
-          "2D granular box with walls and outflow, AMR",
-          scene::parse_scene(scene_file("granular_2d_open.prm"), "granular_2d_open"), chk, 1e-10);
+        compare_ranks<2, physics::GranularGas<2>>("2D granular box with walls and outflow, AMR",
+                                                  test_scene("granular_2d_open.prm"), chk, 1e-10);
       else if (what == "mpi-3d")
         {
-          compare_ranks<3, physics::IdealGas<3>>("3D blast with AMR (bit for bit)",
-                                                 scene::parse_scene(blast_3d(60), "blast_3d"), chk, 0.);
+          compare_ranks<3, physics::IdealGas<3>>("3D blast with AMR (bit for bit)", blast_3d(60), chk, 0.);
           // a partition far from equal cell counts gives the same state, bit for bit
           compare_ranks<3, physics::IdealGas<3>>("3D blast with AMR, skewed partition (bit for bit)",
-                                                 scene::parse_scene(blast_3d(60), "blast_3d"), chk, 0., 3.);
+                                                 blast_3d(60), chk, 0., 3.);
         }
       else if ((what == "sod" || what == "sod-study") && argc >= 3)
         {

@@ -73,17 +73,21 @@ namespace
   /// implicit step's Krylov solver sums in a partition-dependent order (mpi.equivalence:
   /// 4e-14), so the granular case allows cross_rank_tolerance
   template <int dim, class Description>
-  void compare_box(const std::string &name, const std::string &text, const std::string &mesh,
+  /// the scene file `scene` with `overrides` on its generated box and on the same box read
+  /// from the mesh file `mesh`
+  void compare_box(const std::string &name, const std::string &scene,
+                   const std::vector<std::string> &overrides, const std::string &mesh,
                    const unsigned int refinements, Checker &chk, const double cross_rank_tolerance = 0)
   {
-    const MPI_Comm     world     = MPI_COMM_WORLD;
-    const scene::Scene generated = scene::parse_scene(text, "<generated box>");
-    const scene::Scene from_file = scene::parse_scene(
-      text, "<box from file>",
-      {"Domain/Mesh file=" + mesh, "Domain/Mesh refinements=" + std::to_string(refinements)});
-    const auto         a      = run<dim, Description>(generated, world);
-    const auto         b      = run<dim, Description>(from_file, world);
-    const unsigned int nranks = Utilities::MPI::n_mpi_processes(world);
+    const MPI_Comm           world     = MPI_COMM_WORLD;
+    const scene::Scene       generated = scene::read_scene(scene, overrides);
+    std::vector<std::string> with_mesh = overrides;
+    with_mesh.insert(with_mesh.end(),
+                     {"Domain/Mesh file=" + mesh, "Domain/Mesh refinements=" + std::to_string(refinements)});
+    const scene::Scene from_file = scene::read_scene(scene, with_mesh);
+    const auto         a         = run<dim, Description>(generated, world);
+    const auto         b         = run<dim, Description>(from_file, world);
+    const unsigned int nranks    = Utilities::MPI::n_mpi_processes(world);
     if (Utilities::MPI::this_mpi_process(world) != 0)
       return;
     const double       d = max_difference<dim, Description>(a, b);
@@ -102,32 +106,30 @@ namespace
       }
   }
 
-  std::string blast_text(const unsigned int dim, const std::array<std::string, 6> &boundary)
+  /// the overrides of tests/data/ideal_gas_box.prm for a blast in a box with these boundaries
+  std::vector<std::string> blast(const unsigned int dim, const std::array<std::string, 6> &boundary)
   {
     SceneSpec s;
     s.dim   = dim;
     s.cells = dim == 2 ? std::array<unsigned int, 3>{{32, 24, 1}} : std::array<unsigned int, 3>{{16, 12, 8}};
     s.upper = {{1, 0.75, 0.5}};
-    s.boundary    = boundary;
-    s.end_time    = 0.05;
-    std::string t = scene_text(s);
+    s.boundary                 = boundary;
+    s.end_time                 = 0.05;
+    std::vector<std::string> o = scene_overrides(s);
     // a blast off-centre, moving, so that every wall sees a shock
-    t += "subsection Initial state\n  set Packing fraction = 0.5 * (0.125 + 0.875 * "
-         "(((x-0.3)^2 + (y-0.4)^2" +
-         std::string(dim == 3 ? " + (z-0.2)^2" : "") +
-         ") < 0.05))\n"
-         "  set Temperature = 0.1 + 49.9 * (((x-0.3)^2 + (y-0.4)^2" +
-         std::string(dim == 3 ? " + (z-0.2)^2" : "") +
-         ") < 0.05)\n  set Velocity = " + (dim == 3 ? "0.3; -0.2; 0.1" : "0.3; -0.2") +
-         "\n  set Quadrature points = 2\nend\n";
-    return t;
+    const std::string r2 = "((x-0.3)^2 + (y-0.4)^2" + std::string(dim == 3 ? " + (z-0.2)^2" : "") + ")";
+    o.insert(o.end(), {"Initial state/Packing fraction=0.5 * (0.125 + 0.875 * (" + r2 + " < 0.05))",
+                       "Initial state/Temperature=0.1 + 49.9 * (" + r2 + " < 0.05)",
+                       std::string("Initial state/Velocity=") + (dim == 3 ? "0.3; -0.2; 0.1" : "0.3; -0.2"),
+                       "Initial state/Quadrature points=2"});
+    return o;
   }
 
-  std::string granular_text()
-  {
-    // 2D granular gas in a box, no-slip + moving + dissipative walls (the file beside this source)
-    return read_text_file(std::string(GRANHYDRO_TEST_DIR) + "/granular_box_2d.prm");
-  }
+  /// the ideal-gas box all blasts start from
+  const std::string ideal_gas_box = std::string(GRANHYDRO_TEST_DATA_DIR) + "/ideal_gas_box.prm";
+
+  /// 2D granular gas in a box, no-slip + moving + dissipative walls (the file beside this source)
+  const std::string granular_box = std::string(GRANHYDRO_TEST_DIR) + "/granular_box_2d.prm";
 
   using Sim3 = driver::Simulation<3, physics::GranularGas<3>>;
 
@@ -153,19 +155,19 @@ int main(int argc, char **argv)
   if (mode == "box")
     {
       compare_box<2, physics::IdealGas<2>>(
-        "2D blast, slip walls, gmsh",
-        blast_text(2, {{"slip wall", "slip wall", "slip wall", "slip wall", "", ""}}), arg + "/box_2d.msh", 3,
+        "2D blast, slip walls, gmsh", ideal_gas_box,
+        blast(2, {{"slip wall", "slip wall", "slip wall", "slip wall", "", ""}}), arg + "/box_2d.msh", 3,
         chk);
       compare_box<2, physics::IdealGas<2>>(
-        "2D blast, slip/outflow/no-slip, ucd",
-        blast_text(2, {{"slip wall", "outflow", "no-slip wall", "slip wall", "", ""}}), arg + "/box_2d.inp",
-        3, chk);
+        "2D blast, slip/outflow/no-slip, ucd", ideal_gas_box,
+        blast(2, {{"slip wall", "outflow", "no-slip wall", "slip wall", "", ""}}), arg + "/box_2d.inp", 3,
+        chk);
       compare_box<3, physics::IdealGas<3>>(
-        "3D blast, slip/outflow/no-slip, gmsh",
-        blast_text(3, {{"slip wall", "outflow", "no-slip wall", "slip wall", "slip wall", "no-slip wall"}}),
+        "3D blast, slip/outflow/no-slip, gmsh", ideal_gas_box,
+        blast(3, {{"slip wall", "outflow", "no-slip wall", "slip wall", "slip wall", "no-slip wall"}}),
         arg + "/box_3d.msh", 2, chk);
       compare_box<2, physics::GranularGas<2>>(
-        "2D granular gas, gravity, no-slip + moving + dissipative walls, gmsh", granular_text(),
+        "2D granular gas, gravity, no-slip + moving + dissipative walls, gmsh", granular_box, {},
         arg + "/box_2d.msh", 3, chk, 1e-12);
     }
   else if (mode == "closed" || mode == "discharge")

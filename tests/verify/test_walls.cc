@@ -133,7 +133,7 @@ int main(int argc, char **argv)
         std::vector<std::string> o{"Initial state/Velocity=1; 0"};
         if (pressure)
           o.push_back("Numerics/No-slip wall flux=pressure");
-        const scene::Scene sliding = scene::parse_scene(scene_text(spec), "sliding gas", o);
+        const scene::Scene                          sliding = make_scene(spec, o);
         driver::Simulation<2, physics::IdealGas<2>> sim(sliding, MPI_COMM_SELF, std::cout);
         sim.setup();
         const auto before = sim.totals();
