@@ -111,55 +111,48 @@ namespace
   }
 
   /// The Riemann problem along the diagonal of the unit square/cube: the initial
-  /// discontinuity is the plane through the centre normal to (1,..,1)/sqrt(dim)
-  std::string sod_diagonal(const unsigned int dim, const unsigned int cells, const unsigned int level,
-                           const double refine, const double coarsen, const unsigned int buffer,
-                           const std::string &indicator, const unsigned int interval)
+  /// discontinuity is the plane through the centre normal to (1,..,1)/sqrt(dim). The scene
+  /// is sod_diagonal.prm (beside this source) with the case's values as overrides: the
+  /// states come from riemann_case(), which the exact solution reads too
+  scene::Scene sod_diagonal(const unsigned int dim, const unsigned int cells, const unsigned int level,
+                            const double refine, const double coarsen, const unsigned int buffer,
+                            const std::string &indicator, const unsigned int interval)
   {
-    std::ostringstream os;
-    os.precision(17);
-    const std::string xi   = dim == 2 ? "(x+y)" : "(x+y+z)";
-    const std::string left = "(" + xi + " < " + std::to_string(dim * 0.5) + ")";
-    os << "set Dimension = " << dim << "\nsubsection Domain\n  set Lower corner = 0, 0"
-       << (dim == 3 ? ", 0" : "") << "\n  set Upper corner = 1, 1" << (dim == 3 ? ", 1" : "")
-       << "\n  set Cells = " << cells << ", " << cells
-       << (dim == 3 ? ", " + std::to_string(cells) : std::string()) << "\n";
-    for (const char *b : {"x-", "x+", "y-", "y+", "z-", "z+"})
-      if (dim == 3 || b[0] != 'z')
-        os << "  set Boundary " << b << " = outflow\n";
+    const std::string        xi   = dim == 2 ? "(x+y)" : "(x+y+z)";
+    const std::string        left = "(" + xi + " < " + std::to_string(dim * 0.5) + ")";
+    const std::string        n    = std::to_string(cells);
+    std::vector<std::string> o    = {"Dimension=" + std::to_string(dim),
+                                     std::string("Domain/Lower corner=") + (dim == 3 ? "0, 0, 0" : "0, 0"),
+                                     std::string("Domain/Upper corner=") + (dim == 3 ? "1, 1, 1" : "1, 1"),
+                                     "Domain/Cells=" + n + ", " + n + (dim == 3 ? ", " + n : std::string())};
+    if (dim == 3)
+      o.insert(o.end(), {"Domain/Boundary z-=outflow", "Domain/Boundary z+=outflow"});
     const RiemannCase rc = riemann_case();
     // unit grain mass: n = rho, T = p / rho; the velocity is u along the diagonal
     auto blend = [&](const double l, const double r) {
-      std::ostringstream b;
-      b.precision(17);
-      b << "(" << r << " + " << l - r << "*" << left << ")";
-      return b.str();
+      return "(" + number(r) + " + " + number(l - r) + "*" + left + ")";
     };
     const std::string vel = blend(rc.u[0] / std::sqrt(double(dim)), rc.u[1] / std::sqrt(double(dim)));
-    os << "end\nsubsection Material\n  set Grain diameter = 1\n  set Material density = " << 6. / M_PI
-       << "\n  set Adiabatic index = " << rc.gamma << "\nend\n"
-       << "subsection Initial state\n  set Packing fraction = " << M_PI / 6 << "*"
-       << blend(rc.rho[0], rc.rho[1])
-       << "\n  set Temperature = " << blend(rc.p[0] / rc.rho[0], rc.p[1] / rc.rho[1])
-       << "\n  set Velocity = " << vel << "; " << vel << (dim == 3 ? "; " + vel : std::string())
-       << "\n  set Quadrature points = 3\nend\n"
-       << "subsection Numerics\n  set Reference velocity = 1\nend\n"
-       << "subsection Adaptivity\n  set Maximum level = " << level << "\n  set Indicator = " << indicator
-       << "\n  set Refine threshold = " << refine << "\n  set Coarsen threshold = " << coarsen
-       << "\n  set Buffer = " << buffer << "\n  set Interval = " << interval << "\nend\n"
-       << "subsection Time\n  set End time = " << rc.t_end << "\nend\n"
-       << "subsection Output\n  set Write VTU = false\n  set Write profiles = false\n"
-       << "  set Write checkpoint = false\n  set Write summary = false\n  set Verbose = false\nend\n";
-    return os.str();
+    o.insert(o.end(),
+             {"Material/Adiabatic index=" + number(rc.gamma),
+              "Initial state/Packing fraction=" + number(M_PI / 6) + "*" + blend(rc.rho[0], rc.rho[1]),
+              "Initial state/Temperature=" + blend(rc.p[0] / rc.rho[0], rc.p[1] / rc.rho[1]),
+              "Initial state/Velocity=" + vel + "; " + vel + (dim == 3 ? "; " + vel : std::string()),
+              "Adaptivity/Maximum level=" + std::to_string(level), "Adaptivity/Indicator=" + indicator,
+              "Adaptivity/Refine threshold=" + number(refine),
+              "Adaptivity/Coarsen threshold=" + number(coarsen),
+              "Adaptivity/Buffer=" + std::to_string(buffer),
+              "Adaptivity/Interval=" + std::to_string(interval), "Time/End time=" + number(rc.t_end)});
+    return test_scene("sod_diagonal.prm", o);
   }
 
   /// L1 density error against the exact solution (cell averages of the exact solution by
   /// 3-point Gauss rules), the cells at the end and the wall time
   template <int dim>
-  void sod_run(const std::string &text, double &error, double &error_all, unsigned long long &cells,
+  void sod_run(const scene::Scene &scene, double &error, double &error_all, unsigned long long &cells,
                unsigned long long &max_cells, double &cell_steps, double &wall)
   {
-    driver::Simulation<dim> sim(scene::parse_scene(text, "sod_diagonal"), MPI_COMM_WORLD, std::cout);
+    driver::Simulation<dim> sim(scene, MPI_COMM_WORLD, std::cout);
     sim.setup();
     const auto               sum = sim.run();
     const RiemannCase        rc  = riemann_case();
@@ -532,8 +525,9 @@ int main(int argc, char **argv)
           unsigned long long nu, na, mu, ma;
           const std::string  ind      = given(7) ? arg[7] : "jumps";
           const unsigned int interval = given(8) ? std::atoi(arg[8].c_str()) : 4;
-          const std::string uni = sod_diagonal(dim, base << level, 0, refine, coarsen, buffer, ind, interval);
-          const std::string amr = sod_diagonal(dim, base, level, refine, coarsen, buffer, ind, interval);
+          const scene::Scene uni =
+            sod_diagonal(dim, base << level, 0, refine, coarsen, buffer, ind, interval);
+          const scene::Scene amr = sod_diagonal(dim, base, level, refine, coarsen, buffer, ind, interval);
           // GRANHYDRO_SOD_UNIFORM="error,error_all,cells,cell_steps,wall" reuses a uniform run
           // printed before (for parameter scans on large meshes)
           const char *ue           = study_env("GRANHYDRO_SOD_UNIFORM");
