@@ -1,10 +1,10 @@
 // ConvectionOperator: the SSP-RK3 time step of eq. (4.10), its stage update with the
 // a-posteriori first-order fallback, the convective rate for the CFL condition and the
 // admissibility check of a step's result (the operator L(U) is in convection_operator.cc)
-#include <granhydro/physics/models.h>
-#include <granhydro/physics/packing_fraction.h>
 #include <granhydro/convection/convection_operator.h>
 #include <granhydro/physics/granular_gas.h>
+#include <granhydro/physics/models.h>
+#include <granhydro/physics/packing_fraction.h>
 
 #include <deal.II/base/mpi.h>
 
@@ -17,9 +17,8 @@ namespace granhydro::convection
   using namespace dealii;
 
   template <int dim, class Description>
-  bool ConvectionOperator<dim, Description>::stage_update(Vector &U, const double a,
-                                                          const double b, const double den,
-                                                          const double dt) const
+  bool ConvectionOperator<dim, Description>::stage_update(Vector &U, const double a, const double b,
+                                                          const double den, const double dt) const
   {
     // candidate u_new = a U0 + b (u + dt L(u)); cells whose candidate is inadmissible
     // get first-order Rusanov fluxes (cell averages of this stage) on all their faces,
@@ -29,10 +28,7 @@ namespace granhydro::convection
     const unsigned int n_owned = patch.n_owned();
     const std::size_t  n       = std::size_t(n_owned) * NC;
     double            *u       = n ? &U.local_element(0) : nullptr;
-    apply(W.data(), rhs0.data());
-    cand.resize(n);
-    if (flags.get_partitioner() != patch.partitioner())
-      flags.reinit(patch.partitioner()); // once per mesh
+    apply(W, rhs0);
     std::vector<char> low(patch.n_slots(), 0);
     for (unsigned int iter = 0;; ++iter)
       {
@@ -43,8 +39,8 @@ namespace granhydro::convection
           {
             physics::State<dim> S;
             std::copy(&cand[std::size_t(s) * NC], &cand[std::size_t(s + 1) * NC], S.begin());
-            const bool bad = !desc.convectively_admissible(S);
-            flags.local_element(std::size_t(s) * NC) = bad || low[s] ? 1. : 0.;
+            const bool bad         = !desc.convectively_admissible(S);
+            flags.local_element(s) = bad || low[s] ? 1.f : 0.f;
             if (bad && !low[s])
               ++new_flags;
             if (bad && low[s])
@@ -54,8 +50,9 @@ namespace granhydro::convection
                   {
                     std::ostringstream os;
                     os << "convective stage at x = " << patch.center(s)
-                       << " m even with first-order fluxes: packing fraction " << physics::packing_fraction(S[0])
-                       << ", T = " << desc.temperature(S) << " (scaled units)";
+                       << " m even with first-order fluxes: packing fraction "
+                       << physics::packing_fraction(S[0]) << ", T = " << desc.temperature(S)
+                       << " (scaled units)";
                     last_failure = os.str();
                   }
               }
@@ -69,7 +66,7 @@ namespace granhydro::convection
           return false;
         flags.update_ghost_values();
         for (unsigned int s = 0; s < n_owned + patch.n_mpi_ghosts(); ++s)
-          if (flags.local_element(std::size_t(s) * NC) > 0 && !low[s])
+          if (flags.local_element(s) > 0 && !low[s])
             {
               low[s] = 1;
               if (s < n_owned)
@@ -87,9 +84,9 @@ namespace granhydro::convection
                   wall_flux(wall[d][k], d, F.data(), owned_wall_face(d, k));
                 std::copy(F.begin(), F.end(), &Fp[d][k * NC]);
               }
-        assemble_rhs(rhs0.data());
+        assemble_rhs(rhs0);
       }
-    std::copy(cand.begin(), cand.end(), u);
+    std::copy(cand, cand + n, u);
     return true;
   }
 
@@ -104,7 +101,7 @@ namespace granhydro::convection
           S[c] = U.local_element(std::size_t(s) * NC + c);
         double rate = 0;
         for (unsigned int d = 0; d < dim; ++d)
-          rate += desc.max_wave_speed(S, d) * inv_h[d][s];
+          rate += desc.max_wave_speed(S, d) * inv_h[d][patch.level(s)];
         m = std::max(m, rate);
       }
     return Utilities::MPI::max(m, patch.communicator());
@@ -115,10 +112,13 @@ namespace granhydro::convection
   {
     const std::size_t n = std::size_t(patch.n_owned()) * NC;
     last_failure.clear();
-    U0.resize(n);
-    rhs0.resize(n);
+    // the step's work arrays (the patch's shared scratch)
+    W         = patch.scratch(mesh::Scratch::slot_array, std::size_t(patch.n_slots()) * NC);
+    U0        = patch.scratch(mesh::Scratch::owned_0, n);
+    rhs0      = patch.scratch(mesh::Scratch::owned_1, n);
+    cand      = patch.scratch(mesh::Scratch::owned_2, n);
     double *u = n ? &U.local_element(0) : nullptr;
-    std::copy(u, u + n, U0.begin());
+    std::copy(u, u + n, U0);
     // eq. 4.10, each stage a convex combination of forward Euler steps, written with
     // integer weights and one division ((U0 + 2 v)/3, not U0/3 + 2v/3): the rounded
     // weights 1/3 and 2/3 sum to 1 - 5.6e-17, a systematic mass loss of that size per step
@@ -149,13 +149,12 @@ namespace granhydro::convection
     const bool ok = Utilities::MPI::min(bad < 0 ? 1 : 0, patch.communicator()) == 1;
     if (!ok && what != nullptr && bad >= 0)
       {
-        std::ostringstream os;
+        std::ostringstream  os;
         physics::State<dim> S;
         for (unsigned int c = 0; c < NC; ++c)
           S[c] = U.local_element(std::size_t(bad) * NC + c);
-        os << "cell at x = " << patch.center(bad) << " m: n*sigma^3 = " << S[0]
-           << ", packing fraction " << physics::packing_fraction(S[0]) << ", T = " << desc.temperature(S)
-           << " (scaled units)";
+        os << "cell at x = " << patch.center(bad) << " m: n*sigma^3 = " << S[0] << ", packing fraction "
+           << physics::packing_fraction(S[0]) << ", T = " << desc.temperature(S) << " (scaled units)";
         *what = os.str();
       }
     return ok;
