@@ -287,12 +287,25 @@ namespace granhydro::convection
       return unsigned(t);
     };
     // the patch geometry is in SI; the operator works in scaled units (length sigma)
+    // (the expression of patch.cell_size(s, d) for a cell of level k)
     for (unsigned int d = 0; d < dim; ++d)
-      {
-        inv_h[d].resize(n_owned);
-        for (unsigned int s = 0; s < n_owned; ++s)
-          inv_h[d][s] = length_unit / patch.cell_size(s, d);
-      }
+      for (unsigned int k = 0; k < 8; ++k)
+        inv_h[d][k] = length_unit / (patch.cell_size(d) / double(1u << k));
+    // one flag per cell (stage_update()): the state's partitioner with one index per cell
+    {
+      const auto &p = *patch.partitioner();
+      IndexSet    owned(p.size() / NC), ghosts(p.size() / NC);
+      owned.add_range(p.local_range().first / NC, p.local_range().second / NC);
+      for (const auto g : p.ghost_indices())
+        if (g % NC == 0)
+          ghosts.add_index(g / NC);
+      cell_partitioner =
+        std::make_shared<const Utilities::MPI::Partitioner>(owned, ghosts, patch.communicator());
+      AssertThrow(cell_partitioner->locally_owned_size() == n_owned &&
+                    cell_partitioner->n_ghost_indices() == patch.n_mpi_ghosts(),
+                  ExcMessage("internal error: the state's partitioner is not NC values per cell"));
+      flags.reinit(cell_partitioner);
+    }
     // on several ranks the halo's cells (MPI ghosts) take their stage values from their
     // owners, who compute every stage of every owned cell: the same formula on the same
     // inputs, so the result is bitwise that of one rank, and no rank redoes the
@@ -356,6 +369,9 @@ namespace granhydro::convection
         for (const unsigned int s : listA[d]) // the normal stencil must exist
           for (int o = -r; o <= r; ++o)
             nb(s, d, o);
+        // widen() collected 2 r + 1 entries per slot before removing the duplicates
+        for (auto *l : L)
+          l->shrink_to_fit();
       }
     if (halo_exchange)
       {
@@ -378,11 +394,6 @@ namespace granhydro::convection
       for (unsigned int d = 0; d < dim; ++d)
         for (unsigned int j = 0; j < 3; ++j)
           split[d][j] = (j == 0 ? listA[d] : (j == 1 ? listB[d] : listC[d])).size();
-    const std::size_t ns = patch.n_slots();
-    // every value a stage reads is written first (by this rank, or received): no zeroing
-    A.resize(ns * 2 * NC);
-    B.resize(transverse ? ns * 2 * P * NC : 0);
-    C.resize(transverse && dim == 3 ? ns * 2 * P * P * NC : 0);
   }
 
   template <int dim, class Description>
@@ -468,16 +479,23 @@ namespace granhydro::convection
     // along the second; the last stage's values are checked for positivity
     const unsigned int ns       = n_stages();
     const unsigned int m_out[3] = {2 * NC, 2 * P * NC, 2 * P * P * NC};
-    // the stage arrays serve one direction at a time
-    auto stage_array = [&](const unsigned int j) {
-      return j == 0 ? A.data() : (j == 1 ? B.data() : C.data());
-    };
-    auto run_stage = [&](const unsigned int d, const unsigned int j, const unsigned int part) {
+    // the stage arrays serve one direction at a time; every value a stage reads is written
+    // first (by this rank, or received): no zeroing
+    const std::size_t ns_all = patch.n_slots();
+    double *const     A      = patch.scratch(mesh::Scratch::stage_a, ns_all * 2 * NC);
+    double *const     B      = patch.scratch(mesh::Scratch::stage_b, transverse ? ns_all * 2 * P * NC : 0);
+    double *const     C =
+      patch.scratch(mesh::Scratch::stage_c, transverse && dim == 3 ? ns_all * 2 * P * P * NC : 0);
+    for (unsigned int d = 0; d < dim; ++d)
+      Fp[d] = patch.scratch(static_cast<mesh::Scratch>(static_cast<unsigned int>(mesh::Scratch::flux_0) + d),
+                            patch.faces(d).size() * NC);
+    auto stage_array = [&](const unsigned int j) { return j == 0 ? A : (j == 1 ? B : C); };
+    auto run_stage   = [&](const unsigned int d, const unsigned int j, const unsigned int part) {
       const auto        &L     = j == 0 ? listA[d] : (j == 1 ? listB[d] : listC[d]);
       const unsigned int t     = stage_direction(d, j);
       double *const      out   = stage_array(j);
       const SlotRange    range = part == 0 ? SlotRange(L.data(), split[d][j]) :
-                                             SlotRange(L.data() + split[d][j], L.size() - split[d][j]);
+                                               SlotRange(L.data() + split[d][j], L.size() - split[d][j]);
       if (j == 0)
         reconstruct(rec, patch, range, d, Wp, NC, NC, 0, out);
       else if (P == 2)
@@ -491,10 +509,9 @@ namespace granhydro::convection
     // faces in a fixed geometric order, so the result does not depend on the numbering
     // (1 rank and N ranks agree bit for bit)
     auto fluxes = [&](const unsigned int d) {
-      const auto          &faces = patch.faces(d);
-      std::vector<double> &Fpd   = Fp[d];
-      Fpd.resize(faces.size() * NC);
-      face_fluxes(numflux, patch, d, stage_array(ns - 1), npts, wq, Fpd.data(), stats.flux, repair_energy);
+      const auto &faces = patch.faces(d);
+      double     *Fpd   = Fp[d];
+      face_fluxes(numflux, patch, d, stage_array(ns - 1), npts, wq, Fpd, stats.flux, repair_energy);
       for (std::size_t k = 0; k < faces.size(); ++k)
         if (wall[d][k])
           wall_flux(wall[d][k], d, &Fpd[k * NC], owned_wall_face(d, k));
@@ -552,8 +569,8 @@ namespace granhydro::convection
         for (unsigned int s = 0; s < n_owned; ++s)
           {
             double fw[NC] = {}, fe[NC] = {};
-            patch.sum_face_fluxes(d, s, Fp[d].data(), fw, fe);
-            const double ih = inv_h[d][s];
+            patch.sum_face_fluxes(d, s, Fp[d], fw, fe);
+            const double ih = inv_h[d][patch.level(s)];
             for (unsigned int c = 0; c < NC; ++c)
               rhs[std::size_t(s) * NC + c] += ih * (fw[c] - fe[c]);
           }

@@ -29,10 +29,7 @@ namespace granhydro::convection
     const unsigned int n_owned = patch.n_owned();
     const std::size_t  n       = std::size_t(n_owned) * NC;
     double            *u       = n ? &U.local_element(0) : nullptr;
-    apply(W.data(), rhs0.data(), repair_energy);
-    cand.resize(n);
-    if (flags.get_partitioner() != patch.partitioner())
-      flags.reinit(patch.partitioner()); // once per mesh
+    apply(W, rhs0, repair_energy);
     std::vector<char> low(patch.n_slots(), 0);
     for (unsigned int iter = 0;; ++iter)
       {
@@ -43,8 +40,8 @@ namespace granhydro::convection
           {
             physics::State<dim> S;
             std::copy(&cand[std::size_t(s) * NC], &cand[std::size_t(s + 1) * NC], S.begin());
-            const bool bad                           = !desc.convectively_admissible(S);
-            flags.local_element(std::size_t(s) * NC) = bad || low[s] ? 1. : 0.;
+            const bool bad         = !desc.convectively_admissible(S);
+            flags.local_element(s) = bad || low[s] ? 1.f : 0.f;
             if (bad && !low[s])
               ++new_flags;
             if (bad && low[s])
@@ -70,7 +67,7 @@ namespace granhydro::convection
           return false;
         flags.update_ghost_values();
         for (unsigned int s = 0; s < n_owned + patch.n_mpi_ghosts(); ++s)
-          if (flags.local_element(std::size_t(s) * NC) > 0 && !low[s])
+          if (flags.local_element(s) > 0 && !low[s])
             {
               low[s] = 1;
               if (s < n_owned)
@@ -88,9 +85,9 @@ namespace granhydro::convection
                   wall_flux(wall[d][k], d, F.data(), owned_wall_face(d, k));
                 std::copy(F.begin(), F.end(), &Fp[d][k * NC]);
               }
-        assemble_rhs(rhs0.data());
+        assemble_rhs(rhs0);
       }
-    std::copy(cand.begin(), cand.end(), u);
+    std::copy(cand, cand + n, u);
     return true;
   }
 
@@ -105,7 +102,7 @@ namespace granhydro::convection
           S[c] = U.local_element(std::size_t(s) * NC + c);
         double rate = 0;
         for (unsigned int d = 0; d < dim; ++d)
-          rate += desc.max_wave_speed(S, d) * inv_h[d][s];
+          rate += desc.max_wave_speed(S, d) * inv_h[d][patch.level(s)];
         m = std::max(m, rate);
       }
     return Utilities::MPI::max(m, patch.communicator());
@@ -117,10 +114,13 @@ namespace granhydro::convection
   {
     const std::size_t n = std::size_t(patch.n_owned()) * NC;
     last_failure.clear();
-    U0.resize(n);
-    rhs0.resize(n);
+    // the step's work arrays (the patch's shared scratch)
+    W         = patch.scratch(mesh::Scratch::slot_array, std::size_t(patch.n_slots()) * NC);
+    U0        = patch.scratch(mesh::Scratch::owned_0, n);
+    rhs0      = patch.scratch(mesh::Scratch::owned_1, n);
+    cand      = patch.scratch(mesh::Scratch::owned_2, n);
     double *u = n ? &U.local_element(0) : nullptr;
-    std::copy(u, u + n, U0.begin());
+    std::copy(u, u + n, U0);
     // eq. 4.10, each stage a convex combination of forward Euler steps, written with
     // integer weights and one division ((U0 + 2 v)/3, not U0/3 + 2v/3): the rounded
     // weights 1/3 and 2/3 sum to 1 - 5.6e-17, a systematic mass loss of that size per step

@@ -60,22 +60,24 @@ namespace granhydro::diffusion
   {
     const unsigned int n_owned = patch.n_owned();
     // scaled geometry: 1/dx of each owned cell, 1/(centre distance) of each face
+    // per refinement level (the expression of patch.cell_size(s, d) for a cell of level k)
+    auto size = [&](const unsigned int d, const unsigned int k) {
+      return patch.cell_size(d) / double(1u << k);
+    };
     for (unsigned int d = 0; d < dim; ++d)
-      {
-        inv_h[d].resize(n_owned);
-        for (unsigned int s = 0; s < n_owned; ++s)
-          inv_h[d][s] = length_unit / patch.cell_size(s, d);
-        const auto &faces = patch.faces(d);
-        inv_dist[d].resize(faces.size());
-        for (std::size_t k = 0; k < faces.size(); ++k)
-          inv_dist[d][k] =
-            length_unit / (0.5 * (patch.cell_size(faces[k].l, d) + patch.cell_size(faces[k].r, d)));
-      }
+      for (unsigned int a = 0; a < 8; ++a)
+        {
+          inv_h[d][a] = length_unit / size(d, a);
+          for (unsigned int b = 0; b < 8; ++b)
+            inv_dist[d][a][b] = length_unit / (0.5 * (size(d, a) + size(d, b)));
+        }
     // scaled cell volumes (the product of the edges, as 1 / prod inv_h)
-    cell_volume.assign(n_owned, 1.);
-    for (unsigned int s = 0; s < n_owned; ++s)
-      for (unsigned int d = 0; d < dim; ++d)
-        cell_volume[s] /= inv_h[d][s];
+    for (unsigned int k = 0; k < 8; ++k)
+      {
+        cell_volume[k] = 1.;
+        for (unsigned int d = 0; d < dim; ++d)
+          cell_volume[k] /= inv_h[d][k];
+      }
     friction_active = desc.contact.active && desc.contact.friction.active() && settings.viscous;
     src.resize(patch.n_slots());
     flip.assign(patch.n_slots(), 0u);
@@ -100,13 +102,23 @@ namespace granhydro::diffusion
       }
     // dissipative walls: a face between a cell and a boundary ghost whose cell face has a
     // wall id with eps_w < 1 (boundary/dissipative_wall.h)
+    wall_kinds.assign(1, WallFace()); // 0: not a wall
     for (unsigned int d = 0; d < dim; ++d)
       {
         const auto &faces = patch.faces(d);
-        walls[d].assign(faces.size(), WallFace());
+        wall_of[d].assign(faces.size(), 0);
         for (std::size_t k = 0; k < faces.size(); ++k)
           if (const int id = patch.wall_id(faces[k].l, faces[k].r, d); id >= 0)
-            walls[d][k] = boundary::dissipative_wall_face(patch.wall_settings(id), patch.is_cell(faces[k].l));
+            {
+              // one entry per boundary id and side
+              const bool        low  = patch.is_cell(faces[k].l);
+              const std::size_t kind = 1 + 2 * std::size_t(id) + (low ? 1 : 0);
+              if (wall_kinds.size() <= kind)
+                wall_kinds.resize(kind + 1, WallFace());
+              wall_kinds[kind] = boundary::dissipative_wall_face(patch.wall_settings(id), low);
+              AssertThrow(kind <= 65535, ExcMessage("too many boundary ids"));
+              wall_of[d][k] = std::uint16_t(kind);
+            }
       }
   }
 
@@ -324,7 +336,7 @@ namespace granhydro::diffusion
           {
             l[i]               = faces[k + i].l;
             r[i]               = faces[k + i].r;
-            lanes::ref(ihn, i) = inv_dist[d][k + i];
+            lanes::ref(ihn, i) = this->ihn(d, l[i], r[i]);
             for (unsigned int c = 0; c < NC; ++c)
               {
                 lanes::ref(UL[c], i) = W[std::size_t(l[i]) * NC + c];
@@ -345,7 +357,7 @@ namespace granhydro::diffusion
             if (friction_active)
               for (unsigned int c = 0; c < NC; ++c)
                 Ff[d][(k + i) * NC + c] = lanes::get(G[c], i);
-            const WallFace &wall = walls[d][k + i];
+            const WallFace &wall = this->wall(d, k + i);
             if (wall.sign != 0) // as in face_flux()
               boundary::add_wall_heat_flux(
                 wall, desc, wall.sign > 0 ? state<dim>(W, l[i]) : state<dim>(W, r[i]), Fk[dim + 1]);
@@ -356,7 +368,7 @@ namespace granhydro::diffusion
         const unsigned int l = faces[k].l, r = faces[k].r;
         State<dim>         F, G;
         bool               bounded, capped, cold;
-        face_flux(W, d, inv_dist[d][k], l, r, state<dim>(W, l), state<dim>(W, r), walls[d][k], F,
+        face_flux(W, d, ihn(d, l, r), l, r, state<dim>(W, l), state<dim>(W, r), wall(d, k), F,
                   friction_active ? &G : nullptr, &bounded, &capped, &cold);
         if (counted_[d][k])
           count_face(d, k, bounded, capped, cold);
@@ -429,7 +441,7 @@ namespace granhydro::diffusion
         for (unsigned int i = 0; i < L; ++i)
           {
             double a[NC] = {}, b[NC] = {};
-            patch.sum_face_fluxes(d, s0 + i, Fp[d].data(), a, b);
+            patch.sum_face_fluxes(d, s0 + i, Fp[d], a, b);
             for (unsigned int c = 0; c < NC; ++c)
               {
                 lanes::ref(fw[c], i) = a[c];
@@ -438,14 +450,14 @@ namespace granhydro::diffusion
             if (friction_active)
               {
                 double ag[NC] = {}, bg[NC] = {};
-                patch.sum_face_fluxes(d, s0 + i, Ff[d].data(), ag, bg);
+                patch.sum_face_fluxes(d, s0 + i, Ff[d], ag, bg);
                 for (unsigned int c = 0; c < NC; ++c)
                   {
                     lanes::ref(gw[c], i) = ag[c];
                     lanes::ref(ge[c], i) = bg[c];
                   }
               }
-            lanes::ref(ih, i) = inv_h[d][s0 + i];
+            lanes::ref(ih, i) = this->ih(d, s0 + i);
           }
         for (unsigned int c = 0; c < NC; ++c)
           S[c] += ih * (fe[c] - fw[c]);
@@ -464,7 +476,7 @@ namespace granhydro::diffusion
         S[dim + 1] += uw;
         const V power = div_tf[0] - uw;
         for (unsigned int i = 0; i < L; ++i) // summed cell by cell: the same on any lane width
-          friction_power_ += lanes::get(power, i) * cell_volume[s0 + i];
+          friction_power_ += lanes::get(power, i) * cell_volume[patch.level(s0 + i)];
       }
     for (unsigned int i = 0; i < L; ++i)
       for (unsigned int c = 0; c < NC; ++c)
@@ -480,9 +492,11 @@ namespace granhydro::diffusion
     for (unsigned int d = 0; d < dim; ++d)
       {
         const std::size_t nf = patch.faces(d).size();
-        Fp[d].resize(nf * NC);
+        Fp[d]                = patch.scratch(
+                         static_cast<mesh::Scratch>(static_cast<unsigned int>(mesh::Scratch::stage_a) + d), nf * NC);
         if (friction_active)
-          Ff[d].resize(nf * NC);
+          Ff[d] = patch.scratch(
+            static_cast<mesh::Scratch>(static_cast<unsigned int>(mesh::Scratch::flux_0) + d), nf * NC);
         face_fluxes<V>(W, d);
       }
     friction_power_ = 0;
@@ -533,8 +547,8 @@ namespace granhydro::diffusion
     const unsigned int  n_own = patch.n_owned();
     std::vector<double> wall_rate(n_own, 0.);
     for (unsigned int d = 0; d < dim; ++d)
-      for (std::size_t k = 0; k < walls[d].size(); ++k)
-        if (const WallFace &wall = walls[d][k]; wall.sign != 0)
+      for (std::size_t k = 0; k < wall_of[d].size(); ++k)
+        if (const WallFace &wall = this->wall(d, k); wall.sign != 0)
           {
             const unsigned int s = wall.sign > 0 ? patch.faces(d)[k].l : patch.faces(d)[k].r;
             if (s >= n_own)
@@ -542,7 +556,7 @@ namespace granhydro::diffusion
             const State<dim> U  = state<dim>(W, s);
             const double     nT = U[0] * std::max(desc.temperature(U), 0.);
             if (nT > 0)
-              wall_rate[s] += 0.5 * desc.wall_heat_flux(U, wall.eps_w) / nT * inv_h[d][s];
+              wall_rate[s] += 0.5 * desc.wall_heat_flux(U, wall.eps_w) / nT * ih(d, s);
           }
     const bool cooling = settings.cooling && desc.model.effective_restitution() < 1;
     double     m       = 0;
@@ -561,7 +575,7 @@ namespace granhydro::diffusion
         const double D    = std::max((c.gamma + 4. / 3. * c.eta) / n, 2. * c.kappa / (3. * n));
         double       rate = wall_rate[s];
         for (unsigned int d = 0; d < dim; ++d)
-          rate += 2 * D * inv_h[d][s] * inv_h[d][s];
+          rate += 2 * D * ih(d, s) * ih(d, s);
         if (cooling)
           rate += 0.75 * desc.model.zeta0(n, std::max(T, 0.), 1., 1.);
         m = std::max(m, rate);

@@ -23,7 +23,7 @@ namespace granhydro::diffusion
   {}
 
   template <int dim>
-  bool ImplicitIntegrator<dim>::admissible_owned(const std::vector<double> &Uv)
+  bool ImplicitIntegrator<dim>::admissible_owned(const double *Uv)
   {
     constexpr unsigned int NC = dim + 2;
     bool                   ok = true;
@@ -54,8 +54,9 @@ namespace granhydro::diffusion
     {
       // the explicit diffusive limit at the start of the step (diagnostic; one
       // coefficient evaluation per cell, a few % of a Newton iteration)
+      W = patch.scratch(mesh::Scratch::slot_array, std::size_t(patch.n_slots()) * (dim + 2));
       patch.gather(U, W);
-      const double limit = 0.9 / op.explicit_rate(W.data());
+      const double limit = 0.9 / op.explicit_rate(W);
       explicit_limit     = limit;
       if (limit < stats.min_explicit_dt)
         {
@@ -148,6 +149,7 @@ namespace granhydro::diffusion
     // the same gathered state, time and coefficients as when it was built: the same matrix
     Vector V(patch.partitioner());
     std::copy(h.state.begin(), h.state.end(), V.begin());
+    W = patch.scratch(mesh::Scratch::slot_array, std::size_t(patch.n_slots()) * (dim + 2));
     patch.gather(V, W);
     op.set_time(h.matrix_t);
     if (!setup_newton(h.matrix_dt, h.matrix_N, h.matrix_coupled))
@@ -188,7 +190,7 @@ namespace granhydro::diffusion
     patch.gather(U, W);
     f.resize(n);
     op.set_time(t);
-    op.residual(W.data(), f.data());
+    op.residual(W, f.data());
     const bool  coupled = full && !op.diagonal_only();
     const Table N       = dirk ? Table{{A[0][0]}} : A;
     // Newton matrix of an earlier step: kept while it makes the iteration contract fast
@@ -282,7 +284,7 @@ namespace granhydro::diffusion
           s += b[k] * K[i * stages + k];
         U1[i] = U0[i] + dt * s;
       }
-    if (!admissible_owned(U1))
+    if (!admissible_owned(U1.data()))
       {
         matrix_valid = false;
         ++stats.newton_failures; // counted as before: the step failed after Newton
@@ -330,45 +332,55 @@ namespace granhydro::diffusion
     const unsigned int s = rkl2_stages(ratio);
     if (Y.size() != U.size())
       Y.reinit(patch.partitioner());
-    U0.assign(U.begin(), U.begin() + n);
-    std::vector<double> L0(n), Ljm1(n), Yjm1(n), Yjm2(U0), Yj(n);
+    // three stage vectors: Y_j-1 in Y (its owned values; gathered for f(Y_j-1)), Y_j-2 in
+    // Yjm2 (overwritten by Y_j value by value), Y_0 is U itself (U changes only when the
+    // result is accepted)
+    const double *u0 = U.begin();
+    double       *y  = Y.begin();
+    // f(Y_0), f(Y_j-1) and Y_j-2 in the patch's shared scratch
+    double *const L0   = patch.scratch(mesh::Scratch::owned_0, n);
+    double *const Ljm1 = patch.scratch(mesh::Scratch::owned_1, n);
+    double *const Yjm2 = patch.scratch(mesh::Scratch::owned_2, n);
+    std::copy(u0, u0 + n, Yjm2);
     op.set_time(t);
-    op.residual(W.data(), L0.data());
+    op.residual(W, L0);
     // weights beta_j,k: Y_j = Y_0 + dt sum_k beta_j,k f(Y_k), for the frictional dissipation
     std::vector<double> power(s, 0.), beta_jm2(s, 0.), beta_jm1(s, 0.), beta_j(s, 0.);
     power[0]         = op.friction_power();
     const double mu1 = rkl2_stage(1, s).mu_tilde;
     for (std::size_t i = 0; i < n; ++i)
-      Yjm1[i] = U0[i] + mu1 * dt * L0[i];
+      y[i] = u0[i] + mu1 * dt * L0[i];
     beta_jm1[0]  = mu1;
     double c_jm2 = 0, c_jm1 = mu1; // stage times (fractions of dt)
     for (unsigned int j = 2; j <= s; ++j)
       {
         const auto   st = rkl2_stage(j, s);
         const double mu = st.mu, nu = st.nu, mut = st.mu_tilde, gt = st.gamma_tilde;
-        std::copy(Yjm1.begin(), Yjm1.end(), Y.begin());
         patch.gather(Y, W);
         op.set_time(t + c_jm1 * dt);
-        op.residual(W.data(), Ljm1.data());
+        op.residual(W, Ljm1);
         power[j - 1] = op.friction_power();
         for (std::size_t i = 0; i < n; ++i)
-          Yj[i] = mu * Yjm1[i] + nu * Yjm2[i] + (1 - mu - nu) * U0[i] + mut * dt * Ljm1[i] + gt * dt * L0[i];
+          {
+            const double yj =
+              mu * y[i] + nu * Yjm2[i] + (1 - mu - nu) * u0[i] + mut * dt * Ljm1[i] + gt * dt * L0[i];
+            Yjm2[i] = y[i];
+            y[i]    = yj;
+          }
         for (unsigned int k = 0; k < s; ++k)
           beta_j[k] = mu * beta_jm1[k] + nu * beta_jm2[k] + (k == j - 1 ? mut : 0.) + (k == 0 ? gt : 0.);
         const double c_j = mu * c_jm1 + nu * c_jm2 + mut + gt;
         c_jm2            = c_jm1;
         c_jm1            = c_j;
-        Yjm2.swap(Yjm1);
-        Yjm1.swap(Yj);
         beta_jm2.swap(beta_jm1);
         beta_jm1.swap(beta_j);
       }
     ++stats.rkl2_steps;
     stats.rkl2_stages += s;
-    const bool ok = admissible_owned(Yjm1);
+    const bool ok = admissible_owned(y);
     if (ok)
       {
-        std::copy(Yjm1.begin(), Yjm1.end(), U.begin());
+        std::copy(y, y + n, U.begin());
         if (op.friction())
           {
             double friction = 0;
@@ -406,7 +418,7 @@ namespace granhydro::diffusion
         if (k > 0)
           patch.gather(U, W);
         op.set_time(t + k * h);
-        op.residual(W.data(), f.data());
+        op.residual(W, f.data());
         if (op.friction())
           stats.friction_dissipation += h * Utilities::MPI::sum(op.friction_power(), patch.communicator());
         double *u = U.begin();
@@ -414,8 +426,7 @@ namespace granhydro::diffusion
           u[i] += h * f[i];
         ++stats.explicit_substeps;
       }
-    std::vector<double> Uv(U.begin(), U.begin() + n);
-    return admissible_owned(Uv);
+    return admissible_owned(U.begin());
   }
 
   template <int dim>

@@ -1,8 +1,8 @@
 // ImplicitIntegrator: the modified Newton iteration of the implicit stages - its
 // convergence scale, the Newton matrix and preconditioner of a step, and the iteration
 // with its GMRES solves (the methods and steps are in implicit_integrator.cc)
-#include <granhydro/physics/packing_fraction.h>
 #include <granhydro/diffusion/implicit_integrator.h>
+#include <granhydro/physics/packing_fraction.h>
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
@@ -52,7 +52,7 @@ namespace granhydro::diffusion
         bmat.clear();
         {
           typename DiffusionOperator<dim>::JacobianBlocks J;
-          op.jacobian(W.data(), J, coupled);
+          op.jacobian(W, J, coupled);
           bmat.assemble<dim + 2>(J, N, dt);
         }
         if (!block_part[stages])
@@ -71,7 +71,7 @@ namespace granhydro::diffusion
           last_failure = "block ILU(0): singular diagonal block in the Newton matrix";
         return ok;
       }
-    M                 = &M_[stages][coupled];
+    M = &M_[stages][coupled];
     if (!have_pattern[stages][coupled])
       {
         TrilinosWrappers::SparsityPattern sp;
@@ -79,7 +79,7 @@ namespace granhydro::diffusion
         M->reinit(sp);
         have_pattern[stages][coupled] = true;
       }
-    op.assemble_newton_matrix(W.data(), N, dt, *M, coupled);
+    op.assemble_newton_matrix(W, N, dt, *M, coupled);
     ++stats.jacobians;
     stats.jacobian_seconds += timer.wall_time();
     timer.restart();
@@ -129,9 +129,8 @@ namespace granhydro::diffusion
         gmres_failed = true;
         // a solver that fails before its first check leaves last_step() at
         // invalid_unsigned_int: count its full budget, never a wrapped 2^32 - 1
-        const unsigned int k = control.last_step() == numbers::invalid_unsigned_int ?
-                                 control.max_steps() :
-                                 control.last_step();
+        const unsigned int k =
+          control.last_step() == numbers::invalid_unsigned_int ? control.max_steps() : control.last_step();
         stats.linear_iterations += k;
         last_failure = "GMRES did not reach its tolerance in " + std::to_string(k) + " iterations";
         return false;
@@ -147,11 +146,11 @@ namespace granhydro::diffusion
                                        std::vector<double> &K, std::vector<double> &power,
                                        unsigned int &iterations)
   {
-    constexpr unsigned int NC     = dim + 2;
-    const unsigned int     stages = N.size();
-    const std::size_t      n      = std::size_t(patch.n_owned()) * NC;
-    const MPI_Comm         comm   = patch.communicator();
-    const bool             blocks = settings.block_ilu && !settings.amg;
+    constexpr unsigned int        NC     = dim + 2;
+    const unsigned int            stages = N.size();
+    const std::size_t             n      = std::size_t(patch.n_owned()) * NC;
+    const MPI_Comm                comm   = patch.communicator();
+    const bool                    blocks = settings.block_ilu && !settings.amg;
     TrilinosWrappers::MPI::Vector rhs, delta;
     if (blocks)
       {
@@ -176,11 +175,11 @@ namespace granhydro::diffusion
         }
       patch.gather(Y, W);
       op.set_time(tk[k]);
-      op.residual(W.data(), f.data());
+      op.residual(W, f.data());
     };
     const auto &part = *patch.partitioner();
     double      prev = 0, r_prev = 0, eta = 1e-2;
-    gmres_failed     = false;
+    gmres_failed = false;
     for (unsigned int it = 0; it < settings.newton_max_iterations; ++it)
       {
         // residual R_k = K_k - f(Y_k)
@@ -204,8 +203,8 @@ namespace granhydro::diffusion
             eta = std::min(0.1, eta_safe > 0.1 ? std::max(eta_rule, eta_safe) : eta_rule);
           }
         r_prev = r;
-        const double  tol = settings.inexact_newton ? std::max(eta, settings.linear_tolerance) :
-                                                       settings.linear_tolerance;
+        const double tol =
+          settings.inexact_newton ? std::max(eta, settings.linear_tolerance) : settings.linear_tolerance;
         SolverControl control(1000, std::max(tol * r, 1e-300));
         if (!solve_correction(control, rhs, delta))
           return false;
@@ -226,7 +225,7 @@ namespace granhydro::diffusion
                 }
             }
         const double dmax_local = dmax;
-        dmax = Utilities::MPI::max(dmax, comm) * dt;
+        dmax                    = Utilities::MPI::max(dmax, comm) * dt;
         if (!std::isfinite(dmax))
           break;
         if (dmax <= settings.newton_tolerance)
@@ -247,14 +246,13 @@ namespace granhydro::diffusion
         if (it > 2 && dmax > 0.9 * prev) // no contraction: give up early
           {
             std::ostringstream os;
-            os << "modified Newton stalled after " << it + 1 << " iterations (update "
-               << dmax << " of the cell's own scale, tolerance " << settings.newton_tolerance << ")";
+            os << "modified Newton stalled after " << it + 1 << " iterations (update " << dmax
+               << " of the cell's own scale, tolerance " << settings.newton_tolerance << ")";
             if (dmax_local * dt == dmax && n > 0) // this rank holds the largest update: where
               {
                 const unsigned int c = imax / NC;
-                os << ", largest in component " << imax % NC << " of the cell at x = "
-                   << patch.center(c) << " m (packing fraction " << physics::packing_fraction(base[c * NC])
-                   << ")";
+                os << ", largest in component " << imax % NC << " of the cell at x = " << patch.center(c)
+                   << " m (packing fraction " << physics::packing_fraction(base[c * NC]) << ")";
               }
             last_failure = os.str();
             break;
@@ -262,8 +260,8 @@ namespace granhydro::diffusion
         prev = dmax;
       }
     if (last_failure.empty())
-      last_failure = "modified Newton did not converge in " +
-                     std::to_string(settings.newton_max_iterations) + " iterations";
+      last_failure = "modified Newton did not converge in " + std::to_string(settings.newton_max_iterations) +
+                     " iterations";
     return false;
   }
 

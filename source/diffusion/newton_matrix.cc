@@ -12,15 +12,14 @@ namespace granhydro::diffusion
   using physics::State;
 
   template <int dim>
-  void DiffusionOperator<dim>::make_sparsity(TrilinosWrappers::SparsityPattern &sp,
-                                             const unsigned int                 stages,
+  void DiffusionOperator<dim>::make_sparsity(TrilinosWrappers::SparsityPattern &sp, const unsigned int stages,
                                              const bool edge_neighbours) const
   {
-    const auto        &part  = *patch.partitioner();
-    const unsigned int n_own = patch.n_owned();
-    const types::global_dof_index N = part.size();
-    IndexSet owned(N * stages);
-    const auto range = part.local_range();
+    const auto                   &part  = *patch.partitioner();
+    const unsigned int            n_own = patch.n_owned();
+    const types::global_dof_index N     = part.size();
+    IndexSet                      owned(N * stages);
+    const auto                    range = part.local_range();
     owned.add_range(range.first * stages, range.second * stages);
     owned.compress();
     sp.reinit(owned, patch.communicator());
@@ -103,18 +102,18 @@ namespace granhydro::diffusion
         {
           const auto        &fc = patch.faces(d)[k];
           const unsigned int l = fc.l, r = fc.r;
-          const auto &wall  = walls[d][k];
-          const double ihn  = inv_dist[d][k];
+          const auto        &wall = this->wall(d, k);
+          const double       ihn  = this->ihn(d, l, r);
           // f[l] += frac_l F / h_l, f[r] -= frac_r F / h_r
-          const double wl = l < n_own ? fc.frac_l * inv_h[d][l] : 0.;
-          const double wr = r < n_own ? fc.frac_r * inv_h[d][r] : 0.;
-          State<dim> UL, UR, F0, F1, G0, G1;
+          const double wl = l < n_own ? fc.frac_l * ih(d, l) : 0.;
+          const double wr = r < n_own ? fc.frac_r * ih(d, r) : 0.;
+          State<dim>   UL, UR, F0, F1, G0, G1;
           std::copy(W + std::size_t(l) * NC, W + std::size_t(l + 1) * NC, UL.begin());
           std::copy(W + std::size_t(r) * NC, W + std::size_t(r + 1) * NC, UR.begin());
           State<dim> *g0 = friction_active ? &G0 : nullptr, *g1 = friction_active ? &G1 : nullptr;
           face_flux(W, d, ihn, l, r, UL, UR, wall, F0, g0);
           // block of the face flux (and of the frictional momentum flux) w.r.t. one state
-          using Block = std::array<double, NC * NC>;
+          using Block     = std::array<double, NC * NC>;
           auto difference = [&](const State<dim> &Fa, const State<dim> &Ga, const double e,
                                 const unsigned int b, Block &B, Block &BG) {
             for (unsigned int a = 0; a < NC; ++a)
@@ -140,8 +139,8 @@ namespace granhydro::diffusion
           for (unsigned int b = 0; b < NC; ++b)
             for (const int side : {0, 1})
               {
-                State<dim> L2 = UL, R2 = UR;
-                State<dim> &P = side == 0 ? L2 : R2;
+                State<dim>   L2 = UL, R2 = UR;
+                State<dim>  &P = side == 0 ? L2 : R2;
                 const double e = 1e-7 * std::max(std::abs(P[b]), std::max(1e-3 * std::abs(P[0]), 1e-10));
                 P[b] += e;
                 face_flux(W, d, ihn, l, r, L2, R2, wall, F1, g1);
@@ -157,12 +156,14 @@ namespace granhydro::diffusion
                       if (tg < 0)
                         continue;
                       const unsigned int t = tg;
-                      Block B{}, BG{};
+                      Block              B{}, BG{};
                       for (unsigned int b = 0; b < NC; ++b)
                         {
-                          double      &P = Wc[std::size_t(t) * NC + b];
+                          double      &P  = Wc[std::size_t(t) * NC + b];
                           const double P0 = P;
-                          const double e  = 1e-7 * std::max(std::abs(P0), std::max(1e-3 * std::abs(Wc[std::size_t(t) * NC]), 1e-10));
+                          const double e =
+                            1e-7 *
+                            std::max(std::abs(P0), std::max(1e-3 * std::abs(Wc[std::size_t(t) * NC]), 1e-10));
                           P += e;
                           face_flux(Wc.data(), d, ihn, l, r, UL, UR, wall, F1, g1);
                           P = P0;
@@ -205,10 +206,9 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
-  void DiffusionOperator<dim>::assemble_newton_matrix(const double *W,
+  void DiffusionOperator<dim>::assemble_newton_matrix(const double                           *W,
                                                       const std::vector<std::vector<double>> &A,
-                                                      const double dt,
-                                                      TrilinosWrappers::SparseMatrix &M,
+                                                      const double dt, TrilinosWrappers::SparseMatrix &M,
                                                       const bool cross_terms) const
   {
     const auto        &part   = *patch.partitioner();

@@ -229,15 +229,21 @@ namespace granhydro::mesh
   void CartesianPatch<dim>::gather(const LinearAlgebra::distributed::Vector<double> &U,
                                    std::vector<double>                              &W) const
   {
+    W.resize(std::size_t(n_slots()) * n_components);
+    gather(U, W.data());
+  }
+
+  template <int dim>
+  void CartesianPatch<dim>::gather(const LinearAlgebra::distributed::Vector<double> &U, double *W) const
+  {
     constexpr unsigned int NC = n_components;
     U.update_ghost_values();
     const std::size_t nloc = std::size_t(tables_.n_owned + tables_.n_mpi_ghosts) * NC;
     AssertThrow(U.locally_owned_size() + U.get_partitioner()->n_ghost_indices() == nloc,
                 ExcMessage("state vector does not match the patch"));
-    W.resize(std::size_t(n_slots()) * NC);
     if (nloc > 0)
-      std::copy(U.begin(), U.begin() + nloc, W.begin()); // ghosts follow the owned entries
-    for (const auto &v : tables_.virtual_cells)          // restriction / prolongation next to level changes
+      std::copy(U.begin(), U.begin() + nloc, W); // ghosts follow the owned entries
+    for (const auto &v : tables_.virtual_cells)  // restriction / prolongation next to level changes
       for (unsigned int c = 0; c < NC; ++c)
         {
           double sum = 0;

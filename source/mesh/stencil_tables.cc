@@ -95,6 +95,11 @@ namespace granhydro::mesh
             vc.sources.emplace_back(index.slot_of.at(t), w);
           tables.virtual_cells.push_back(vc);
         }
+    // push_back's growth leaves up to half of the capacity unused
+    tables.positions.shrink_to_fit();
+    tables.levels.shrink_to_fit();
+    tables.boundary_ghosts.shrink_to_fit();
+    active_index.shrink_to_fit();
     return partitioner;
   }
 
@@ -289,12 +294,15 @@ namespace granhydro::mesh
                           const int   b  = dim > 2 ? pf[(d + 2) % dim] & 1 : 0;
                           q              = dim == 3 ? 2 * a + b : a;
                         }
-                      tables.faces[d].push_back({l, r, fl, fr, q});
+                      tables.faces[d].push_back({l, r, float(fl), float(fr), q});
                     }
                   tables.cell_faces[d].push_back({face_of[i], side == 1});
                 }
           }
         tables.cell_face_start[d][tables.n_owned] = tables.cell_faces[d].size();
+        // push_back's growth leaves up to half of the capacity unused
+        tables.faces[d].shrink_to_fit();
+        tables.cell_faces[d].shrink_to_fit();
       }
   }
 

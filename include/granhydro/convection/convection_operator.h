@@ -114,11 +114,12 @@ namespace granhydro::convection
     bool                             transverse; // transverse reconstruction stages B (and C in 3D)
     unsigned int                     P;          // points per transverse direction: 2 Gauss, 1 centre
     double                           length_unit;
-    std::vector<double>              inv_h[dim]; // 1/dx_d of each owned cell in scaled units
-    FirstOrder                       rec1;
-    Muscl                            rec_muscl;
-    Weno3                            rec3;
-    Weno5                            rec5;
+    /// 1/dx_d in scaled units of a cell of refinement level k (patch.level()): inv_h[d][k]
+    double     inv_h[dim][8] = {};
+    FirstOrder rec1;
+    Muscl      rec_muscl;
+    Weno3      rec3;
+    Weno5      rec5;
 
     // slot lists per direction (on several ranks without the MPI ghosts, whose stage
     // values come from their owners through halo)
@@ -156,13 +157,18 @@ namespace granhydro::convection
       return (patch.is_cell(f.l) ? f.l : f.r) < patch.n_owned();
     }
 
-    mutable std::vector<double>  A, B, C; // stage arrays (one direction at a time)
-    mutable std::vector<double>  Fp[dim]; // flux per face of patch.faces(d)
-    mutable std::vector<double>  cand;
-    mutable Vector               flags;
-    mutable std::vector<double>  W, rhs0, U0;
-    mutable ConvectionStatistics stats;
-    mutable double               busy_seconds_ = 0, halo_wait_seconds_ = 0, vote_seconds_ = 0;
-    mutable std::string          last_failure;
+    // the work arrays of a step are the patch's shared scratch (mesh::Scratch: the stage
+    // arrays A, B, C serve one direction at a time), asked for at the start of apply() and
+    // of ssp_rk3_step()
+    mutable double *Fp[dim] = {}; // flux per face of patch.faces(d)
+    mutable double *cand    = nullptr;
+    /// per slot (owned and MPI ghosts): 1 if its update is redone first order (a float per
+    /// cell, on the cells' partitioner cell_partitioner)
+    mutable dealii::LinearAlgebra::distributed::Vector<float>  flags;
+    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> cell_partitioner;
+    mutable double                                            *W = nullptr, *rhs0 = nullptr, *U0 = nullptr;
+    mutable ConvectionStatistics                               stats;
+    mutable double      busy_seconds_ = 0, halo_wait_seconds_ = 0, vote_seconds_ = 0;
+    mutable std::string last_failure;
   };
 } // namespace granhydro::convection

@@ -51,6 +51,7 @@
 #include <deal.II/lac/trilinos_sparsity_pattern.h>
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 namespace granhydro::diffusion
@@ -130,8 +131,9 @@ namespace granhydro::diffusion
     double friction_power() const { return friction_power_; }
 
     /// the face fluxes of the last residual() call, NC values per face of patch.faces(d)
+    /// (shared scratch: valid until the next convective or diffusion step)
     /// (without the frictional work; for diagnostics and tests)
-    const std::vector<double> &last_face_fluxes(const unsigned int d) const { return Fp[d]; }
+    const double *last_face_fluxes(const unsigned int d) const { return Fp[d]; }
 
     /// this rank's face flux counts since construction
     const FaceFluxCounts &face_counts() const { return counts_; }
@@ -209,21 +211,36 @@ namespace granhydro::diffusion
     const physics::GranularGas<dim> &desc;
     DiffusionSettings                settings;
     double                           length_unit;
-    std::vector<double>              inv_h[dim];    ///< 1/dx_d of each owned cell (scaled)
-    std::vector<double>              inv_dist[dim]; ///< per face: 1/(centre distance) (scaled)
-    std::vector<WallFace>            walls[dim];    ///< parallel to patch.faces(d)
-    std::vector<unsigned int>        src;           ///< slot -> real slot carrying its data
-    std::vector<unsigned int>        flip;          ///< slot -> momentum sign flips relative to src
-    mutable std::vector<double>      Fp[dim];
-    mutable std::vector<double>      Ff[dim]; ///< per face: frictional work flux and momentum flux
-    mutable double                   time = 0;
-    mutable std::array<double, 3>    force{{0, 0, 0}}; ///< the body force at time (gravity and frame)
-    mutable double                   friction_power_ = 0;
-    mutable FaceFluxCounts           counts_;
+    /// 1/dx_d (scaled) of a cell of refinement level k (patch.level()): inv_h[d][k]
+    double inv_h[dim][8] = {};
+    /// 1/(centre distance) (scaled) across a face normal to d between cells of levels a, b
+    double inv_dist[dim][8][8] = {};
+    /// the wall of face k of patch.faces(d): wall_kinds[wall_of[d][k]] (0: no wall, sign 0)
+    std::vector<std::uint16_t> wall_of[dim];
+    std::vector<WallFace>      wall_kinds;
+    const WallFace            &wall(const unsigned int d, const std::size_t k) const
+    {
+      return wall_kinds[wall_of[d][k]];
+    }
+    double ih(const unsigned int d, const unsigned int s) const { return inv_h[d][patch.level(s)]; }
+    double ihn(const unsigned int d, const unsigned int l, const unsigned int r) const
+    {
+      return inv_dist[d][patch.level(l)][patch.level(r)];
+    }
+    std::vector<unsigned int> src;  ///< slot -> real slot carrying its data
+    std::vector<unsigned int> flip; ///< slot -> momentum sign flips relative to src
+    /// per face: the flux, and the frictional work flux and momentum flux (the patch's
+    /// shared scratch, mesh::Scratch, asked for at the start of each residual())
+    mutable double               *Fp[dim] = {};
+    mutable double               *Ff[dim] = {};
+    mutable double                time    = 0;
+    mutable std::array<double, 3> force{{0, 0, 0}}; ///< the body force at time (gravity and frame)
+    mutable double                friction_power_ = 0;
+    mutable FaceFluxCounts        counts_;
     /// whether face k of direction d is counted on this rank (FaceFluxCounts): 0 no, 1 yes,
     /// 2 yes and it is a wall face
     std::vector<unsigned char> counted_[dim];
-    std::vector<double>        cell_volume; ///< scaled volume of each owned cell
+    double                     cell_volume[8]  = {}; ///< scaled volume of a cell of level k
     bool                       friction_active = false;
   };
 } // namespace granhydro::diffusion

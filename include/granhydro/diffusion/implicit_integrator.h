@@ -207,7 +207,8 @@ namespace granhydro::diffusion
     bool rkl2_step(Vector &U, const double t, const double dt);
     /// implicit SDIRK2 step, timed and counted for the cost model
     bool implicit_step(Vector &U, const double t, const double dt, const ButcherTableau &tableau);
-    bool admissible_owned(const std::vector<double> &U);
+    /// every owned cell of the owned values U admissible (collective)
+    bool admissible_owned(const double *U);
 
     const DiffusionOperator<dim>    &op;
     const mesh::CartesianPatch<dim> &patch;
@@ -244,10 +245,13 @@ namespace granhydro::diffusion
     std::shared_ptr<const dealii::Utilities::MPI::Partitioner> block_part[3], block_part_owned[3];
     Vector                                                     brhs, bdelta;
     dealii::TrilinosWrappers::PreconditionAMG                  amg;
-    std::vector<double>                                        W, U0, f;
-    std::string                                                last_failure;
-    double explicit_limit = 0; ///< of the current step (scaled)
-    double repair_energy_ = 0; ///< of the current step (step()'s argument)
-    Vector Y;
+    std::vector<double>                                        U0, f;
+    /// the gathered slot array of the step (the patch's shared scratch, mesh::Scratch;
+    /// asked for in step() and restore())
+    double     *W = nullptr;
+    std::string last_failure;
+    double      explicit_limit = 0; ///< of the current step (scaled)
+    double      repair_energy_ = 0; ///< of the current step (step()'s argument)
+    Vector      Y;
   };
 } // namespace granhydro::diffusion

@@ -86,6 +86,29 @@ namespace granhydro::mesh
   template <int dim>
   class Forest;
 
+  /// the work arrays the operators share (CartesianPatch::scratch()). A convective step and
+  /// a diffusion step run one after the other and neither keeps values in them from one
+  /// call to the next, so each buffer serves one array of each: the memory of a buffer is
+  /// the larger of its two uses, not their sum
+  enum class Scratch : unsigned int
+  {
+    slot_array, ///< the gathered slot array W (both)
+    /// convection: reconstruction stages A, B, C; diffusion: face fluxes normal to 0, 1, 2
+    stage_a,
+    stage_b,
+    stage_c,
+    /// convection: face fluxes normal to 0, 1, 2; diffusion: their frictional parts
+    flux_0,
+    flux_1,
+    flux_2,
+    /// owned values (n_owned (dim + 2)): the SSP-RK3 step's U0, L(u) and candidate; the
+    /// RKL2 step's f(Y0), f(Y_j-1) and Y_j-2
+    owned_0,
+    owned_1,
+    owned_2,
+    n_buffers
+  };
+
   template <int dim>
   class CartesianPatch
   {
@@ -265,6 +288,24 @@ namespace granhydro::mesh
     /// slot array from a state vector on partitioner(): update ghosts, copy owned and
     /// MPI-ghost values, fill boundary ghosts (mirror or copy)
     void gather(const dealii::LinearAlgebra::distributed::Vector<double> &U, std::vector<double> &W) const;
+    /// the same into W with room for n_slots() (dim + 2) values
+    void gather(const dealii::LinearAlgebra::distributed::Vector<double> &U, double *W) const;
+
+    /// shared work array b (Scratch) with room for at least n doubles: what its last user
+    /// left in it, never zeroed (a user writes every value it reads). A larger n than
+    /// before moves it, so a user asks for it at the start of each call and keeps no
+    /// pointer beyond the call
+    double *scratch(const Scratch b, const std::size_t n) const
+    {
+      auto &buffer = scratch_[static_cast<unsigned int>(b)];
+      if (buffer.second < n)
+        {
+          buffer.first.reset(); // the old one goes first: never both at once
+          buffer.first.reset(new double[n]);
+          buffer.second = n;
+        }
+      return buffer.first.get();
+    }
 
     /// active_cell_index of each owned slot (for output only)
     const std::vector<unsigned int> &owned_active_cell_index() const
@@ -304,6 +345,10 @@ namespace granhydro::mesh
     /// the slots' tables, held here so that the inline accessors index them directly
     SlotTables                        tables_;
     mutable std::vector<unsigned int> active_index_;
+    /// scratch(): the buffers and their sizes
+    mutable std::array<std::pair<std::unique_ptr<double[]>, std::size_t>,
+                       static_cast<unsigned int>(Scratch::n_buffers)>
+      scratch_;
     /// adaptive boxes: the octree, adapted by p4est alone (source/mesh/forest.h); deal.II's
     /// mesh and DoFs follow it only when asked for
     std::unique_ptr<Forest<dim>> forest_;

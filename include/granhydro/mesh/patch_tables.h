@@ -29,11 +29,11 @@ namespace granhydro::mesh
 
   /// a face normal to some direction d between slots l (low side) and r; frac_l/frac_r:
   /// the share of l's/r's whole face this face is (1, or 1/2^(dim-1) on the coarse side
-  /// of a hanging face)
+  /// of a hanging face; 1, 1/2 and 1/4 are floats exactly, so a float holds them in 4 bytes)
   struct PatchFace
   {
     unsigned int l, r;
-    double       frac_l, frac_r;
+    float        frac_l, frac_r;
     /// hanging face: index of the coarse face's Gauss point in this fine sub-face
     /// (the coarse side's value there is used at all of the sub-face's points); -1 else
     int coarse_point = -1;
