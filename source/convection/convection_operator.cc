@@ -287,10 +287,9 @@ namespace granhydro::convection
       return unsigned(t);
     };
     // the patch geometry is in SI; the operator works in scaled units (length sigma)
-    // (the expression of patch.cell_size(s, d) for a cell of level k)
     for (unsigned int d = 0; d < dim; ++d)
-      for (unsigned int k = 0; k < 8; ++k)
-        inv_h[d][k] = length_unit / (patch.cell_size(d) / double(1u << k));
+      for (unsigned int k = 0; k < mesh::max_levels; ++k)
+        inv_h[d][k] = length_unit / patch.level_cell_size(k, d);
     // one flag per cell (stage_update()): the state's partitioner with one index per cell
     {
       const auto &p = *patch.partitioner();

@@ -60,19 +60,17 @@ namespace granhydro::diffusion
   {
     const unsigned int n_owned = patch.n_owned();
     // scaled geometry: 1/dx of each owned cell, 1/(centre distance) of each face
-    // per refinement level (the expression of patch.cell_size(s, d) for a cell of level k)
-    auto size = [&](const unsigned int d, const unsigned int k) {
-      return patch.cell_size(d) / double(1u << k);
-    };
+    // per refinement level
+    auto size = [&](const unsigned int d, const unsigned int k) { return patch.level_cell_size(k, d); };
     for (unsigned int d = 0; d < dim; ++d)
-      for (unsigned int a = 0; a < 8; ++a)
+      for (unsigned int a = 0; a < mesh::max_levels; ++a)
         {
           inv_h[d][a] = length_unit / size(d, a);
-          for (unsigned int b = 0; b < 8; ++b)
+          for (unsigned int b = 0; b < mesh::max_levels; ++b)
             inv_dist[d][a][b] = length_unit / (0.5 * (size(d, a) + size(d, b)));
         }
     // scaled cell volumes (the product of the edges, as 1 / prod inv_h)
-    for (unsigned int k = 0; k < 8; ++k)
+    for (unsigned int k = 0; k < mesh::max_levels; ++k)
       {
         cell_volume[k] = 1.;
         for (unsigned int d = 0; d < dim; ++d)

@@ -31,7 +31,7 @@ namespace granhydro::diffusion
       {
         physics::State<dim> S;
         std::copy(&Uv[std::size_t(s) * NC], &Uv[std::size_t(s + 1) * NC], S.begin());
-        ok = desc.admissible(S, desc.density_terms(S[0]), repair_energy_);
+        ok = desc.admissible(S, repair_energy_);
         if (!ok)
           {
             std::ostringstream os;

@@ -40,7 +40,7 @@ namespace granhydro::driver
     const auto admissible = [this](const double *u) {
       State S;
       std::copy(u, u + NC, S.begin());
-      return desc.admissible(S, desc.density_terms(S[0]), split_->repair_energy());
+      return desc.admissible(S, split_->repair_energy());
     };
     // the partition (Adaptivity/Load balance): with the measured cost, each rank's cells
     // weigh its convective seconds per cell since the last adaptation (waits for other

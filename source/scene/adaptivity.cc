@@ -16,7 +16,8 @@ namespace granhydro::scene
     const AdaptivityParameters defaults;
     prm.enter_subsection("Adaptivity");
     {
-      prm.declare_entry("Maximum level", default_text(defaults.max_level), Patterns::Integer(0, 7),
+      prm.declare_entry("Maximum level", default_text(defaults.max_level),
+                        Patterns::Integer(0, mesh::max_levels - 1),
                         "Adaptive octree refinement (p4est): cells may be refined this many "
                         "levels above Domain/Cells; 0 = uniform mesh. Box domains in 2D and 3D.");
       prm.declare_entry("Indicator", to_string(defaults.adapt_indicator), selection_of<RefinementIndicator>(),

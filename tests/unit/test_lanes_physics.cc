@@ -62,9 +62,7 @@ namespace
           gas.contact = physics::ContactPressure(1e-3, 0.62, 0.64, 2, 5, 1e-3, physics::FrictionalStress{});
         // the tests inside a step, with a splitting allowance of the temperature repair
         const double repair_energy = closure ? 1e-7 : 0.;
-        const auto   admissible    = [&](const auto &U) {
-          return gas.admissible(U, gas.density_terms(U[0]), repair_energy);
-        };
+        const auto   admissible    = [&](const auto &U) { return gas.admissible(U, repair_energy); };
         // states: dilute to dense (above phi_min, up to phi_c and beyond it), hot and cold,
         // with thermal energy slightly negative (repairable with the closure) or NaN
         auto make = [&](const int k) {

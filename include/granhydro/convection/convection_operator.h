@@ -115,7 +115,7 @@ namespace granhydro::convection
     unsigned int                     P;          // points per transverse direction: 2 Gauss, 1 centre
     double                           length_unit;
     /// 1/dx_d in scaled units of a cell of refinement level k (patch.level()): inv_h[d][k]
-    double     inv_h[dim][8] = {};
+    double     inv_h[dim][mesh::max_levels] = {};
     FirstOrder rec1;
     Muscl      rec_muscl;
     Weno3      rec3;

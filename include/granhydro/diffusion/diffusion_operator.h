@@ -212,9 +212,9 @@ namespace granhydro::diffusion
     DiffusionSettings                settings;
     double                           length_unit;
     /// 1/dx_d (scaled) of a cell of refinement level k (patch.level()): inv_h[d][k]
-    double inv_h[dim][8] = {};
+    double inv_h[dim][mesh::max_levels] = {};
     /// 1/(centre distance) (scaled) across a face normal to d between cells of levels a, b
-    double inv_dist[dim][8][8] = {};
+    double inv_dist[dim][mesh::max_levels][mesh::max_levels] = {};
     /// the wall of face k of patch.faces(d): wall_kinds[wall_of[d][k]] (0: no wall, sign 0)
     std::vector<std::uint16_t> wall_of[dim];
     std::vector<WallFace>      wall_kinds;
@@ -240,7 +240,7 @@ namespace granhydro::diffusion
     /// whether face k of direction d is counted on this rank (FaceFluxCounts): 0 no, 1 yes,
     /// 2 yes and it is a wall face
     std::vector<unsigned char> counted_[dim];
-    double                     cell_volume[8]  = {}; ///< scaled volume of a cell of level k
-    bool                       friction_active = false;
+    double                     cell_volume[mesh::max_levels] = {}; ///< scaled volume of a cell of level k
+    bool                       friction_active               = false;
   };
 } // namespace granhydro::diffusion

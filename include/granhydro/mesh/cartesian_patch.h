@@ -180,7 +180,12 @@ namespace granhydro::mesh
     /// edge of slot s along d [m], and its volume [m^dim]
     double cell_size(const unsigned int s, const unsigned int d) const
     {
-      return geometry_.cell_size[d] / double(1u << tables_.levels[s]);
+      return level_cell_size(tables_.levels[s], d);
+    }
+    /// edge along d [m] of a cell of refinement level k (< max_levels)
+    double level_cell_size(const unsigned int k, const unsigned int d) const
+    {
+      return geometry_.cell_size[d] / double(1u << k);
     }
     double cell_volume(const unsigned int s) const;
     /// first fine-lattice index along d covered by slot s and how many it covers

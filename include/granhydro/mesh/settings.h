@@ -12,6 +12,10 @@
 
 namespace granhydro::mesh
 {
+  /// refinement levels a cell may have above the lattice: 0 .. max_levels - 1
+  /// (Adaptivity/Maximum level <= max_levels - 1); the operators keep their geometry per level
+  constexpr unsigned int max_levels = 8;
+
   struct MeshSettings
   {
     /// coarse mesh file (gmsh .msh or ucd .inp, resolved path; empty: the box below)

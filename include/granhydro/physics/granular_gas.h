@@ -233,6 +233,15 @@ namespace granhydro::physics
     }
 
     /// the same inside a step with the splitting allowance repair_energy per grain (scaled;
+    /// splitting_repair_energy())
+    template <class Number>
+    __attribute__((always_inline)) inline lanes::Mask<Number> admissible(const StateT<Number> &U,
+                                                                         const double repair_energy) const
+    {
+      return admissible(U, density_terms(U[0]), repair_energy);
+    }
+
+    /// the same inside a step with the splitting allowance repair_energy per grain (scaled;
     /// splitting_repair_energy()) and the density's terms t = density_terms(U[0]) (n w and
     /// p_f from there): MUSTA's test of its predictor states, the diffusion step's result
     template <class Number>

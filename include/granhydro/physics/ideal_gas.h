@@ -122,6 +122,13 @@ namespace granhydro::physics
     /// the same inside a step (the interface of GranularGas::admissible(); no splitting
     /// allowance for an ideal gas)
     template <class T>
+    lanes::Mask<T> admissible(const StateT<T> &U, const double) const
+    {
+      return admissible(U);
+    }
+
+    /// the same with the density's terms
+    template <class T>
     lanes::Mask<T> admissible(const StateT<T> &U, const DensityTerms<T> &, const double) const
     {
       return admissible(U);
