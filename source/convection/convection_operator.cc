@@ -31,6 +31,8 @@ namespace granhydro::convection
     , no_wall_tension(settings.no_wall_tension)
   {
     length_unit = settings.length_unit;
+    for (unsigned int d = 0; d < dim; ++d)
+      gravity[d] = settings.gravity[d];
   }
 
   template <int dim, class Description>
@@ -393,6 +395,7 @@ namespace granhydro::convection
       for (unsigned int d = 0; d < dim; ++d)
         for (unsigned int j = 0; j < 3; ++j)
           split[d][j] = (j == 0 ? listA[d] : (j == 1 ? listB[d] : listC[d])).size();
+    setup_well_balanced();
   }
 
   template <int dim, class Description>
@@ -451,7 +454,7 @@ namespace granhydro::convection
     };
     // positivity: if a point value of slot s is inadmissible, all its 2 npts point values
     // in this direction fall back to the cell average
-    auto positivity_fallback = [&](const SlotRange &range, double *vals_all) {
+    auto positivity_fallback = [&](const SlotRange &range, const unsigned int d, double *vals_all) {
       for (const unsigned int s : range)
         {
           double *vals = vals_all + std::size_t(s) * 2 * npts * NC;
@@ -465,9 +468,12 @@ namespace granhydro::convection
             }
           if (!ok)
             {
+              // the cell average; with gravity along d, the equilibrium's face states
+              physics::State<dim> face[2];
+              for (unsigned int side = 0; side < 2; ++side)
+                first_order_face_state(Wp, s, d, side, face[side]);
               for (unsigned int q = 0; q < 2 * npts; ++q)
-                for (unsigned int c = 0; c < NC; ++c)
-                  vals[q * NC + c] = Wp[std::size_t(s) * NC + c];
+                std::copy(face[q / npts].begin(), face[q / npts].end(), vals + q * NC);
               if (s < n_owned)
                 ++stats.limited_cells;
             }
@@ -495,14 +501,16 @@ namespace granhydro::convection
       double *const      out   = stage_array(j);
       const SlotRange    range = part == 0 ? SlotRange(L.data(), split[d][j]) :
                                                SlotRange(L.data() + split[d][j], L.size() - split[d][j]);
-      if (j == 0)
+      if (j == 0 && wb_dir[d])
+        reconstruct_well_balanced(rec, range, d, Wp, out);
+      else if (j == 0)
         reconstruct(rec, patch, range, d, Wp, NC, NC, 0, out);
       else if (P == 2)
         reconstruct(rec, patch, range, t, stage_array(j - 1), m_out[j - 1], NC, 1, out);
       else
         centre_stage(range, t, stage_array(j - 1), out);
       if (j + 1 == ns && Recon::r > 0)
-        positivity_fallback(range, out);
+        positivity_fallback(range, d, out);
     };
     // fluxes per face (a hanging face is a fine sub-face); each owned cell then sums its
     // faces in a fixed geometric order, so the result does not depend on the numbering
@@ -510,6 +518,8 @@ namespace granhydro::convection
     auto fluxes = [&](const unsigned int d) {
       const auto &faces = patch.faces(d);
       double     *Fpd   = Fp[d];
+      if (wb_dir[d])
+        mirror_wall_points(d, stage_array(ns - 1), npts);
       face_fluxes(numflux, patch, d, stage_array(ns - 1), npts, wq, Fpd, stats.flux, repair_energy);
       for (std::size_t k = 0; k < faces.size(); ++k)
         if (wall[d][k])
@@ -574,23 +584,7 @@ namespace granhydro::convection
               rhs[std::size_t(s) * NC + c] += ih * (fw[c] - fe[c]);
           }
       }
-  }
-
-  template <int dim, class Description>
-  ConvectionStatistics ConvectionOperator<dim, Description>::global_statistics() const
-  {
-    ConvectionStatistics g;
-    const MPI_Comm       comm = patch.communicator();
-    g.flux.points             = Utilities::MPI::sum(stats.flux.points, comm);
-    g.flux.stages             = Utilities::MPI::sum(stats.flux.stages, comm);
-    g.flux.fallbacks          = Utilities::MPI::sum(stats.flux.fallbacks, comm);
-    g.flux.early_stops        = Utilities::MPI::sum(stats.flux.early_stops, comm);
-    g.limited_cells           = Utilities::MPI::sum(stats.limited_cells, comm);
-    g.fallback_cells          = Utilities::MPI::sum(stats.fallback_cells, comm);
-    g.cell_updates            = Utilities::MPI::sum(stats.cell_updates, comm);
-    g.rhs_evaluations         = stats.rhs_evaluations;
-    g.wall_tension_bounded    = Utilities::MPI::sum(stats.wall_tension_bounded, comm);
-    return g;
+    add_gravity_sources(rhs);
   }
 
 #define GRANHYDRO_INSTANTIATE(d, D) template class ConvectionOperator<d, D>;

@@ -1,6 +1,7 @@
 // ConvectionOperator: the SSP-RK3 time step of eq. (4.10), its stage update with the
 // a-posteriori first-order fallback, the convective rate for the CFL condition and the
 // admissibility check of a step's result (the operator L(U) is in convection_operator.cc)
+#include <granhydro/boundary/ghost_state.h>
 #include <granhydro/convection/convection_operator.h>
 #include <granhydro/physics/granular_gas.h>
 #include <granhydro/physics/models.h>
@@ -77,9 +78,19 @@ namespace granhydro::convection
           for (std::size_t k = 0; k < patch.faces(d).size(); ++k)
             if (const unsigned int sl = patch.faces(d)[k].l, sr = patch.faces(d)[k].r; low[sl] || low[sr])
               {
+                // first-order face states: the cell averages, with gravity along d the
+                // equilibrium's (a wall's ghost side the mirror of the cell's)
                 physics::State<dim> UL, UR, F;
-                std::copy(&W[std::size_t(sl) * NC], &W[std::size_t(sl + 1) * NC], UL.begin());
-                std::copy(&W[std::size_t(sr) * NC], &W[std::size_t(sr + 1) * NC], UR.begin());
+                first_order_face_state(W, sl, d, 1, UL);
+                first_order_face_state(W, sr, d, 0, UR);
+                if (wb_dir[d] && wb_wall_ghost[d][k] >= 0)
+                  {
+                    const auto &g = patch.boundary_ghosts()[wb_wall_ghost[d][k]];
+                    if (patch.is_cell(sl))
+                      boundary::ghost_state<dim>(g, UL.data(), UR.data());
+                    else
+                      boundary::ghost_state<dim>(g, UR.data(), UL.data());
+                  }
                 numflux.rusanov(UL, UR, d, F);
                 if (wall[d][k])
                   wall_flux(wall[d][k], d, F.data(), owned_wall_face(d, k));
@@ -160,6 +171,23 @@ namespace granhydro::convection
         *what = os.str();
       }
     return ok;
+  }
+
+  template <int dim, class Description>
+  ConvectionStatistics ConvectionOperator<dim, Description>::global_statistics() const
+  {
+    ConvectionStatistics g;
+    const MPI_Comm       comm = patch.communicator();
+    g.flux.points             = Utilities::MPI::sum(stats.flux.points, comm);
+    g.flux.stages             = Utilities::MPI::sum(stats.flux.stages, comm);
+    g.flux.fallbacks          = Utilities::MPI::sum(stats.flux.fallbacks, comm);
+    g.flux.early_stops        = Utilities::MPI::sum(stats.flux.early_stops, comm);
+    g.limited_cells           = Utilities::MPI::sum(stats.limited_cells, comm);
+    g.fallback_cells          = Utilities::MPI::sum(stats.fallback_cells, comm);
+    g.cell_updates            = Utilities::MPI::sum(stats.cell_updates, comm);
+    g.rhs_evaluations         = stats.rhs_evaluations;
+    g.wall_tension_bounded    = Utilities::MPI::sum(stats.wall_tension_bounded, comm);
+    return g;
   }
 
 #define GRANHYDRO_INSTANTIATE(d, D) template class ConvectionOperator<d, D>;

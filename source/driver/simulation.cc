@@ -43,10 +43,13 @@ namespace granhydro::driver
     l.convection        = scene.convection;
     l.merge_strang      = scene.merge_strang;
     l.from_checkpoint   = !scene.initial_checkpoint.empty();
-    l.max_body_acceleration =
-      std::sqrt(scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
-                scene.gravity[2] * scene.gravity[2]) +
-      scene.vibration_amplitude * std::pow(2 * M_PI * scene.vibration_frequency, 2);
+    // the body force of the diffusion step (the splitting allowance of the temperature
+    // repair); well-balanced gravity is not split from the convective step
+    l.max_body_acceleration = (scene.well_balanced_gravity ? 0. :
+                                                             std::sqrt(scene.gravity[0] * scene.gravity[0] +
+                                                                       scene.gravity[1] * scene.gravity[1] +
+                                                                       scene.gravity[2] * scene.gravity[2])) +
+                              scene.vibration_amplitude * std::pow(2 * M_PI * scene.vibration_frequency, 2);
 
     RunFiles &f        = r.files;
     f.directory        = scene.output_directory;
@@ -211,6 +214,8 @@ namespace granhydro::driver
           ds.no_tension       = scene.cohesionless;
           ds.container_motion = scene.moving_frame().scaled(units_.length, units_.time());
           ds.body             = body_force();
+          if (scene.well_balanced_gravity) // gravity is the convective step's
+            ds.body.gravity = {{0, 0, 0}};
           diff = std::make_unique<diffusion::DiffusionOperator<dim>>(*patch_, desc, ds, units_.length);
           diff->setup();
           diffusion::IntegratorSettings is;

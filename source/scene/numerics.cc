@@ -73,6 +73,16 @@ namespace granhydro::scene
                         "same scheme with adjacent convective halves taken as one step, "
                         "C(dt0/2) V(dt0) C((dt0 + dt1)/2) V(dt1) ... C(dtn/2), synchronised at "
                         "every output time: half the convective work, second order as well.");
+      prm.declare_entry("Gravity scheme", "split", Patterns::Selection("split|well-balanced"),
+                        "Where the body force (gravity, and nothing of a vibrated container's "
+                        "frame, whose inertial force stays in the diffusion step) acts. split: "
+                        "a source of the diffusion step, Strang-split from the convective step "
+                        "(the paper's scheme); a pile at rest is then steady only up to the "
+                        "splitting error. well-balanced: a source of the convective step in "
+                        "the form of Kaeppeli & Mishra (2014): each cell reconstructs its "
+                        "deviation from its local isothermal equilibrium, so a pile at rest "
+                        "with uniform temperature stays at rest to round-off (granular model "
+                        "only; doc/user-guide.md, 'Well-balanced gravity').");
       prm.declare_entry("Maximum step retries", default_text(defaults.max_step_retries),
                         Patterns::Integer(0, 30),
                         "A step whose result is inadmissible (n <= 0 or T <= 0) is retried "
@@ -100,6 +110,7 @@ namespace granhydro::scene
       reference_velocity    = prm.get_double("Reference velocity");
       max_step_retries      = prm.get_integer("Maximum step retries");
       merge_strang          = prm.get("Strang splitting") == "merged";
+      well_balanced_gravity = prm.get("Gravity scheme") == "well-balanced";
     }
     prm.leave_subsection();
   }
@@ -118,6 +129,20 @@ namespace granhydro::scene
       fail(s, "Numerics/MUSTA local CFL", "must lie in (0, 1]");
     if (s.musta_tolerance <= 0)
       fail(s, "Numerics/MUSTA tolerance", "must be positive");
+  }
+
+  void NumericsParameters::check_gravity_scheme(const Scene &s)
+  {
+    if (!s.well_balanced_gravity)
+      return;
+    if (s.model != physics::Model::granular)
+      fail(s, "Numerics/Gravity scheme",
+           "well-balanced needs 'Material/Model = granular' (the equilibrium is the granular "
+           "equation of state's); use split");
+    if (!s.convection)
+      fail(s, "Numerics/Gravity scheme",
+           "well-balanced puts gravity into the convective step, which this scene switches off; "
+           "use split");
   }
 
   void NumericsParameters::check_reference_velocity(const Scene &s)

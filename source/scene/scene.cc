@@ -25,6 +25,12 @@ namespace granhydro::scene
     c.no_slip_pressure_flux = no_slip_pressure_flux;
     c.no_wall_tension       = model == physics::Model::granular && cohesionless;
     c.length_unit           = units().length;
+    if (well_balanced_gravity && model == physics::Model::granular)
+      {
+        const Units u = units();
+        for (unsigned int d = 0; d < 3; ++d) // scaled: g L0 / V0^2
+          c.gravity[d] = gravity[d] * u.length / (u.velocity * u.velocity);
+      }
     return c;
   }
 
@@ -173,6 +179,7 @@ namespace granhydro::scene
     DenseClosureParameters::check(s);
     EffectsParameters::check_body_force(s);
     NumericsParameters::check_reference_velocity(s);
+    NumericsParameters::check_gravity_scheme(s);
     EffectsParameters::check_vibration(s);
     check_effect_combinations(s);
     OutputParameters::check(s);

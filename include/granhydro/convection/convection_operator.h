@@ -22,6 +22,16 @@
  * cell takes with weight 1/2^(dim-1); on it the coarse side's value is its
  * Gauss point inside that sub-face.
  *
+ * Well-balanced gravity (ConvectionSettings::gravity, Käppeli & Mishra 2014): the body
+ * force is a source of this operator. Along a direction d with g_d != 0, stage A
+ * reconstructs each cell's deviation from its local isothermal equilibrium
+ * (physics/hydrostatic.h) and adds it back at the faces; the momentum source is the
+ * difference of the equilibrium pressures at the cell's faces, the energy source g_d
+ * times the mean mass flux of its two faces. Wall faces normal to d take the mirror of
+ * the interior face state as the ghost's, and the first-order fallbacks (positivity,
+ * a posteriori) use the equilibrium face densities, so a pile at rest with uniform T
+ * whose cell values lie on one equilibrium is a steady state to round-off.
+ *
  * Hot loops run over flat slot lists with precomputed neighbour indices.
  */
 #include <granhydro/boundary/convective_wall_flux.h>
@@ -30,6 +40,7 @@
 #include <granhydro/mesh/cartesian_patch.h>
 #include <granhydro/mesh/slot_exchange.h>
 
+#include <deal.II/base/array_view.h>
 #include <deal.II/lac/la_parallel_vector.h>
 
 #include <vector>
@@ -47,6 +58,10 @@ namespace granhydro::convection
     /// wall face fluxes whose negative normal momentum flux (a wall pulling) was set to 0
     /// (cohesionless grains), on the faces of owned cells
     unsigned long long wall_tension_bounded = 0;
+    /// well-balanced gravity: cells x directions x stages whose body force was the point
+    /// source n g (no hydrostatic profile: dp/dn too small to carry the weight across the
+    /// cell, or no equilibrium density found)
+    unsigned long long gravity_point_sources = 0;
   };
 
   template <int dim, class Description>
@@ -104,6 +119,25 @@ namespace granhydro::convection
     template <class Recon>
     void apply_impl(const Recon &rec, const double *W, double *rhs, const double repair_energy) const;
     void assemble_rhs(double *rhs) const;
+
+    // well-balanced gravity (well_balanced.cc)
+    /// which directions carry gravity, and the mirror rows of the stencils at their walls
+    void setup_well_balanced();
+    /// stage A along d (g_d != 0) for the slots of range: deviations from each slot's
+    /// equilibrium reconstructed, its momentum source along d stored for owned slots
+    template <class Recon>
+    void reconstruct_well_balanced(const Recon &rec, const dealii::ArrayView<const unsigned int> &range,
+                                   const unsigned int d, const double *Wp, double *out) const;
+    /// the first-order face state of slot s on its side (0 lower, 1 upper) normal to d: the
+    /// equilibrium face density with the slot's velocity and temperature (the slot's state
+    /// along directions without gravity or where it takes the point source)
+    void first_order_face_state(const double *Wp, const unsigned int s, const unsigned int d,
+                                const unsigned int side, physics::State<dim> &U) const;
+    /// wall faces normal to d: the ghost side's points become the mirror of the cell's
+    void mirror_wall_points(const unsigned int d, double *points, const unsigned int npts) const;
+    /// the body force's sources on the owned cells (momentum from the stored equilibrium
+    /// pressures, energy from the face mass fluxes)
+    void add_gravity_sources(double *rhs) const;
     bool stage_update(Vector &U, const double a, const double b, const double den, const double dt,
                       const double repair_energy) const;
 
@@ -170,5 +204,20 @@ namespace granhydro::convection
     mutable ConvectionStatistics                               stats;
     mutable double      busy_seconds_ = 0, halo_wait_seconds_ = 0, vote_seconds_ = 0;
     mutable std::string last_failure;
+
+    /// well-balanced gravity: g_d (scaled) and whether it acts along d
+    double gravity[dim] = {};
+    bool   wb_dir[dim]  = {};
+    /// the equilibrium's first-order face states need the cell's equilibrium; the stencils
+    /// that reach behind a wall normal to d: per slot the row in wb_mirror[d] (-1: none; -2: a ghost behind such a wall),
+    /// per row and stencil position (o + r) the mirrored position (o' + r) or -1
+    std::vector<int>                        wb_row[dim];
+    std::vector<std::array<signed char, 5>> wb_mirror[dim];
+    /// per wall face normal to d: the ghost slot's boundary-ghost record (-1: not a wall)
+    std::vector<int> wb_wall_ghost[dim];
+    /// per owned cell: the momentum source along d of the last apply()
+    mutable std::vector<double> wb_source[dim];
+    /// boundary-ghost record index per slot (-1: not a boundary ghost)
+    std::vector<int> ghost_record;
   };
 } // namespace granhydro::convection

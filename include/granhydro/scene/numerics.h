@@ -34,6 +34,10 @@ namespace granhydro::scene
     /// the opening one of the next taken as one convective step, synchronised at output
     /// times) or symmetric (C(dt/2) V(dt) C(dt/2) every step)
     bool merge_strang = true;
+    /// where gravity acts: false = a source of the diffusion step (Strang-split, the
+    /// paper's scheme); true = in the convective step in well-balanced form (Käppeli &
+    /// Mishra 2014: a pile at rest is a discrete steady state)
+    bool well_balanced_gravity = false;
 
     static void declare_parameters(dealii::ParameterHandler &prm);
     void        parse_parameters(dealii::ParameterHandler &prm);
@@ -46,5 +50,7 @@ namespace granhydro::scene
     static void check_musta(const Scene &s);
     /// the velocity unit near the default sqrt(g sigma) of the scene's grains
     static void check_reference_velocity(const Scene &s);
+    /// the well-balanced gravity needs the granular model and the convective step
+    static void check_gravity_scheme(const Scene &s);
   };
 } // namespace granhydro::scene
