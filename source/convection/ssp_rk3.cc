@@ -41,7 +41,8 @@ namespace granhydro::convection
           {
             physics::State<dim> S;
             std::copy(&cand[std::size_t(s) * NC], &cand[std::size_t(s + 1) * NC], S.begin());
-            const bool bad         = !desc.convectively_admissible(S);
+            const bool bad =
+              !(wb_any ? desc.convectively_admissible(S, repair_energy) : desc.convectively_admissible(S));
             flags.local_element(s) = bad || low[s] ? 1.f : 0.f;
             if (bad && !low[s])
               ++new_flags;
@@ -187,6 +188,7 @@ namespace granhydro::convection
     g.cell_updates            = Utilities::MPI::sum(stats.cell_updates, comm);
     g.rhs_evaluations         = stats.rhs_evaluations;
     g.wall_tension_bounded    = Utilities::MPI::sum(stats.wall_tension_bounded, comm);
+    g.gravity_point_sources   = Utilities::MPI::sum(stats.gravity_point_sources, comm);
     return g;
   }
 

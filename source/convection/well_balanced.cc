@@ -44,10 +44,9 @@ namespace granhydro::convection
           // a hydrostatic profile needs a pressure that carries the weight of a cell without
           // changing n by more than a fraction of itself: dp/dn > 2 |g| h (else the point
           // source: cold dust, cavitation)
-          if (!(physics::hydrostatic::dp_dn(desc, e.n, e.Te) > 2 * std::abs(g) * h))
-            return e;
-          e.mu = physics::hydrostatic::chemical_potential(desc, e.n, e.Te);
-          e.ok = std::isfinite(e.mu);
+          double slope;
+          physics::hydrostatic::chemical_potential_and_slope(desc, e.n, e.Te, e.mu, slope);
+          e.ok = slope > 2 * std::abs(g) * h && std::isfinite(e.mu);
         }
       return e;
     }
@@ -83,9 +82,11 @@ namespace granhydro::convection
     for (std::size_t i = 0; i < ghosts.size(); ++i)
       ghost_record[ghosts[i].slot] = int(i);
     const int r = stencil_half_width(rtype);
+    wb_any      = false;
     for (unsigned int d = 0; d < dim; ++d)
       {
         wb_dir[d] = granular && gravity[d] != 0;
+        wb_any    = wb_any || wb_dir[d];
         wb_row[d].clear();
         wb_mirror[d].clear();
         wb_wall_ghost[d].clear();
@@ -159,6 +160,7 @@ namespace granhydro::convection
     constexpr int      w       = 2 * r + 1;
     const double       g       = gravity[d];
     const unsigned int n_owned = patch.n_owned();
+    wb_W                       = Wp;
     for (const unsigned int s : range)
       {
         int idx[w];
@@ -287,15 +289,13 @@ namespace granhydro::convection
   template <int dim, class Description>
   void ConvectionOperator<dim, Description>::add_gravity_sources(double *rhs) const
   {
+    // the stage's state: the slot array of the last stage A (owned slots first)
     for (unsigned int d = 0; d < dim; ++d)
       if (wb_dir[d])
         for (unsigned int s = 0; s < patch.n_owned(); ++s)
           {
-            double fw[NC] = {}, fe[NC] = {};
-            patch.sum_face_fluxes(d, s, Fp[d], fw, fe);
             rhs[std::size_t(s) * NC + 1 + d] += wb_source[d][s];
-            // the work of gravity on the mass fluxes through the cell's faces along d
-            rhs[std::size_t(s) * NC + NC - 1] += gravity[d] * 0.5 * (fw[0] + fe[0]);
+            rhs[std::size_t(s) * NC + NC - 1] += gravity[d] * wb_W[std::size_t(s) * NC + 1 + d]; // g . m
           }
   }
 

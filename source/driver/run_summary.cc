@@ -86,6 +86,7 @@ namespace granhydro::driver
         GRANHYDRO_FIELD("cell_updates", convection.cell_updates, sum, none),
         GRANHYDRO_FIELD("rhs_evaluations", convection.rhs_evaluations, sum, none),
         GRANHYDRO_FIELD("wall_tension_bounded_convective", convection.wall_tension_bounded, sum, none),
+        GRANHYDRO_FIELD("gravity_point_sources", convection.gravity_point_sources, sum, none),
         GRANHYDRO_FIELD("diffusion_steps", diffusion.steps, sum, none),
         GRANHYDRO_FIELD("newton_iterations", diffusion.newton_iterations, sum, none),
         GRANHYDRO_FIELD("gmres_iterations", diffusion.linear_iterations, sum, none),
@@ -241,6 +242,10 @@ namespace granhydro::driver
     if (cs.wall_tension_bounded)
       pcout << "\n  wall pressure: " << cs.wall_tension_bounded
             << " wall face fluxes pulled on a receding cell and were set to 0 (cohesionless grains)";
+    if (cs.gravity_point_sources)
+      pcout << "\n  well-balanced gravity: point source n g instead of the equilibrium (cell x direction x "
+               "stage) "
+            << cs.gravity_point_sources;
     pcout << "\n  positivity: reconstructions reset to the cell average (cell x direction x stage) "
           << cs.limited_cells << ", cell updates redone first order (a posteriori) " << cs.fallback_cells
           << "\n";
@@ -367,6 +372,7 @@ namespace granhydro::driver
       {"limited_reconstructions", cs.limited_cells},
       {"first_order_fallbacks", cs.fallback_cells},
       {"wall_tension_bounded_convective", cs.wall_tension_bounded},
+      {"gravity_point_sources", cs.gravity_point_sources},
       {"diffusion_steps", ds.steps},
       {"newton_iterations", ds.newton_iterations},
       {"gmres_iterations", ds.linear_iterations},

@@ -186,6 +186,11 @@ int main(int argc, char **argv)
       compare<2, physics::GranularGas<2>>(
         "2D granular gas, all effects, Strang splitting, " + integrator,
         test_scene("granular_gas_2d.prm", {"Diffusion step/Integrator=" + integrator}), chk, 1e-10);
+    // gravity in the convective step (well-balanced): the equilibrium reconstruction, the
+    // hydrostatic mirror at the walls and the sources on both sides of rank boundaries
+    compare<2, physics::GranularGas<2>>(
+      "2D granular gas, all effects, well-balanced gravity",
+      test_scene("granular_gas_2d.prm", {"Numerics/Gravity scheme=well-balanced"}), chk, 1e-10);
   }
   return chk.failed != 0;
 }

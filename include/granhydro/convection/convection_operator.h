@@ -26,8 +26,9 @@
  * force is a source of this operator. Along a direction d with g_d != 0, stage A
  * reconstructs each cell's deviation from its local isothermal equilibrium
  * (physics/hydrostatic.h) and adds it back at the faces; the momentum source is the
- * difference of the equilibrium pressures at the cell's faces, the energy source g_d
- * times the mean mass flux of its two faces. Wall faces normal to d take the mirror of
+ * difference of the equilibrium pressures at the cell's faces, the energy source g . m
+ * of the cell (0 at rest; the face mass fluxes of Käppeli & Mishra would make a dilute
+ * cell beside a dense one pay the dissipation of their jump from its thermal energy). Wall faces normal to d take the mirror of
  * the interior face state as the ghost's, and the first-order fallbacks (positivity,
  * a posteriori) use the equilibrium face densities, so a pile at rest with uniform T
  * whose cell values lie on one equilibrium is a steady state to round-off.
@@ -136,7 +137,7 @@ namespace granhydro::convection
     /// wall faces normal to d: the ghost side's points become the mirror of the cell's
     void mirror_wall_points(const unsigned int d, double *points, const unsigned int npts) const;
     /// the body force's sources on the owned cells (momentum from the stored equilibrium
-    /// pressures, energy from the face mass fluxes)
+    /// pressures, energy g . m of the cell)
     void add_gravity_sources(double *rhs) const;
     bool stage_update(Vector &U, const double a, const double b, const double den, const double dt,
                       const double repair_energy) const;
@@ -208,6 +209,7 @@ namespace granhydro::convection
     /// well-balanced gravity: g_d (scaled) and whether it acts along d
     double gravity[dim] = {};
     bool   wb_dir[dim]  = {};
+    bool   wb_any       = false;
     /// the equilibrium's first-order face states need the cell's equilibrium; the stencils
     /// that reach behind a wall normal to d: per slot the row in wb_mirror[d] (-1: none; -2: a ghost behind such a wall),
     /// per row and stencil position (o + r) the mirrored position (o' + r) or -1
@@ -217,6 +219,8 @@ namespace granhydro::convection
     std::vector<int> wb_wall_ghost[dim];
     /// per owned cell: the momentum source along d of the last apply()
     mutable std::vector<double> wb_source[dim];
+    /// the slot array the sources were computed from (apply()'s)
+    mutable const double *wb_W = nullptr;
     /// boundary-ghost record index per slot (-1: not a boundary ghost)
     std::vector<int> ghost_record;
   };

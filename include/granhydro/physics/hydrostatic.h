@@ -30,51 +30,82 @@ namespace granhydro::physics::hydrostatic
     return n * T * gas.model.Z(n * gas.phi_per_n) + gas.contact.pressure(n);
   }
 
-  /// dp/dn at fixed T: T (Z + phi dZ/dphi) + dp_f/dn
+  /// mu(n, T) = T G(phi) + w + p_f / n (see the file's comment; n > 0) and dp/dn at fixed T,
+  /// T (Z + phi dZ/dphi) + dp_f/dn, from one evaluation of chi and of the contact potential
+  template <int dim>
+  void chemical_potential_and_slope(const GranularGas<dim> &gas, const double n, const double T, double &mu,
+                                    double &dp_dn)
+  {
+    double       Z, dZ, W, pf, dpf;
+    const double phi = n * gas.phi_per_n;
+    gas.model.Z_and_derivative(phi, Z, dZ);
+    gas.contact.evaluate(n, W, pf, dpf);
+    const double G =
+      std::log(phi) + Z + 2 * (1 + gas.model.eps()) * gas.model.pair_correlation().integral(phi);
+    mu    = T * G + (W + pf) / n;
+    dp_dn = T * (Z + phi * dZ) + dpf;
+  }
+
+  /// dp/dn at fixed T
   template <int dim>
   double dp_dn(const GranularGas<dim> &gas, const double n, const double T)
   {
-    double       Z, dZ;
-    const double phi = n * gas.phi_per_n;
-    gas.model.Z_and_derivative(phi, Z, dZ);
-    return T * (Z + phi * dZ) + gas.contact.dpressure_dn(n);
+    double mu, slope;
+    chemical_potential_and_slope(gas, n, T, mu, slope);
+    return slope;
   }
 
-  /// mu(n, T) = T G(phi) + w + p_f / n (see the file's comment); n > 0
+  /// mu(n, T)
   template <int dim>
   double chemical_potential(const GranularGas<dim> &gas, const double n, const double T)
   {
-    const double phi = n * gas.phi_per_n;
-    const double G   = std::log(phi) + gas.model.Z(phi) +
-                     2 * (1 + gas.model.eps()) * gas.model.pair_correlation().integral(phi);
-    return T * G + (gas.contact.energy_density(n) + gas.contact.pressure(n)) / n;
+    double mu, slope;
+    chemical_potential_and_slope(gas, n, T, mu, slope);
+    return mu;
   }
 
   /**
-   * The density n with mu(n, T) = mu (T >= 0), by Newton's method in y = ln n from
-   * n_guess > 0 (d mu / dy = dp/dn): steps capped at |dy| <= 1, converged when a step is
-   * below 1e-9 (the next error is then below round-off: quadratic convergence; that step
-   * is taken). Returns NaN when it does not converge within 40 iterations or dp/dn <= 0 is
-   * met (no unique equilibrium): the caller then keeps the point source.
+   * The density n with mu(n, T) = mu (T >= 0): Newton's method in y = ln n from n_guess
+   * (0 < n_guess < 1/v; d mu / dy = dp/dn), safeguarded by a bracket (mu increases with y)
+   * within [ln n_guess - 80, ln(1/v)] (phi from e^-80 of the guess to 1: the pair
+   * correlation and the contact potential continue linearly beyond phi_c - delta, so mu
+   * is finite there) that every evaluation narrows: steps capped at |dy| <= 2, bisection
+   * where a step leaves the bracket. Converged when a Newton step is below 1e-9 (the next
+   * error is then below round-off: quadratic convergence; that step is taken) or the
+   * bracket is below 1e-15 with states on both sides of the target seen. Returns NaN when
+   * the bracket holds no root, dp/dn <= 0 is met (no unique equilibrium) or 100 iterations
+   * do not converge: the caller then keeps the point source.
    */
   template <int dim>
   double equilibrium_density(const GranularGas<dim> &gas, const double mu, const double T,
                              const double n_guess)
   {
-    double y = std::log(n_guess);
-    for (unsigned int it = 0; it < 40; ++it)
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    double       y   = std::log(n_guess);
+    double       lo = y - 80, hi = std::log(1. / gas.phi_per_n);
+    bool         below = false, above = false; // a state with mu below / above the target seen
+    for (unsigned int it = 0; it < 100 && y < hi; ++it)
       {
-        const double n = std::exp(y), slope = dp_dn(gas, n, T);
-        if (!(slope > 0) || !std::isfinite(slope))
-          return std::numeric_limits<double>::quiet_NaN();
-        double dy = (chemical_potential(gas, n, T) - mu) / slope;
-        if (!std::isfinite(dy))
-          return std::numeric_limits<double>::quiet_NaN();
-        dy = std::max(-1., std::min(1., dy));
-        y -= dy;
-        if (std::abs(dy) < 1e-9)
-          return std::exp(y);
+        double m, slope;
+        chemical_potential_and_slope(gas, std::exp(y), T, m, slope);
+        const double f = m - mu;
+        if (!(slope > 0) || !std::isfinite(slope) || !std::isfinite(f))
+          return nan;
+        (f < 0 ? lo : hi)       = y;
+        (f < 0 ? below : above) = true;
+        // a Newton step of at most 2 (a factor e^2 in n); bisection if it leaves the bracket
+        const double dy = std::max(-2., std::min(2., f / slope));
+        if (y - dy > lo && y - dy < hi)
+          {
+            y -= dy;
+            if (std::abs(dy) < 1e-9)
+              return std::exp(y);
+          }
+        else
+          y = 0.5 * (lo + hi);
+        if (hi - lo < 1e-15 * std::max(1., std::abs(y)))
+          return below && above ? std::exp(y) : nan;
       }
-    return std::numeric_limits<double>::quiet_NaN();
+    return nan;
   }
 } // namespace granhydro::physics::hydrostatic

@@ -136,6 +136,8 @@ namespace granhydro::physics
 
     /// the same test inside the convective step (GranularGas distinguishes them)
     bool convectively_admissible(const State<dim> &U) const { return admissible(U); }
+    /// the same inside a step with a body force in the convective step (no allowance here)
+    bool convectively_admissible(const State<dim> &U, const double) const { return admissible(U); }
 
     /// conservative state from n, velocity (first dim components used) and T
     State<dim> from_primitive(const double n, const double *u, const double T) const
