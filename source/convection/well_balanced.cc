@@ -23,7 +23,7 @@ namespace granhydro::convection
     struct LocalEquilibrium
     {
       bool   ok = false;
-      double n, T, Te, mu, h;
+      double n, T, Te, mu, h, slope;
     };
 
     template <int dim, class Description>
@@ -44,22 +44,29 @@ namespace granhydro::convection
           // a hydrostatic profile needs a pressure that carries the weight of a cell without
           // changing n by more than a fraction of itself: dp/dn > 2 |g| h (else the point
           // source: cold dust, cavitation)
-          double slope;
-          physics::hydrostatic::chemical_potential_and_slope(desc, e.n, e.Te, e.mu, slope);
-          e.ok = slope > 2 * std::abs(g) * h && std::isfinite(e.mu);
+          physics::hydrostatic::chemical_potential_and_slope(desc, e.n, e.Te, e.mu, e.slope);
+          e.ok = e.slope > 2 * std::abs(g) * h && std::isfinite(e.mu);
         }
       return e;
     }
 
-    /// the equilibrium density at the offset x (scaled length along d) from the centre
+    /// the equilibrium density at the offset x (scaled length along d) from the centre; the
+    /// Newton iteration starts from the linearised profile n exp(g x / (dp/dn)), or from
+    /// the density found there (a neighbour) when that lies closer to it than the change
+    /// itself (a pile near its equilibrium: then the neighbour is the answer)
     template <int dim, class Description>
     double equilibrium_density(const Description &desc, const LocalEquilibrium &e, const double g,
-                               const double x, const double guess)
+                               const double x, const double found = 0)
     {
       if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
-        return physics::hydrostatic::equilibrium_density(desc, e.mu + g * x, e.Te, guess > 0 ? guess : e.n);
+        {
+          const double dy = g * x / e.slope, y = std::log(e.n) + dy;
+          const bool   near = found > 0 && std::abs(std::log(found) - y) < std::abs(dy);
+          return physics::hydrostatic::equilibrium_density(
+            desc, e.mu + g * x, e.Te, near ? found : std::exp(std::min(y, std::log(0.99 / desc.phi_per_n))));
+        }
       else
-        return guess;
+        return found;
     }
 
     /// the energy density of the equilibrium state at rest with density n, temperature T
@@ -184,7 +191,7 @@ namespace granhydro::convection
           }
         for (unsigned int side = 0; side < 2 && e.ok; ++side)
           {
-            nf[side] = equilibrium_density<dim>(desc, e, g, (side == 0 ? -0.5 : 0.5) * e.h, e.n);
+            nf[side] = equilibrium_density<dim>(desc, e, g, (side == 0 ? -0.5 : 0.5) * e.h);
             e.ok     = std::isfinite(nf[side]);
           }
         if (!e.ok)
@@ -256,7 +263,7 @@ namespace granhydro::convection
         LocalEquilibrium e = local_equilibrium<dim>(desc, Ws, gravity[d], 1. / inv_h[d][patch.level(s)]);
         if (!e.ok)
           return;
-        const double nf = equilibrium_density<dim>(desc, e, gravity[d], (side == 0 ? -0.5 : 0.5) * e.h, e.n);
+        const double nf = equilibrium_density<dim>(desc, e, gravity[d], (side == 0 ? -0.5 : 0.5) * e.h);
         if (!std::isfinite(nf))
           return;
         double u[dim];
