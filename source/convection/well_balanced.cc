@@ -23,7 +23,7 @@ namespace granhydro::convection
     struct LocalEquilibrium
     {
       bool   ok = false;
-      double n, T, Te, mu, h, slope;
+      double n, T, Te, mu, h, slope, W; // W: the contact energy density n w at n
     };
 
     template <int dim, class Description>
@@ -38,32 +38,35 @@ namespace granhydro::convection
           e.n = S[0];
           if (!(e.n > 0) || !desc.convectively_admissible(S))
             return e;
-          e.T  = desc.temperature(S);
+          double pf, dpf;
+          desc.contact.evaluate(e.n, e.W, pf, dpf);
+          e.T  = desc.temperature(S, e.W);
           e.Te = std::max(e.T, 0.);
           e.h  = h;
           // a hydrostatic profile needs a pressure that carries the weight of a cell without
           // changing n by more than a fraction of itself: dp/dn > 2 |g| h (else the point
           // source: cold dust, cavitation)
-          physics::hydrostatic::chemical_potential_and_slope(desc, e.n, e.Te, e.mu, e.slope);
+          physics::hydrostatic::chemical_potential_and_slope(desc, e.n, e.Te, e.W, pf, dpf, e.mu, e.slope);
           e.ok = e.slope > 2 * std::abs(g) * h && std::isfinite(e.mu);
         }
       return e;
     }
 
-    /// the equilibrium density at the offset x (scaled length along d) from the centre; the
-    /// Newton iteration starts from the linearised profile n exp(g x / (dp/dn)), or from
-    /// the density found there (a neighbour) when that lies closer to it than the change
+    /// the equilibrium density at the offset x (scaled length along d) from the centre. The
+    /// Newton iteration starts from y_pred, a prediction of ln n there, or from the density
+    /// found there (a neighbour) when that lies closer to the prediction than the change
     /// itself (a pile near its equilibrium: then the neighbour is the answer)
     template <int dim, class Description>
     double equilibrium_density(const Description &desc, const LocalEquilibrium &e, const double g,
-                               const double x, const double found = 0)
+                               const double x, const double y_pred, const double found = 0)
     {
       if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
         {
-          const double dy = g * x / e.slope, y = std::log(e.n) + dy;
-          const bool   near = found > 0 && std::abs(std::log(found) - y) < std::abs(dy);
+          const double y0   = std::log(e.n);
+          const bool   near = found > 0 && std::abs(std::log(found) - y_pred) < std::abs(y_pred - y0);
           return physics::hydrostatic::equilibrium_density(
-            desc, e.mu + g * x, e.Te, near ? found : std::exp(std::min(y, std::log(0.99 / desc.phi_per_n))));
+            desc, e.mu + g * x, e.Te,
+            near ? found : std::exp(std::min(y_pred, std::log(0.99 / desc.phi_per_n))));
         }
       else
         return found;
@@ -179,20 +182,36 @@ namespace granhydro::convection
         const int     row = wb_row[d][s];
         auto          e =
           row == -2 ? LocalEquilibrium{} : local_equilibrium<dim>(desc, Ws, g, 1. / inv_h[d][patch.level(s)]);
-        // the equilibrium densities at the stencil's cells and at the two faces
-        double n0[w], nf[2] = {0, 0};
-        for (int o = -r; o <= r && e.ok; ++o)
-          {
-            const bool mirrored = row >= 0 && wb_mirror[d][row][o + r] >= 0;
-            n0[o + r]           = o == 0 || mirrored ?
-                                    e.n :
-                                    equilibrium_density<dim>(desc, e, g, o * e.h, Wp[std::size_t(idx[o + r]) * NC]);
-            e.ok                = std::isfinite(n0[o + r]);
-          }
+        // the equilibrium densities at the stencil's cells (nearest first) and at the two
+        // faces; each Newton iteration starts from a prediction of ln n: the linearised
+        // profile, then the quadratic through the values found at -h, 0, h
+        double       n0[w], nf[2] = {0, 0};
+        const double y0 = e.ok ? std::log(e.n) : 0., lin = e.ok ? g * e.h / e.slope : 0.;
+        double       yv[w]   = {};
+        bool         have[w] = {};
+        yv[r] = y0, have[r] = true;
+        auto quadratic = [&](const double t) { // ln n at t h from the centre, or the linearisation
+          if (r == 0 || !have[r - 1] || !have[r + 1])
+            return y0 + t * lin;
+          return y0 + t * 0.5 * (yv[r + 1] - yv[r - 1]) + t * t * 0.5 * (yv[r + 1] - 2 * y0 + yv[r - 1]);
+        };
+        n0[r] = e.n;
+        for (int k = 1; k <= r && e.ok; ++k)
+          for (const int o : {k, -k})
+            {
+              if (row >= 0 && wb_mirror[d][row][o + r] >= 0)
+                continue; // behind a wall: the mirror position's equilibrium
+              n0[o + r] =
+                equilibrium_density<dim>(desc, e, g, o * e.h, quadratic(o), Wp[std::size_t(idx[o + r]) * NC]);
+              e.ok = std::isfinite(n0[o + r]);
+              if (e.ok)
+                yv[o + r] = std::log(n0[o + r]), have[o + r] = true;
+            }
         for (unsigned int side = 0; side < 2 && e.ok; ++side)
           {
-            nf[side] = equilibrium_density<dim>(desc, e, g, (side == 0 ? -0.5 : 0.5) * e.h);
-            e.ok     = std::isfinite(nf[side]);
+            const double t = side == 0 ? -0.5 : 0.5;
+            nf[side]       = equilibrium_density<dim>(desc, e, g, t * e.h, quadratic(t));
+            e.ok           = std::isfinite(nf[side]);
           }
         if (!e.ok)
           {
@@ -214,8 +233,11 @@ namespace granhydro::convection
         // deviations from the equilibrium at rest (n0, 0, E0(n0, T)); a position behind a
         // wall normal to d takes the equilibrium of its mirror position (hydrostatic mirror)
         double E0[w];
-        for (int k = 0; k < w; ++k)
-          E0[k] = equilibrium_energy<dim>(desc, n0[k], e.T);
+        for (int o = -r; o <= r; ++o)
+          if (o == 0)
+            E0[r] = desc.heat_capacity() * e.n * e.T + e.W;
+          else if (row < 0 || wb_mirror[d][row][o + r] < 0)
+            E0[o + r] = equilibrium_energy<dim>(desc, n0[o + r], e.T);
         for (int o = -r; o <= r; ++o)
           if (row >= 0 && wb_mirror[d][row][o + r] >= 0)
             {
@@ -234,15 +256,21 @@ namespace granhydro::convection
             v[r] = c == 0 ? 0. : v[r]; // the cell itself lies on its equilibrium
             rec.pair(v, 0, lo[c], hi[c]);
           }
-        lo[0] += nf[0];
-        hi[0] += nf[1];
-        lo[NC - 1] += equilibrium_energy<dim>(desc, nf[0], e.T);
-        hi[NC - 1] += equilibrium_energy<dim>(desc, nf[1], e.T);
-        if (s < n_owned)
+        // the equilibrium at the faces: its state at rest, and its pressures for the source
+        if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
           {
-            if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
-              wb_source[d][s] = (physics::hydrostatic::pressure(desc, nf[1], e.T) -
-                                 physics::hydrostatic::pressure(desc, nf[0], e.T)) /
+            double pf[2];
+            for (unsigned int side = 0; side < 2; ++side)
+              {
+                double Wf, dpf;
+                desc.contact.evaluate(nf[side], Wf, pf[side], dpf);
+                double *face = side == 0 ? lo : hi;
+                face[0] += nf[side];
+                face[NC - 1] += desc.heat_capacity() * nf[side] * e.T + Wf;
+              }
+            if (s < n_owned)
+              wb_source[d][s] = (physics::hydrostatic::pressure(desc, nf[1], e.T, pf[1]) -
+                                 physics::hydrostatic::pressure(desc, nf[0], e.T, pf[0])) /
                                 e.h;
           }
       }
@@ -263,7 +291,9 @@ namespace granhydro::convection
         LocalEquilibrium e = local_equilibrium<dim>(desc, Ws, gravity[d], 1. / inv_h[d][patch.level(s)]);
         if (!e.ok)
           return;
-        const double nf = equilibrium_density<dim>(desc, e, gravity[d], (side == 0 ? -0.5 : 0.5) * e.h);
+        const double t  = side == 0 ? -0.5 : 0.5;
+        const double nf = equilibrium_density<dim>(desc, e, gravity[d], t * e.h,
+                                                   std::log(e.n) + t * gravity[d] * e.h / e.slope);
         if (!std::isfinite(nf))
           return;
         double u[dim];

@@ -69,6 +69,20 @@ namespace granhydro::physics
 
     double A() const { return v * F / (phi_c * phi_c * (s - 1) * (phi_c - phi_min)); }
 
+    /// x^e: products for whole exponents 1..8 (Johnson–Jackson's r = 2, s = 5: no pow in the
+    /// flux's hot loop; within a few ulp of std::pow), std::pow otherwise
+    static double power(const double x, const double e)
+    {
+      if (e >= 1 && e <= 8 && e == static_cast<int>(e))
+        {
+          double p = x;
+          for (int k = static_cast<int>(e); k > 1; --k)
+            p *= x;
+          return p;
+        }
+      return std::pow(x, e);
+    }
+
     /// w(phi), w'(phi), w''(phi) (energy per grain), continued linearly beyond phi_c - delta
     void potential(double phi, double &w, double &w1, double &w2) const
     {
@@ -79,8 +93,8 @@ namespace granhydro::physics
       const double ph = std::min(phi, pm);
       const double y = ph - phi_min, x = phi_c - ph, a = A();
       const double g = (r + 1) * x + (s - 1) * y, gp = s - r - 2;
-      // two pow calls (y > 0, x >= delta > 0 here): y^r / x^s, the rest by products
-      const double q = a * std::pow(y, r) / std::pow(x, s); // a y^r / x^s
+      // y^r / x^s (y > 0, x >= delta > 0 here), the rest by products
+      const double q = a * power(y, r) / power(x, s); // a y^r / x^s
       w              = q * y * x;
       w1             = q * g;
       w2             = q * (r * g / y + gp + s * g / x);

@@ -23,27 +23,45 @@
 
 namespace granhydro::physics::hydrostatic
 {
+  /// p(n, T) = n T Z(phi) + p_f(n) with p_f = p_f(n) already evaluated
+  template <int dim>
+  double pressure(const GranularGas<dim> &gas, const double n, const double T, const double pf)
+  {
+    return n * T * gas.model.Z(n * gas.phi_per_n) + pf;
+  }
+
   /// p(n, T) = n T Z(phi) + p_f(n): the pressure of the equation of state at given n and T
   template <int dim>
   double pressure(const GranularGas<dim> &gas, const double n, const double T)
   {
-    return n * T * gas.model.Z(n * gas.phi_per_n) + gas.contact.pressure(n);
+    return pressure(gas, n, T, gas.contact.pressure(n));
   }
 
   /// mu(n, T) = T G(phi) + w + p_f / n (see the file's comment; n > 0) and dp/dn at fixed T,
-  /// T (Z + phi dZ/dphi) + dp_f/dn, from one evaluation of chi and of the contact potential
+  /// T (Z + phi dZ/dphi) + dp_f/dn, from one evaluation of chi, with the contact
+  /// potential's n w, p_f and dp_f/dn at n already evaluated (ContactPressure::evaluate())
   template <int dim>
-  void chemical_potential_and_slope(const GranularGas<dim> &gas, const double n, const double T, double &mu,
+  void chemical_potential_and_slope(const GranularGas<dim> &gas, const double n, const double T,
+                                    const double W, const double pf, const double dpf, double &mu,
                                     double &dp_dn)
   {
-    double       Z, dZ, W, pf, dpf;
+    double       Z, dZ;
     const double phi = n * gas.phi_per_n;
     gas.model.Z_and_derivative(phi, Z, dZ);
-    gas.contact.evaluate(n, W, pf, dpf);
     const double G =
       std::log(phi) + Z + 2 * (1 + gas.model.eps()) * gas.model.pair_correlation().integral(phi);
     mu    = T * G + (W + pf) / n;
     dp_dn = T * (Z + phi * dZ) + dpf;
+  }
+
+  /// the same evaluating the contact potential
+  template <int dim>
+  void chemical_potential_and_slope(const GranularGas<dim> &gas, const double n, const double T, double &mu,
+                                    double &dp_dn)
+  {
+    double W, pf, dpf;
+    gas.contact.evaluate(n, W, pf, dpf);
+    chemical_potential_and_slope(gas, n, T, W, pf, dpf, mu, dp_dn);
   }
 
   /// dp/dn at fixed T
@@ -93,14 +111,14 @@ namespace granhydro::physics::hydrostatic
           return nan;
         (f < 0 ? lo : hi)       = y;
         (f < 0 ? below : above) = true;
-        // a Newton step of at most 2 (a factor e^2 in n); bisection if it leaves the bracket
+        // a Newton step of at most 2 (a factor e^2 in n); converged when it is below 1e-9
+        // (taken even if it does not move y: the guess was the root to round-off);
+        // bisection if it leaves the bracket
         const double dy = std::max(-2., std::min(2., f / slope));
+        if (std::abs(dy) < 1e-9)
+          return std::exp(y - dy);
         if (y - dy > lo && y - dy < hi)
-          {
-            y -= dy;
-            if (std::abs(dy) < 1e-9)
-              return std::exp(y);
-          }
+          y -= dy;
         else
           y = 0.5 * (lo + hi);
         if (hi - lo < 1e-15 * std::max(1., std::abs(y)))
