@@ -403,6 +403,7 @@ namespace granhydro::convection
                                                    const double repair_energy) const
   {
     const auto t0 = std::chrono::steady_clock::now();
+    wb_W          = Wp; // the state of the body force's sources (add_gravity_sources())
     switch (rtype)
       {
         case ReconstructionType::first_order:

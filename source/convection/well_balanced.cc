@@ -95,8 +95,10 @@ namespace granhydro::convection
     wb_any      = false;
     for (unsigned int d = 0; d < dim; ++d)
       {
-        wb_dir[d] = granular && gravity[d] != 0;
-        wb_any    = wb_any || wb_dir[d];
+        // a periodic direction holds no hydrostatic profile (the potential g . x is not
+        // periodic): there the body force is the point source of this step
+        wb_dir[d] = granular && gravity[d] != 0 && !patch.periodic(d);
+        wb_any    = wb_any || (granular && gravity[d] != 0);
         wb_row[d].clear();
         wb_mirror[d].clear();
         wb_wall_ghost[d].clear();
@@ -170,7 +172,6 @@ namespace granhydro::convection
     constexpr int      w       = 2 * r + 1;
     const double       g       = gravity[d];
     const unsigned int n_owned = patch.n_owned();
-    wb_W                       = Wp;
     for (const unsigned int s : range)
       {
         int idx[w];
@@ -326,13 +327,16 @@ namespace granhydro::convection
   template <int dim, class Description>
   void ConvectionOperator<dim, Description>::add_gravity_sources(double *rhs) const
   {
-    // the stage's state: the slot array of the last stage A (owned slots first)
+    // the stage's state: apply()'s slot array (owned slots first)
+    if (!wb_any)
+      return;
     for (unsigned int d = 0; d < dim; ++d)
-      if (wb_dir[d])
+      if (gravity[d] != 0)
         for (unsigned int s = 0; s < patch.n_owned(); ++s)
           {
-            rhs[std::size_t(s) * NC + 1 + d] += wb_source[d][s];
-            rhs[std::size_t(s) * NC + NC - 1] += gravity[d] * wb_W[std::size_t(s) * NC + 1 + d]; // g . m
+            const double *Ws = wb_W + std::size_t(s) * NC;
+            rhs[std::size_t(s) * NC + 1 + d] += wb_dir[d] ? wb_source[d][s] : Ws[0] * gravity[d];
+            rhs[std::size_t(s) * NC + NC - 1] += gravity[d] * Ws[1 + d]; // g . m
           }
   }
 

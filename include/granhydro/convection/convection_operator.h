@@ -23,7 +23,8 @@
  * Gauss point inside that sub-face.
  *
  * Well-balanced gravity (ConvectionSettings::gravity, Käppeli & Mishra 2014): the body
- * force is a source of this operator. Along a direction d with g_d != 0, stage A
+ * force is a source of this operator. Along a direction d with g_d != 0 that is not
+ * periodic (a periodic direction holds no hydrostatic profile: there the point source n g), stage A
  * reconstructs each cell's deviation from its local isothermal equilibrium
  * (physics/hydrostatic.h) and adds it back at the faces; the momentum source is the
  * difference of the equilibrium pressures at the cell's faces, the energy source g . m
@@ -209,7 +210,7 @@ namespace granhydro::convection
     /// well-balanced gravity: g_d (scaled) and whether it acts along d
     double gravity[dim] = {};
     bool   wb_dir[dim]  = {};
-    bool   wb_any       = false;
+    bool   wb_any       = false; // gravity is this step's (in some direction)
     /// the equilibrium's first-order face states need the cell's equilibrium; the stencils
     /// that reach behind a wall normal to d: per slot the row in wb_mirror[d] (-1: none; -2: a ghost behind such a wall),
     /// per row and stencil position (o + r) the mirrored position (o' + r) or -1

@@ -284,6 +284,8 @@ namespace granhydro::mesh
 
     /// edge of a level-0 cell along d [m] (the scene's Domain/Cells)
     double cell_size(const unsigned int d) const { return geometry_.cell_size[d]; }
+    /// whether direction d is periodic
+    bool periodic(const unsigned int d) const { return geometry_.periodic[d]; }
     /// lattice points per direction (the box, or the bounding box of a mesh file; a mesh
     /// file may leave some of them without a cell)
     unsigned int       cells(const unsigned int d) const { return geometry_.cells[d]; }
