@@ -23,6 +23,8 @@
  */
 #include <granhydro/physics/hydrostatic.h>
 
+#include "common/bound_checks.h"
+
 #include <cmath>
 #include <iostream>
 #include <string>
@@ -30,20 +32,9 @@
 using namespace granhydro::physics;
 namespace hs = granhydro::physics::hydrostatic;
 
-namespace
-{
-  int  failures = 0;
-  void check(const bool ok, const std::string &what, const double value, const double bound)
-  {
-    std::cout << (ok ? "  ok    " : "  FAIL  ") << what << ": " << value << " (bound " << bound << ")\n";
-    if (!ok)
-      ++failures;
-  }
-  double rel(const double a, const double b)
-  {
-    return std::abs(a - b) / std::max(std::abs(b), 1e-300);
-  }
-} // namespace
+using granhydro::testing::check;
+using granhydro::testing::failures;
+using granhydro::testing::rel;
 
 int main()
 {
