@@ -5,7 +5,8 @@
 //                           the coarse cell with weight 1/4; transfer is conservative).
 //                           Run under mpirun -n 2 too: the same on 2 ranks.
 //   test_amr mpi          : under mpirun -n N: an adaptive 3D blast (ideal gas) and an
-//                           adaptive 2D granular gas with all diffusion effects give the same
+//                           adaptive 2D granular gas with all diffusion effects (with split
+//                           and with well-balanced gravity) give the same
 //                           state on N ranks as on 1 rank (cells matched by their leaf key):
 //                           the adaptation decisions do not depend on the partition.
 //   test_amr mpi-3d       : under mpirun -n N (4, 8): the adaptive 3D blast alone, bit for
@@ -365,6 +366,11 @@ int main(int argc, char **argv)
           // 1 and N ranks agree to ~1e-12, asserted with 1e-10 (the tolerance)
           compare_ranks<2, physics::GranularGas<2>>("2D granular gas with AMR, all effects",
                                                     test_scene("granular_2d.prm"), chk, 1e-10);
+          // gravity in the convective step: the equilibrium reconstruction next to level
+          // changes (virtual cells) and at walls, on both sides of rank boundaries
+          compare_ranks<2, physics::GranularGas<2>>(
+            "2D granular gas with AMR, all effects, well-balanced gravity",
+            test_scene("granular_2d.prm", {"Numerics/Gravity scheme=well-balanced"}), chk, 1e-10);
         }
       else if (what == "walls-3d")
         {
