@@ -45,7 +45,9 @@ namespace granhydro::scene
     for (unsigned int d = 0; d < s.dimension; ++d)
       g2 += s.gravity[d] * s.gravity[d];
     if (g2 > 0)
-      e.emplace_back("gravity", "|g| = " + num(std::sqrt(g2)) + " m/s^2");
+      e.emplace_back(s.well_balanced_gravity ? "gravity, well-balanced in the convective step" : "gravity",
+                     "|g| = " + num(std::sqrt(g2)) + " m/s^2" +
+                       (s.well_balanced_gravity ? ", Numerics/Gravity scheme = well-balanced" : ""));
     if (s.vibration_amplitude > 0 && s.vibration_frequency > 0)
       {
         const double w = 2 * M_PI * s.vibration_frequency;
