@@ -1,7 +1,6 @@
 // ConvectionOperator: the SSP-RK3 time step of eq. (4.10), its stage update with the
 // a-posteriori first-order fallback, the convective rate for the CFL condition and the
 // admissibility check of a step's result (the operator L(U) is in convection_operator.cc)
-#include <granhydro/boundary/ghost_state.h>
 #include <granhydro/convection/convection_operator.h>
 #include <granhydro/physics/granular_gas.h>
 #include <granhydro/physics/models.h>
@@ -85,13 +84,7 @@ namespace granhydro::convection
                 first_order_face_state(W, sl, d, 1, UL);
                 first_order_face_state(W, sr, d, 0, UR);
                 if (wb_dir[d] && wb_wall_ghost[d][k] >= 0)
-                  {
-                    const auto &g = patch.boundary_ghosts()[wb_wall_ghost[d][k]];
-                    if (patch.is_cell(sl))
-                      boundary::ghost_state<dim>(g, UL.data(), UR.data());
-                    else
-                      boundary::ghost_state<dim>(g, UR.data(), UL.data());
-                  }
+                  mirror_wall_face(d, k, UL.data(), UR.data());
                 numflux.rusanov(UL, UR, d, F);
                 if (wall[d][k])
                   wall_flux(wall[d][k], d, F.data(), owned_wall_face(d, k));

@@ -23,7 +23,7 @@ namespace granhydro::convection
     struct LocalEquilibrium
     {
       bool   ok = false;
-      double n, T, Te, mu, h, slope, W; // W: the contact energy density n w at n
+      double n, T, Te, mu, h, slope;
     };
 
     template <int dim, class Description>
@@ -38,15 +38,15 @@ namespace granhydro::convection
           e.n = S[0];
           if (!(e.n > 0) || !desc.convectively_admissible(S))
             return e;
-          double pf, dpf;
-          desc.contact.evaluate(e.n, e.W, pf, dpf);
-          e.T  = desc.temperature(S, e.W);
+          double W, pf, dpf; // the contact potential's n w, p_f, dp_f/dn at n
+          desc.contact.evaluate(e.n, W, pf, dpf);
+          e.T  = desc.temperature(S, W);
           e.Te = std::max(e.T, 0.);
           e.h  = h;
           // a hydrostatic profile needs a pressure that carries the weight of a cell without
           // changing n by more than a fraction of itself: dp/dn > 2 |g| h (else the point
           // source: cold dust, cavitation)
-          physics::hydrostatic::chemical_potential_and_slope(desc, e.n, e.Te, e.W, pf, dpf, e.mu, e.slope);
+          physics::hydrostatic::chemical_potential_and_slope(desc, e.n, e.Te, W, pf, dpf, e.mu, e.slope);
           e.ok = e.slope > 2 * std::abs(g) * h && std::isfinite(e.mu);
         }
       return e;
@@ -73,11 +73,15 @@ namespace granhydro::convection
     }
 
     /// the energy density of the equilibrium state at rest with density n, temperature T
+    /// (GranularGas::from_primitive with u = 0)
     template <int dim, class Description>
-    double equilibrium_energy(const Description &desc, const double n, const double T)
+    double rest_energy(const Description &desc, const double n, const double T)
     {
       if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
-        return desc.heat_capacity() * n * T + desc.contact.energy_density(n);
+        {
+          const double u[dim] = {};
+          return desc.from_primitive(n, u, T)[dim + 1];
+        }
       else
         return n * T;
     }
@@ -235,10 +239,8 @@ namespace granhydro::convection
         // wall normal to d takes the equilibrium of its mirror position (hydrostatic mirror)
         double E0[w];
         for (int o = -r; o <= r; ++o)
-          if (o == 0)
-            E0[r] = desc.heat_capacity() * e.n * e.T + e.W;
-          else if (row < 0 || wb_mirror[d][row][o + r] < 0)
-            E0[o + r] = equilibrium_energy<dim>(desc, n0[o + r], e.T);
+          if (row < 0 || wb_mirror[d][row][o + r] < 0)
+            E0[o + r] = rest_energy<dim>(desc, n0[o + r], e.T);
         for (int o = -r; o <= r; ++o)
           if (row >= 0 && wb_mirror[d][row][o + r] >= 0)
             {
@@ -267,7 +269,7 @@ namespace granhydro::convection
                 desc.contact.evaluate(nf[side], Wf, pf[side], dpf);
                 double *face = side == 0 ? lo : hi;
                 face[0] += nf[side];
-                face[NC - 1] += desc.heat_capacity() * nf[side] * e.T + Wf;
+                face[NC - 1] += rest_energy<dim>(desc, nf[side], e.T);
               }
             if (s < n_owned)
               wb_source[d][s] = (physics::hydrostatic::pressure(desc, nf[1], e.T, pf[1]) -
@@ -305,23 +307,29 @@ namespace granhydro::convection
   }
 
   template <int dim, class Description>
+  void ConvectionOperator<dim, Description>::mirror_wall_face(const unsigned int d, const std::size_t k,
+                                                              double *low, double *high,
+                                                              const unsigned int npts) const
+  {
+    const auto &g         = patch.boundary_ghosts()[wb_wall_ghost[d][k]];
+    const bool  ghost_low = !patch.is_cell(patch.faces(d)[k].l);
+    for (unsigned int q = 0; q < npts; ++q)
+      if (ghost_low)
+        boundary::ghost_state<dim>(g, high + q * NC, low + q * NC);
+      else
+        boundary::ghost_state<dim>(g, low + q * NC, high + q * NC);
+  }
+
+  template <int dim, class Description>
   void ConvectionOperator<dim, Description>::mirror_wall_points(const unsigned int d, double *points,
                                                                 const unsigned int npts) const
   {
-    const auto &faces  = patch.faces(d);
-    const auto &ghosts = patch.boundary_ghosts();
+    // the points on face k: the lower slot's upper side, the upper slot's lower side
+    const auto &faces = patch.faces(d);
     for (std::size_t k = 0; k < faces.size(); ++k)
       if (wb_wall_ghost[d][k] >= 0)
-        {
-          const bool         ghost_low = !patch.is_cell(faces[k].l);
-          const unsigned int gs        = ghost_low ? faces[k].l : faces[k].r,
-                             cs        = ghost_low ? faces[k].r : faces[k].l;
-          // the points on the face: the lower slot's upper side, the upper slot's lower side
-          double       *gp = points + (std::size_t(gs) * 2 + (ghost_low ? 1 : 0)) * npts * NC;
-          const double *cp = points + (std::size_t(cs) * 2 + (ghost_low ? 0 : 1)) * npts * NC;
-          for (unsigned int q = 0; q < npts; ++q)
-            boundary::ghost_state<dim>(ghosts[wb_wall_ghost[d][k]], cp + q * NC, gp + q * NC);
-        }
+        mirror_wall_face(d, k, points + (std::size_t(faces[k].l) * 2 + 1) * npts * NC,
+                         points + std::size_t(faces[k].r) * 2 * npts * NC, npts);
   }
 
   template <int dim, class Description>

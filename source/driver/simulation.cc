@@ -199,8 +199,10 @@ namespace granhydro::driver
       convection::ConvectionOperator<dim, Description>::stencil_half_width(scene.reconstruction);
     patch_ = std::make_unique<mesh::CartesianPatch<dim>>(comm);
     patch_->build(scene.mesh_settings(), r + 1);
-    conv = std::make_unique<convection::ConvectionOperator<dim, Description>>(*patch_, desc,
-                                                                              scene.convection_settings());
+    convection::ConvectionSettings cs = scene.convection_settings();
+    if (scene.well_balanced_gravity) // gravity is the convective step's (scaled units)
+      cs.gravity = body_force().gravity;
+    conv = std::make_unique<convection::ConvectionOperator<dim, Description>>(*patch_, desc, cs);
     conv->setup();
     if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
       if (scene.diffusion_active())

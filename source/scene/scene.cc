@@ -25,12 +25,6 @@ namespace granhydro::scene
     c.no_slip_pressure_flux = no_slip_pressure_flux;
     c.no_wall_tension       = model == physics::Model::granular && cohesionless;
     c.length_unit           = units().length;
-    if (well_balanced_gravity && model == physics::Model::granular)
-      {
-        const Units u = units();
-        for (unsigned int d = 0; d < 3; ++d) // scaled: g L0 / V0^2
-          c.gravity[d] = gravity[d] * u.length / (u.velocity * u.velocity);
-      }
     return c;
   }
 

@@ -135,7 +135,11 @@ namespace granhydro::convection
     /// along directions without gravity or where it takes the point source)
     void first_order_face_state(const double *Wp, const unsigned int s, const unsigned int d,
                                 const unsigned int side, physics::State<dim> &U) const;
-    /// wall faces normal to d: the ghost side's points become the mirror of the cell's
+    /// wall face k normal to d (wb_wall_ghost[d][k] >= 0) with npts states on its low and
+    /// high side: the ghost side's become the mirror of the cell side's
+    void mirror_wall_face(const unsigned int d, const std::size_t k, double *low, double *high,
+                          const unsigned int npts = 1) const;
+    /// mirror_wall_face() on every wall face normal to d (points: [slot][side][point][component])
     void mirror_wall_points(const unsigned int d, double *points, const unsigned int npts) const;
     /// the body force's sources on the owned cells (momentum from the stored equilibrium
     /// pressures, energy g . m of the cell)

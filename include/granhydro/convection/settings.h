@@ -75,8 +75,8 @@ namespace granhydro::convection
     /// the length unit of the scaled units [m] (messages in metres)
     double length_unit = 1;
     /// well-balanced gravity (Numerics/Gravity scheme = well-balanced): the body force
-    /// (scaled units), a source of the convective step in equilibrium form; all 0: gravity
-    /// is not the convective step's (a source of the diffusion step)
+    /// (scaled units, set by the driver), a source of the convective step in equilibrium
+    /// form; all 0: gravity is not the convective step's (a source of the diffusion step)
     std::array<double, 3> gravity{{0, 0, 0}};
   };
 } // namespace granhydro::convection
