@@ -69,6 +69,10 @@ namespace granhydro::driver
         GRANHYDRO_FIELD("convective_steps", convective_steps, sum, none),
         GRANHYDRO_FIELD("temperature_repairs", temperature_repairs, sum, none),
         GRANHYDRO_FIELD("continuation_cells", continuation_cells, sum, none),
+        GRANHYDRO_FIELD("contact_steps", contact_steps, sum, none),
+        GRANHYDRO_FIELD("contact_newton_iterations", contact_newton_iterations, sum, none),
+        GRANHYDRO_FIELD("contact_linear_iterations", contact_linear_iterations, sum, none),
+        GRANHYDRO_FIELD("contact_failures", contact_failures, sum, none),
         GRANHYDRO_FIELD("max_temperature_repair", max_temperature_repair, max, energy),
         GRANHYDRO_FIELD("adaptations", adaptations, sum, none),
         GRANHYDRO_FIELD("refined_cells", refined_cells, sum, none),
@@ -324,6 +328,10 @@ namespace granhydro::driver
         << "  close packing: " << sum.continuation_cells
         << " cell updates ended beyond phi_c - delta, in the linear continuations of chi and of the contact "
            "potential (doc/physics.md 2)\n";
+    if (sum.contact_steps > 0)
+      pcout << "  implicit contact step: " << sum.contact_steps << " steps, " << sum.contact_newton_iterations
+            << " Newton iterations (" << sum.contact_linear_iterations << " GMRES), " << sum.contact_failures
+            << " failed solves (each step retried with half dt)\n";
     if (sum.temperature_repairs > 0)
       pcout << "  temperature floor: " << sum.temperature_repairs
             << " cell updates of a cooling dense pile ended with T < "
@@ -404,6 +412,10 @@ namespace granhydro::driver
       {"negative_temperature_faces", ds.faces.negative_temperature},
       {"musta_early_stops", cs.flux.early_stops},
       {"continuation_cells", sum.continuation_cells},
+      {"contact_steps", sum.contact_steps},
+      {"contact_newton_iterations", sum.contact_newton_iterations},
+      {"contact_linear_iterations", sum.contact_linear_iterations},
+      {"contact_failures", sum.contact_failures},
       {"final_mass_kg", sum.final_mass_si},
       {"final_total_energy_J", sum.final_energy_si},
       {"segments", N(sum.segments)},

@@ -202,7 +202,18 @@ namespace granhydro::driver
     convection::ConvectionSettings cs = scene.convection_settings();
     if (scene.well_balanced_gravity) // gravity is the convective step's (scaled units)
       cs.gravity = body_force().gravity;
-    conv = std::make_unique<convection::ConvectionOperator<dim, Description>>(*patch_, desc, cs);
+    conv_desc = desc;
+    if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
+      if (scene.implicit_contact_pressure) // the contact step applies p_f and gravity
+        {
+          conv_desc = diffusion::ContactStep<dim>::explicit_description(desc);
+          diffusion::ContactStepSettings cps;
+          cps.gravity = body_force().gravity;
+          contact =
+            std::make_unique<diffusion::ContactStep<dim>>(*patch_, desc, conv_desc, cps, units_.length);
+          contact->setup();
+        }
+    conv = std::make_unique<convection::ConvectionOperator<dim, Description>>(*patch_, conv_desc, cs);
     conv->setup();
     if constexpr (std::is_same_v<Description, physics::GranularGas<dim>>)
       if (scene.diffusion_active())
@@ -216,7 +227,7 @@ namespace granhydro::driver
           ds.no_tension       = scene.cohesionless;
           ds.container_motion = scene.moving_frame().scaled(units_.length, units_.time());
           ds.body             = body_force();
-          if (scene.well_balanced_gravity) // gravity is the convective step's
+          if (scene.well_balanced_gravity || scene.implicit_contact_pressure) // not this step's
             ds.body.gravity = {{0, 0, 0}};
           diff = std::make_unique<diffusion::DiffusionOperator<dim>>(*patch_, desc, ds, units_.length);
           diff->setup();
@@ -234,7 +245,7 @@ namespace granhydro::driver
         }
     split_ = std::make_unique<SplitStep<dim, Description>>(
       desc, loop.convection, units_.time(), loop.max_body_acceleration, units_.velocity, timers_, pcout);
-    split_->set_operators(*patch_, *conv, integrator.get());
+    split_->set_operators(*patch_, *conv, integrator.get(), contact.get());
     U.reinit(patch_->partitioner());
     print_header();
 
@@ -335,9 +346,11 @@ namespace granhydro::driver
     conv->setup();
     if (diff)
       diff->setup();
+    if (contact)
+      contact->setup();
     if (integrator)
       integrator->mesh_changed();
-    split_->set_operators(*patch_, *conv, integrator.get());
+    split_->set_operators(*patch_, *conv, integrator.get(), contact.get());
   }
 
   namespace

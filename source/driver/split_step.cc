@@ -29,11 +29,13 @@ namespace granhydro::driver
   template <int dim, class Description>
   void SplitStep<dim, Description>::set_operators(const mesh::CartesianPatch<dim>                  &patch,
                                                   convection::ConvectionOperator<dim, Description> &conv,
-                                                  diffusion::ImplicitIntegrator<dim> *integrator)
+                                                  diffusion::ImplicitIntegrator<dim> *integrator,
+                                                  diffusion::ContactStep<dim>        *contact)
   {
     patch_      = &patch;
     conv_       = &conv;
     integrator_ = integrator;
+    contact_    = contact;
   }
 
   template <int dim, class Description>
@@ -67,17 +69,55 @@ namespace granhydro::driver
   }
 
   template <int dim, class Description>
+  const typename SplitStep<dim, Description>::Vector &
+  SplitStep<dim, Description>::convective_view(const Vector &U)
+  {
+    if (!contact_)
+      return U;
+    if (shifted_.get_partitioner() != U.get_partitioner())
+      shifted_.reinit(U.get_partitioner());
+    shifted_ = U;
+    contact_->shift_energy(shifted_, -1.);
+    return shifted_;
+  }
+
+  template <int dim, class Description>
+  double SplitStep<dim, Description>::max_rate(const Vector &U)
+  {
+    return conv_->max_rate(convective_view(U));
+  }
+
+  template <int dim, class Description>
+  bool SplitStep<dim, Description>::admissible(const Vector &U, std::string *what)
+  {
+    return conv_->admissible(convective_view(U), what);
+  }
+
+  template <int dim, class Description>
   bool SplitStep<dim, Description>::convect(Vector &V, const double h, const unsigned int pieces)
   {
     const dealii::TimerOutput::Scope scope(timers_, "convection");
     bool                             ok = true;
     for (unsigned int i = 0; i < pieces && ok; ++i)
       {
+        // with the implicit contact step the convective step works on E without the contact
+        // energy n w(n) (its description has no dense closure), which the state regains from
+        // its new density after it: the contact pressure's work is the contact step's alone
+        if (contact_)
+          contact_->shift_energy(V, -1.);
         ok = conv_->ssp_rk3_step(V, h / pieces, repair_energy_);
         ++counters_.convective_pieces; // every step taken (also without splitting, also retried ones)
+        if (contact_)
+          contact_->shift_energy(V, 1.);
+        if (ok && contact_) // the contact pressure and gravity of the same step, implicitly
+          {
+            ok = contact_->step(V, h / pieces);
+            if (!ok)
+              pcout << "  " << contact_->last_failure() << " (dt = " << h / pieces * time_unit_ << " s)\n";
+          }
         if (ok)
           repair(V);
-        ok = ok && conv_->admissible(V);
+        ok = ok && admissible(V);
       }
     return ok;
   }

@@ -213,7 +213,7 @@ namespace granhydro::driver
     L.checkpoint    = files.file(".checkpoint");
     L.last_progress = L.start;
     std::string why;
-    if (!conv.admissible(U, &why))
+    if (!split.admissible(U, &why))
       throw RunError("initial state is inadmissible (n <= 0 or T <= 0): " + why);
     if (files.summary && Utilities::MPI::this_mpi_process(comm) == 0)
       io::write_running_summary(files.file("_summary.csv"), report.record_entries());
@@ -239,7 +239,7 @@ namespace granhydro::driver
     double dt = L.dt_fixed;
     if (loop.convection) // the convective CFL limits the step; diffusion never does
       {
-        const double rate = conv.max_rate(U);
+        const double rate = split.max_rate(U);
         if (!(rate > 0) || !std::isfinite(rate))
           throw RunError("no finite wave speed at t = " + std::to_string(L.t * L.t0) + " s");
         dt_cfl = loop.cfl / rate;
@@ -279,10 +279,10 @@ namespace granhydro::driver
     while (true)
       {
         // a retried step (halved dt) also halves its convective pieces
-        if (split.advance(U, L.t, dt, sync_at(dt), tries == 0 ? dt_cfl : dt) && conv.admissible(U, &why))
+        if (split.advance(U, L.t, dt, sync_at(dt), tries == 0 ? dt_cfl : dt) && split.admissible(U, &why))
           break;
         why.clear();
-        conv.admissible(U, &why); // where and what, for the message
+        split.admissible(U, &why); // where and what, for the message
         if (why.empty())
           why = conv.failure();
         if (why.empty() && integrator)
@@ -452,22 +452,27 @@ namespace granhydro::driver
     sum.steps        = L.step;
     sum.min_dt_si =
       (std::isfinite(L.min_dt) ? L.min_dt : (std::isfinite(L.min_cut_dt) ? L.min_cut_dt : 0)) * t0;
-    sum.max_dt_si              = L.max_dt * t0;
-    sum.min_cfl_dt_si          = std::isfinite(L.min_cfl) ? L.min_cfl * t0 : 0;
-    sum.min_cfl_dt_time_si     = L.min_cfl_t * t0;
-    sum.cells                  = patch.n_global_cells();
-    sum.max_cells              = std::max<unsigned long long>(adaptation.max_cells, sum.cells);
-    sum.adaptations            = adaptation.adaptations;
-    sum.refined_cells          = adaptation.refined_cells;
-    sum.coarsened_cells        = adaptation.coarsened_cells;
-    sum.min_rank_cells         = Utilities::MPI::min<unsigned long long>(patch.n_owned(), comm);
-    sum.max_rank_cells         = Utilities::MPI::max<unsigned long long>(patch.n_owned(), comm);
-    const SplitStepCounters &c = split.counters();
-    sum.temperature_repairs    = Utilities::MPI::sum(c.temperature_repairs, comm);
-    sum.continuation_cells     = Utilities::MPI::sum(c.continuation_cells, comm);
-    sum.convective_steps       = c.convective_pieces; // the same on every rank
-    sum.max_temperature_repair = Utilities::MPI::max(c.max_repair, comm);
-    sum.ranks                  = Utilities::MPI::n_mpi_processes(comm);
+    sum.max_dt_si                 = L.max_dt * t0;
+    sum.min_cfl_dt_si             = std::isfinite(L.min_cfl) ? L.min_cfl * t0 : 0;
+    sum.min_cfl_dt_time_si        = L.min_cfl_t * t0;
+    sum.cells                     = patch.n_global_cells();
+    sum.max_cells                 = std::max<unsigned long long>(adaptation.max_cells, sum.cells);
+    sum.adaptations               = adaptation.adaptations;
+    sum.refined_cells             = adaptation.refined_cells;
+    sum.coarsened_cells           = adaptation.coarsened_cells;
+    sum.min_rank_cells            = Utilities::MPI::min<unsigned long long>(patch.n_owned(), comm);
+    sum.max_rank_cells            = Utilities::MPI::max<unsigned long long>(patch.n_owned(), comm);
+    const SplitStepCounters &c    = split.counters();
+    sum.temperature_repairs       = Utilities::MPI::sum(c.temperature_repairs, comm);
+    sum.continuation_cells        = Utilities::MPI::sum(c.continuation_cells, comm);
+    const auto cc                 = split.contact_counts(); // the same on every rank
+    sum.contact_steps             = cc.steps;
+    sum.contact_newton_iterations = cc.newton_iterations;
+    sum.contact_linear_iterations = cc.linear_iterations;
+    sum.contact_failures          = cc.failures;
+    sum.convective_steps          = c.convective_pieces; // the same on every rank
+    sum.max_temperature_repair    = Utilities::MPI::max(c.max_repair, comm);
+    sum.ranks                     = Utilities::MPI::n_mpi_processes(comm);
     {
       rusage usage{};
       getrusage(RUSAGE_SELF, &usage);

@@ -83,6 +83,16 @@ namespace granhydro::scene
                         "deviation from its local isothermal equilibrium, so a pile at rest "
                         "with uniform temperature stays at rest to round-off (granular model "
                         "only; doc/user-guide.md, 'Well-balanced gravity').");
+      prm.declare_entry("Contact pressure", "explicit", Patterns::Selection("explicit|implicit"),
+                        "Where the dense closure's contact pressure p_f acts. explicit: in the "
+                        "convective flux, so its sound speed (metres per second in a settled "
+                        "pile) sets the CFL step. implicit: the convective flux and its wave "
+                        "speeds leave p_f out, and after each convective step a linearly "
+                        "implicit correction (backward Euler, Newton-GMRES) moves mass and "
+                        "momentum by the contact pressure's gradient net of gravity; the CFL "
+                        "step is then set by the flow and the kinetic sound speed "
+                        "(doc/user-guide.md, 'Implicit contact pressure'). Needs a "
+                        "'Dense closure/Model' and 'Gravity scheme = split'.");
       prm.declare_entry("Maximum step retries", default_text(defaults.max_step_retries),
                         Patterns::Integer(0, 30),
                         "A step whose result is inadmissible (n <= 0 or T <= 0) is retried "
@@ -97,20 +107,21 @@ namespace granhydro::scene
   {
     prm.enter_subsection("Numerics");
     {
-      reconstruction        = get_enum<convection::ReconstructionType>(prm, "Numerics", "Reconstruction");
-      face_quadrature       = get_enum<convection::FaceQuadrature>(prm, "Numerics", "Face quadrature");
-      no_slip_pressure_flux = prm.get("No-slip wall flux") == "pressure";
-      flux                  = get_enum<convection::FluxType>(prm, "Numerics", "Flux");
-      musta_max_stages      = prm.get_integer("MUSTA maximum stages");
-      musta_tolerance       = prm.get_double("MUSTA tolerance");
-      musta_min_stages      = prm.get_integer("MUSTA minimum stages");
-      musta_local_cfl       = prm.get_double("MUSTA local CFL");
-      cfl                   = prm.get_double("CFL number");
-      fixed_time_step       = prm.get_double("Fixed time step");
-      reference_velocity    = prm.get_double("Reference velocity");
-      max_step_retries      = prm.get_integer("Maximum step retries");
-      merge_strang          = prm.get("Strang splitting") == "merged";
-      well_balanced_gravity = prm.get("Gravity scheme") == "well-balanced";
+      reconstruction            = get_enum<convection::ReconstructionType>(prm, "Numerics", "Reconstruction");
+      face_quadrature           = get_enum<convection::FaceQuadrature>(prm, "Numerics", "Face quadrature");
+      no_slip_pressure_flux     = prm.get("No-slip wall flux") == "pressure";
+      flux                      = get_enum<convection::FluxType>(prm, "Numerics", "Flux");
+      musta_max_stages          = prm.get_integer("MUSTA maximum stages");
+      musta_tolerance           = prm.get_double("MUSTA tolerance");
+      musta_min_stages          = prm.get_integer("MUSTA minimum stages");
+      musta_local_cfl           = prm.get_double("MUSTA local CFL");
+      cfl                       = prm.get_double("CFL number");
+      fixed_time_step           = prm.get_double("Fixed time step");
+      reference_velocity        = prm.get_double("Reference velocity");
+      max_step_retries          = prm.get_integer("Maximum step retries");
+      merge_strang              = prm.get("Strang splitting") == "merged";
+      well_balanced_gravity     = prm.get("Gravity scheme") == "well-balanced";
+      implicit_contact_pressure = prm.get("Contact pressure") == "implicit";
     }
     prm.leave_subsection();
   }
@@ -143,6 +154,23 @@ namespace granhydro::scene
       fail(s, "Numerics/Gravity scheme",
            "well-balanced puts gravity into the convective step, which this scene switches off; "
            "use split");
+  }
+
+  void NumericsParameters::check_contact_pressure(const Scene &s)
+  {
+    if (!s.implicit_contact_pressure)
+      return;
+    if (s.model != physics::Model::granular || s.dense_closure == DenseClosure::none)
+      fail(s, "Numerics/Contact pressure",
+           "implicit needs the granular model with a dense closure ('Dense closure/Model'); "
+           "use explicit");
+    if (!s.convection)
+      fail(s, "Numerics/Contact pressure",
+           "implicit corrects the convective step, which this scene switches off; use explicit");
+    if (s.well_balanced_gravity)
+      fail(s, "Numerics/Contact pressure",
+           "implicit balances the contact pressure against gravity itself: it needs "
+           "'Numerics/Gravity scheme = split'");
   }
 
   void NumericsParameters::check_reference_velocity(const Scene &s)

@@ -174,6 +174,7 @@ namespace granhydro::scene
     EffectsParameters::check_body_force(s);
     NumericsParameters::check_reference_velocity(s);
     NumericsParameters::check_gravity_scheme(s);
+    NumericsParameters::check_contact_pressure(s);
     EffectsParameters::check_vibration(s);
     check_effect_combinations(s);
     OutputParameters::check(s);

@@ -85,8 +85,8 @@ namespace
   }
   auto fields(const scene::NumericsParameters &p)
   {
-    const auto &[a, b, c, d, e, f, g, h, i, j, k, l, m, n] = p;
-    return std::tie(a, b, c, d, e, f, g, h, i, j, k, l, m, n);
+    const auto &[a, b, c, d, e, f, g, h, i, j, k, l, m, n, o] = p;
+    return std::tie(a, b, c, d, e, f, g, h, i, j, k, l, m, n, o);
   }
   auto fields(const scene::EffectsParameters &p)
   {
@@ -165,12 +165,12 @@ int main()
                                                 "initial_temperature", "initial_constants",
                                                 "initial_quadrature", "initial_checkpoint"},
                                                chk);
-  check_section<scene::NumericsParameters>("Numerics", s,
-                                           {"reconstruction", "face_quadrature", "no_slip_pressure_flux",
-                                            "flux", "musta_max_stages", "musta_min_stages", "musta_tolerance",
-                                            "musta_local_cfl", "cfl", "fixed_time_step", "reference_velocity",
-                                            "max_step_retries", "merge_strang", "well_balanced_gravity"},
-                                           chk);
+  check_section<scene::NumericsParameters>(
+    "Numerics", s,
+    {"reconstruction", "face_quadrature", "no_slip_pressure_flux", "flux", "musta_max_stages",
+     "musta_min_stages", "musta_tolerance", "musta_local_cfl", "cfl", "fixed_time_step", "reference_velocity",
+     "max_step_retries", "merge_strang", "well_balanced_gravity", "implicit_contact_pressure"},
+    chk);
   check_section<scene::EffectsParameters>("Effects", s,
                                           {"convection", "viscosity", "heat_conduction", "cooling",
                                            "diagonal_flux", "gravity", "vibration_amplitude",

@@ -49,8 +49,12 @@ namespace granhydro::driver
     /// thermal-energy deficit repaired per grain (scaled)
     unsigned long long temperature_repairs = 0;
     /// cell updates that ended beyond phi_c - delta (linear continuations of chi and w)
-    unsigned long long continuation_cells     = 0;
-    double             max_temperature_repair = 0;
+    unsigned long long continuation_cells = 0;
+    /// the implicit contact step ('Numerics/Contact pressure = implicit'): steps, Newton and
+    /// GMRES iterations, failed solves (each rejected the step, which was retried)
+    unsigned long long contact_steps = 0, contact_newton_iterations = 0, contact_linear_iterations = 0,
+                       contact_failures = 0;
+    double max_temperature_repair       = 0;
     /// SSP-RK3 steps taken by the convective part since the start of this run: 1 per step
     /// without the diffusion step, with it 2 per step with symmetric Strang splitting,
     /// about 1 with merged; retried steps included, and the owed half-step a stop between

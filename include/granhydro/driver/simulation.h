@@ -126,21 +126,26 @@ namespace granhydro::driver
 
     /// the scene: read here, in the composition root (simulation.cc) only; the parts of
     /// the run read their settings below (run_settings.h)
-    scene::Scene                               scene;
-    TimeLoopSettings                           loop;       ///< time_loop.cc
-    RunFiles                                   files;      ///< outputs, checkpoints, history, summary
-    RunReportSettings                          report;     ///< run_summary.cc, run_history.cc
-    CheckpointIdentity                         identity;   ///< simulation_checkpoint.cc
-    AdaptationSettings                         adaptation; ///< adapt_mesh.cc
-    MPI_Comm                                   comm;
-    dealii::ConditionalOStream                 pcout;
-    Units                                      units_;
-    Description                                desc;
-    std::unique_ptr<mesh::CartesianPatch<dim>> patch_;
+    scene::Scene               scene;
+    TimeLoopSettings           loop;       ///< time_loop.cc
+    RunFiles                   files;      ///< outputs, checkpoints, history, summary
+    RunReportSettings          report;     ///< run_summary.cc, run_history.cc
+    CheckpointIdentity         identity;   ///< simulation_checkpoint.cc
+    AdaptationSettings         adaptation; ///< adapt_mesh.cc
+    MPI_Comm                   comm;
+    dealii::ConditionalOStream pcout;
+    Units                      units_;
+    Description                desc;
+    /// the convective operator's copy of desc: without the dense closure when the implicit
+    /// contact step applies it (the convective step then sees E without the contact energy)
+    Description                                                       conv_desc;
+    std::unique_ptr<mesh::CartesianPatch<dim>>                        patch_;
     std::unique_ptr<convection::ConvectionOperator<dim, Description>> conv;
     std::unique_ptr<io::Output<dim, Description>>                     output;
     std::unique_ptr<diffusion::DiffusionOperator<dim>>                diff;
     std::unique_ptr<diffusion::ImplicitIntegrator<dim>>               integrator;
+    /// the implicit contact pressure and gravity ('Numerics/Contact pressure = implicit')
+    std::unique_ptr<diffusion::ContactStep<dim>> contact;
     /// this rank's wall time in the sections convection, diffusion, adaptation and output
     /// (no barriers: TimerOutput without a communicator); measure_phases() reduces them
     dealii::TimerOutput timers_{pcout, dealii::TimerOutput::never, dealii::TimerOutput::wall_times};

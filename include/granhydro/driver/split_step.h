@@ -8,6 +8,7 @@
  * hands it the operators after every mesh change.
  */
 #include <granhydro/convection/convection_operator.h>
+#include <granhydro/diffusion/contact_step.h>
 #include <granhydro/diffusion/implicit_integrator.h>
 #include <granhydro/mesh/cartesian_patch.h>
 
@@ -41,10 +42,12 @@ namespace granhydro::driver
               const double max_body_acceleration, const double velocity_unit, dealii::TimerOutput &timers,
               const dealii::ConditionalOStream &pcout);
 
-    /// the operators of the current mesh (integrator may be null: no diffusion step)
+    /// the operators of the current mesh (integrator may be null: no diffusion step;
+    /// contact may be null: the contact pressure is in the convective flux)
     void set_operators(const mesh::CartesianPatch<dim>                  &patch,
                        convection::ConvectionOperator<dim, Description> &conv,
-                       diffusion::ImplicitIntegrator<dim>               *integrator);
+                       diffusion::ImplicitIntegrator<dim>               *integrator,
+                       diffusion::ContactStep<dim>                      *contact = nullptr);
 
     /// one time step of size dt (scaled) from time t: Strang splitting C(dt/2) V(dt)
     /// C(dt/2), eq. 3.5, or only the active part. With the merged splitting the first C
@@ -67,6 +70,11 @@ namespace granhydro::driver
     /// step fails
     bool synchronised_state(const Vector &U, Vector &V);
 
+    /// the convective operator's largest rate sum_d (|u_d| + c)/dx_d over the cells of U
+    /// (ConvectionOperator::max_rate), and its admissibility test outside a step: with the
+    /// implicit contact step both see U as the convective step does, without the contact energy
+    double max_rate(const Vector &U);
+    bool   admissible(const Vector &U, std::string *what = nullptr);
     /// scaled convective time the state still owes (0 after a synchronised step)
     double owed() const { return owed_; }
     void   set_owed(const double h) { owed_ = h; }
@@ -79,7 +87,17 @@ namespace granhydro::driver
     double repair_energy() const { return repair_energy_; }
 
     const SplitStepCounters &counters() const { return counters_; }
-    void                     reset_counters() { counters_ = SplitStepCounters(); }
+    void                     reset_counters()
+    {
+      counters_ = SplitStepCounters();
+      if (contact_)
+        contact_->reset_counts();
+    }
+    /// what the implicit contact step did since reset_counters() (zeros without it)
+    diffusion::ContactStepCounts contact_counts() const
+    {
+      return contact_ ? contact_->counts() : diffusion::ContactStepCounts();
+    }
 
   private:
     /// the dense closure's temperature floor on V (counted), GranularGas only
@@ -95,7 +113,11 @@ namespace granhydro::driver
     const mesh::CartesianPatch<dim>                  *patch_      = nullptr;
     convection::ConvectionOperator<dim, Description> *conv_       = nullptr;
     diffusion::ImplicitIntegrator<dim>               *integrator_ = nullptr;
+    diffusion::ContactStep<dim>                      *contact_    = nullptr;
     double                                            owed_       = 0;
     SplitStepCounters                                 counters_;
+    Vector                                            shifted_; ///< U without the contact energy
+    /// U, or with the implicit contact step U without the contact energy (in shifted_)
+    const Vector &convective_view(const Vector &U);
   };
 } // namespace granhydro::driver

@@ -51,6 +51,15 @@ namespace granhydro::physics
     /// potential per grain of the optional dense closure, 0 without it)
     double temperature(const State<dim> &U) const { return temperature(U, contact.energy_density(U[0])); }
 
+    /// T after a compression from n0 to n1 (grains per volume, scaled) by the kinetic pressure
+    /// alone, adiabatic and reversible: (3/2) n dT = p_kin dn / n with p_kin = n T Z(phi), Z
+    /// frozen at n0: T1 = T0 (n1/n0)^(2 Z/3) (the implicit contact step's temperature: the
+    /// contact pressure's work is stored in the contact energy n w, never in T)
+    double compressed_temperature(const double T0, const double n0, const double n1) const
+    {
+      return T0 * std::exp((2. / 3.) * model.Z(n0 * phi_per_n) * std::log(n1 / n0));
+    }
+
     /// the same with the contact energy density n w already evaluated (T = double, or a
     /// GCC vector of doubles: states side by side, each lane bit for bit the double result)
     template <class T>

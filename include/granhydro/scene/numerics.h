@@ -38,6 +38,10 @@ namespace granhydro::scene
     /// paper's scheme); true = in the convective step in well-balanced form (Käppeli &
     /// Mishra 2014: a pile at rest is a discrete steady state)
     bool well_balanced_gravity = false;
+    /// the dense closure's contact pressure: false = in the convective flux (its sound speed
+    /// sets the CFL step); true = a linearly implicit correction after each convective step
+    /// (doc/user-guide.md, 'Implicit contact pressure')
+    bool implicit_contact_pressure = false;
 
     static void declare_parameters(dealii::ParameterHandler &prm);
     void        parse_parameters(dealii::ParameterHandler &prm);
@@ -52,5 +56,7 @@ namespace granhydro::scene
     static void check_reference_velocity(const Scene &s);
     /// the well-balanced gravity needs the granular model and the convective step
     static void check_gravity_scheme(const Scene &s);
+    /// the implicit contact pressure needs the dense closure, the convective step and split gravity
+    static void check_contact_pressure(const Scene &s);
   };
 } // namespace granhydro::scene

@@ -1,0 +1,137 @@
+#pragma once
+/**
+ * @file contact_step.h
+ * The implicit contact step: the dense closure's contact pressure p_f(n) and gravity,
+ * applied after each convective step by a linearly implicit correction, so that the
+ * contact pressure's sound speed (metres per second in a settled pile, hundreds of times
+ * the kinetic one) no longer sets the CFL step ('Numerics/Contact pressure = implicit').
+ *
+ * The scheme is the first-order IMEX splitting of the all-speed / low-Mach literature
+ * (Haack, Jin & Liu, Commun. Comput. Phys. 12, 955 (2012); Degond & Tang, Commun. Comput.
+ * Phys. 10, 1 (2011)) applied to the stiff part of our pressure only: the convective step
+ * (WENO5 + MUSTA, SSP-RK3) runs with the pressure and wave speeds without p_f
+ * (physics::ContactPressure::in_convective_flux), and then, with the convective result
+ * (n*, m*, E*) and h the convective step,
+ *
+ *   J_f  = -h [ (p_f(n_R) - p_f(n_L) + p_k(n*_R) - p_k(n*_L)) / delta_f - (n_L + n_R)/2 g_d ]
+ *   n_i  = n*_i - h / dx_i sum_f (+-) frac_f J_f                       (backward Euler in n)
+ *
+ * on every face f (normal d, centre distance delta_f) with grains in enduring contact on
+ * one side (n* > n_min): J_f is the momentum the face gains in the step from the pressure
+ * gradient net of gravity (the kinetic pressure p_k lagged at n*), and the mass it moves.
+ * Substituted, this is a nonlinear elliptic equation n - h^2 div(grad p_f(n) - n g) = rhs,
+ * solved by Newton's method with GMRES and block ILU(0) (diffusion/block_sparse.h, one
+ * unknown per cell). Then the momentum takes the contact pressure's face averages
+ * (hydrostatically extrapolated to walls) and gravity, m_i += -h grad p_f(n) + h n_i g,
+ * conservatively, and the energy keeps the thermal energy per grain up to the kinetic
+ * pressure's reversible compression (GranularGas::compressed_temperature()): E = |m|^2/2n
+ * + n w(n) + (3/2) n T, so the contact pressure's work goes to the contact energy n w, as in
+ * the explicit scheme. Gravity acts here instead of in the diffusion step.
+ *
+ * Properties (doc/user-guide.md, 'Implicit contact pressure'): unconditionally stable for
+ * the contact acoustics (backward Euler of the wave equation n_tt = div grad p_f), first
+ * order in time for them, exact mass and momentum conservation on periodic faces; a pile in
+ * discrete equilibrium ((p_R - p_L)/delta = n_f g at every contact face) has J = 0. Energy
+ * is not in flux form: the acoustic energy backward Euler damps is lost, not turned into
+ * heat.
+ */
+#include <granhydro/diffusion/block_sparse.h>
+#include <granhydro/mesh/cartesian_patch.h>
+#include <granhydro/physics/granular_gas.h>
+
+#include <deal.II/lac/la_parallel_vector.h>
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace granhydro::diffusion
+{
+  struct ContactStepSettings
+  {
+    /// gravity (scaled units)
+    std::array<double, 3> gravity{{0, 0, 0}};
+    /// Newton stops when the largest density update is below this times the largest density
+    double       newton_tolerance      = 1e-10;
+    unsigned int newton_max_iterations = 25;
+    /// GMRES relative tolerance per Newton iteration
+    double linear_tolerance = 1e-6;
+  };
+
+  /// what the contact step did over a run (the same on every rank)
+  struct ContactStepCounts
+  {
+    unsigned long long steps = 0, newton_iterations = 0, linear_iterations = 0, failures = 0;
+    unsigned int       max_newton_iterations = 0;
+  };
+
+  template <int dim>
+  class ContactStep
+  {
+  public:
+    using Vector = dealii::LinearAlgebra::distributed::Vector<double>;
+
+    /// desc: the scene's description; explicit: the convective step's (no dense closure,
+    /// Carnahan-Starling's pair correlation: explicit_description())
+    ContactStep(const mesh::CartesianPatch<dim> &patch, const physics::GranularGas<dim> &desc,
+                const physics::GranularGas<dim> &explicit_desc, const ContactStepSettings &settings,
+                const double length_unit);
+    /// the convective step's description for desc: no dense closure, and the pair
+    /// correlation of Carnahan and Starling up to phi_c - 2 delta (Torquato's pole only in
+    /// the last 2 delta), so that its sound speed in a pile is the smooth equation of state's
+    static physics::GranularGas<dim> explicit_description(const physics::GranularGas<dim> &desc);
+    /// (re)build the cell partitioner and geometry after the mesh changed
+    void setup();
+    /// correct U (on the patch's partitioner) after a convective step of scaled length h;
+    /// false if Newton's method did not converge or a density became non-positive (U then
+    /// undefined; last_failure() says why)
+    bool step(Vector &U, const double h);
+
+    /// E += sign n w(n) on the owned cells of U: the convective step, whose description has
+    /// no dense closure, works on the energy without the contact energy (sign -1 before it,
+    /// +1 after it with the new densities)
+    void shift_energy(Vector &U, const double sign);
+
+    const ContactStepCounts &counts() const { return counts_; }
+    void                     reset_counts() { counts_ = ContactStepCounts(); }
+    const std::string       &last_failure() const { return last_failure_; }
+
+  private:
+    static constexpr unsigned int NC = dim + 2;
+    /// the corrective face flux J_f and its derivatives by n_L and n_R
+    struct FaceFlux
+    {
+      double J, dJ_dl, dJ_dr;
+    };
+    /// J_f of the face between real slots l and r normal to d, or nothing (inactive face)
+    bool face_flux(const unsigned int d, const unsigned int l, const unsigned int r, const double h,
+                   const double *n, FaceFlux &F) const;
+
+    const mesh::CartesianPatch<dim>                           &patch;
+    const physics::GranularGas<dim>                           &desc;
+    const physics::GranularGas<dim>                           &explicit_desc;
+    const ContactStepSettings                                  settings;
+    const double                                               length_unit;
+    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> cells; ///< one value per cell
+    std::shared_ptr<const dealii::Utilities::MPI::Partitioner> owned; ///< the same, no ghosts
+    /// faces with a cell above this density take part: grains in contact (phi_min) or on
+    /// Torquato's dense branch (phi_f), where the two pair correlations differ
+    double n_min = 0;
+    /// the implicit pressure of local slot s at density n: the contact pressure and the
+    /// kinetic pressure's part beyond the explicit equation of state, n T* (Z - Z_e), with
+    /// the slot's temperature after the convective step; and its derivative by n
+    void implicit_pressure(const unsigned int s, const double n, double &p, double &dp_dn) const;
+
+    // per local cell (owned, then MPI ghosts): n*, T*, the explicit kinetic pressure at n*,
+    // the implicit pressure and its derivative at the iterate
+    std::vector<double> n_star, T_star, p_exp, p_imp, dp_imp;
+    std::vector<double> n_before; ///< owned densities before the convective step
+    std::vector<double> inv_h;    ///< scaled 1/dx per local cell and direction
+    BlockSparseMatrix   matrix;
+    BlockILU            ilu;
+    Vector              n_iter, rhs, delta;
+    ContactStepCounts   counts_;
+    std::string         last_failure_;
+  };
+} // namespace granhydro::diffusion
