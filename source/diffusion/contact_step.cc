@@ -124,45 +124,78 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
-  bool ContactStep<dim>::step(Vector &U, const double h)
+  double ContactStep<dim>::read_state(Vector &U)
   {
     const unsigned int no = patch.n_owned(), nl = no + patch.n_mpi_ghosts();
-    const MPI_Comm     comm = patch.communicator();
-    ++counts_.steps;
-    // the convective result: n*, the lagged kinetic pressure, the thermal energy per volume
     U.update_ghost_values();
-    n_star.resize(nl);
-    T_star.resize(nl);
-    p_exp.resize(nl);
-    p_imp.resize(nl);
-    dp_imp.resize(nl);
-    std::vector<double> thermal(no);
-    double              n_max = 0;
+    for (auto *v : {&n_star, &T_star, &p_exp, &p_imp, &dp_imp})
+      v->resize(nl);
+    thermal.resize(no);
+    double n_max = 0;
     for (unsigned int s = 0; s < nl; ++s)
       {
         physics::State<dim> S;
         for (unsigned int c = 0; c < NC; ++c)
           S[c] = U.local_element(std::size_t(s) * NC + c);
-        const double nw = desc.contact.energy_density(S[0]);
-        const double e  = S[NC - 1] - physics::kinetic_energy<dim>(S) - nw;
-        n_star[s]       = S[0];
-        T_star[s]       = std::max(e, 0.) / (1.5 * S[0]);
-        p_exp[s]        = S[0] * T_star[s] * explicit_desc.model.Z(S[0] * desc.phi_per_n);
+        const double e = S[NC - 1] - physics::kinetic_energy<dim>(S) - desc.contact.energy_density(S[0]);
+        n_star[s]      = S[0];
+        T_star[s]      = std::max(e, 0.) / (1.5 * S[0]);
+        p_exp[s]       = S[0] * T_star[s] * explicit_desc.model.Z(S[0] * desc.phi_per_n);
         if (s < no)
           {
             thermal[s] = e;
             n_max      = std::max(n_max, S[0]);
           }
       }
-    n_max = Utilities::MPI::max(n_max, comm);
     for (unsigned int s = 0; s < no; ++s)
       n_iter.local_element(s) = n_star[s];
+    return Utilities::MPI::max(n_max, patch.communicator());
+  }
 
-    // Newton's method on R(n) = n - n* + h/dx sum (+-) frac J_f(n) = 0
-    std::vector<std::vector<std::pair<unsigned int, std::array<double, 1>>>> J(no);
-    const std::vector<std::vector<double>>                                   N         = {{1.}};
-    bool                                                                     converged = false;
-    unsigned int                                                             it        = 0;
+  template <int dim>
+  double
+  ContactStep<dim>::residual_row(const unsigned int i, const double h, const double *n,
+                                 std::vector<std::pair<unsigned int, std::array<double, 1>>> &row) const
+  {
+    double R = n[i] - n_star[i];
+    row.clear();
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        const auto [b, e] = patch.cell_faces(d, i);
+        for (auto cf = b; cf != e; ++cf)
+          {
+            const auto &f = patch.faces(d)[cf->face];
+            FaceFlux    F;
+            if (!face_flux(d, f.l, f.r, h, n, F))
+              continue;
+            // the flux leaves i through its upper faces, enters through its lower ones
+            const double w = h * inv_h[std::size_t(i) * dim + d] * (cf->upper ? f.frac_l : -f.frac_r);
+            R += w * F.J;
+            row.push_back({f.l, {{-w * F.dJ_dl}}}); // the matrix is I - J
+            row.push_back({f.r, {{-w * F.dJ_dr}}});
+          }
+      }
+    // one block per column (BlockSparseMatrix::assemble() keeps repeated columns apart)
+    std::sort(row.begin(), row.end(), [](const auto &a, const auto &b) { return a.first < b.first; });
+    std::size_t k = 0;
+    for (std::size_t j = 0; j < row.size(); ++j)
+      if (k > 0 && row[k - 1].first == row[j].first)
+        row[k - 1].second[0] += row[j].second[0];
+      else
+        row[k++] = row[j];
+    row.resize(k);
+    return R;
+  }
+
+  template <int dim>
+  bool ContactStep<dim>::newton(const double h, const double n_max)
+  {
+    const unsigned int no = patch.n_owned(), nl = no + patch.n_mpi_ghosts();
+    const MPI_Comm     comm = patch.communicator();
+    J.resize(no);
+    const std::vector<std::vector<double>> N         = {{1.}};
+    bool                                   converged = false;
+    unsigned int                           it        = 0;
     for (; it < settings.newton_max_iterations && !converged; ++it)
       {
         unsigned long long active = 0;
@@ -172,38 +205,10 @@ namespace granhydro::diffusion
           implicit_pressure(s, n[s], p_imp[s], dp_imp[s]);
         for (unsigned int i = 0; i < no; ++i)
           {
-            double R = n[i] - n_star[i];
-            J[i].clear();
-            for (unsigned int d = 0; d < dim; ++d)
-              {
-                const auto [b, e] = patch.cell_faces(d, i);
-                for (auto cf = b; cf != e; ++cf)
-                  {
-                    const auto &f = patch.faces(d)[cf->face];
-                    FaceFlux    F;
-                    if (!face_flux(d, f.l, f.r, h, n, F))
-                      continue;
-                    // the flux leaves i through its upper faces, enters through its lower ones
-                    const double w = h * inv_h[std::size_t(i) * dim + d] * (cf->upper ? f.frac_l : -f.frac_r);
-                    R += w * F.J;
-                    J[i].push_back({f.l, {{-w * F.dJ_dl}}}); // the matrix is I - J
-                    J[i].push_back({f.r, {{-w * F.dJ_dr}}});
-                  }
-              }
-            rhs.local_element(i) = -R;
+            rhs.local_element(i) = -residual_row(i, h, n, J[i]);
             active += !J[i].empty();
-            // one block per column (BlockSparseMatrix::assemble() keeps repeated columns apart)
-            auto &row = J[i];
-            std::sort(row.begin(), row.end(), [](const auto &a, const auto &b) { return a.first < b.first; });
-            std::size_t k = 0;
-            for (std::size_t j = 0; j < row.size(); ++j)
-              if (k > 0 && row[k - 1].first == row[j].first)
-                row[k - 1].second[0] += row[j].second[0];
-              else
-                row[k++] = row[j];
-            row.resize(k);
           }
-        if (it == 0 && Utilities::MPI::sum(active, comm) == 0) // no grains in contact: gravity only
+        if (it == 0 && Utilities::MPI::sum(active, comm) == 0) // no dense grains: gravity only
           {
             converged = true;
             break;
@@ -235,27 +240,28 @@ namespace granhydro::diffusion
             largest = std::max(largest, std::abs(delta.local_element(i)));
           }
         converged = Utilities::MPI::max(largest, comm) <= settings.newton_tolerance * n_max;
+        if (!converged && it + 1 == settings.newton_max_iterations)
+          last_failure_ = "contact step: Newton's method did not converge";
       }
     counts_.newton_iterations += it;
     counts_.max_newton_iterations = std::max(counts_.max_newton_iterations, it);
     if (!converged)
-      {
-        if (it == settings.newton_max_iterations)
-          last_failure_ = "contact step: Newton's method did not converge";
-        ++counts_.failures;
-        return false;
-      }
+      return false;
     double n_low = 1;
     for (unsigned int i = 0; i < no; ++i)
       n_low = std::min(n_low, n_iter.local_element(i));
     if (Utilities::MPI::min(n_low, comm) <= 0)
       {
         last_failure_ = "contact step: a density became non-positive";
-        ++counts_.failures;
         return false;
       }
+    return true;
+  }
 
-    // momentum and energy from the converged density
+  template <int dim>
+  void ContactStep<dim>::update(Vector &U, const double h)
+  {
+    const unsigned int no = patch.n_owned(), nl = no + patch.n_mpi_ghosts();
     n_iter.update_ghost_values();
     const double *n = n_iter.begin();
     for (unsigned int s = 0; s < nl; ++s)
@@ -301,6 +307,18 @@ namespace granhydro::diffusion
         std::copy(u, u + NC, S.begin());
         u[NC - 1] = physics::kinetic_energy<dim>(S) + desc.contact.energy_density(n[i]) + th;
       }
+  }
+
+  template <int dim>
+  bool ContactStep<dim>::step(Vector &U, const double h)
+  {
+    ++counts_.steps;
+    if (!newton(h, read_state(U)))
+      {
+        ++counts_.failures;
+        return false;
+      }
+    update(U, h);
     return true;
   }
 

@@ -240,6 +240,8 @@ namespace
                     "  no rejected step, no failed solve");
           chk.check(phi[k][0] >= 0.62 && phi[k][0] <= 0.645,
                     "  floor phi in [0.62, 0.645] (random close packing)");
+          // the pile's T (1e-10 J) is far above the splitting residue at either step
+          chk.check(sum.temperature_repairs == 0, "  no temperature repair");
         }
     // the settled pile's steps: the explicit step is bound by the contact sound speed,
     // the implicit one by the flow; the issue asks for at least 5x fewer in the last 50 ms
@@ -256,8 +258,10 @@ namespace
     chk.check(true, os.str());
     chk.check(cut >= 5, "  steps of the last 50 ms cut >= 5x");
     // both are the same model on the same mesh; they differ by the time discretisation of
-    // the contact acoustics (first order, at a larger step) and the pile's settling
-    chk.check(l1 / norm <= 0.01, "  phi profiles agree to 1 % (L1, relative)");
+    // the stiff acoustics (first order, at a 7x larger step). The bound is the issue's on
+    // D_phi against the DEM, 0.005: by the triangle inequality the implicit scheme's D_phi
+    // then lies within 0.005 of the explicit one's (measured 0.0020)
+    chk.check(l1 / norm <= 0.005, "  phi profiles agree to 0.005 (L1, relative)");
     return chk.failed;
   }
 } // namespace

@@ -1,39 +1,43 @@
 #pragma once
 /**
  * @file contact_step.h
- * The implicit contact step: the dense closure's contact pressure p_f(n) and gravity,
- * applied after each convective step by a linearly implicit correction, so that the
- * contact pressure's sound speed (metres per second in a settled pile, hundreds of times
- * the kinetic one) no longer sets the CFL step ('Numerics/Contact pressure = implicit').
+ * The implicit contact step ('Numerics/Contact pressure = implicit'): the stiff part of
+ * the pressure in a dense pile - the dense closure's contact pressure p_f(n) and the
+ * kinetic pressure's growth at the pole of Torquato's pair correlation - applied after
+ * each convective step by a linearly implicit correction, together with gravity, so that
+ * their sound speeds (metres per second in a settled pile, hundreds of times the kinetic
+ * one of a cold gas) no longer set the CFL step.
  *
- * The scheme is the first-order IMEX splitting of the all-speed / low-Mach literature
- * (Haack, Jin & Liu, Commun. Comput. Phys. 12, 955 (2012); Degond & Tang, Commun. Comput.
- * Phys. 10, 1 (2011)) applied to the stiff part of our pressure only: the convective step
- * (WENO5 + MUSTA, SSP-RK3) runs with the pressure and wave speeds without p_f
- * (physics::ContactPressure::in_convective_flux), and then, with the convective result
- * (n*, m*, E*) and h the convective step,
- *
- *   J_f  = -h [ (p_f(n_R) - p_f(n_L) + p_k(n*_R) - p_k(n*_L)) / delta_f - (n_L + n_R)/2 g_d ]
- *   n_i  = n*_i - h / dx_i sum_f (+-) frac_f J_f                       (backward Euler in n)
- *
- * on every face f (normal d, centre distance delta_f) with grains in enduring contact on
- * one side (n* > n_min): J_f is the momentum the face gains in the step from the pressure
- * gradient net of gravity (the kinetic pressure p_k lagged at n*), and the mass it moves.
- * Substituted, this is a nonlinear elliptic equation n - h^2 div(grad p_f(n) - n g) = rhs,
- * solved by Newton's method with GMRES and block ILU(0) (diffusion/block_sparse.h, one
- * unknown per cell). Then the momentum takes the contact pressure's face averages
- * (hydrostatically extrapolated to walls) and gravity, m_i += -h grad p_f(n) + h n_i g,
- * conservatively, and the energy keeps the thermal energy per grain up to the kinetic
- * pressure's reversible compression (GranularGas::compressed_temperature()): E = |m|^2/2n
- * + n w(n) + (3/2) n T, so the contact pressure's work goes to the contact energy n w, as in
- * the explicit scheme. Gravity acts here instead of in the diffusion step.
+ * The scheme is the first-order IMEX pressure splitting of the all-speed / low-Mach
+ * literature (Haack, Jin & Liu, Commun. Comput. Phys. 12, 955 (2012); Degond & Tang,
+ * Commun. Comput. Phys. 10, 1 (2011)) applied to the stiff part of our pressure only:
+ *  - the convective step (WENO5 + MUSTA, SSP-RK3) runs with explicit_description(): no
+ *    dense closure, and Carnahan-Starling's pair correlation chi_CS, whose pressure
+ *    p_e = n T Z_e(phi) stays soft up to close packing; it works on the energy without the
+ *    contact energy n w(n) (shift_energy()), which the state regains from its new density;
+ *  - then, with the convective result (n*, m*, E*, T*) and h the convective step, the
+ *    implicit pressure P_s(n) = p_f(n) + n T*_s (Z(phi) - Z_e(phi)) (T frozen per cell),
+ *      J_f = -h [ (P_R(n_R) - P_L(n_L) + p_e(n*_R) - p_e(n*_L)) / delta_f - (n_L + n_R)/2 g_d ]
+ *      n_i = n*_i - h / dx_i sum_f (+-) frac_f J_f                   (backward Euler in n)
+ *    on every face (normal d, centre distance delta_f) with a cell above min(phi_min, phi_f):
+ *    J_f is the momentum the face gains in the step from the whole pressure gradient net of
+ *    gravity (the explicit part lagged) and the mass it moves. Substituted, a nonlinear
+ *    elliptic equation n - h^2 div(grad P(n) - n g) = rhs for the density alone, solved by
+ *    Newton's method with GMRES and block ILU(0) (diffusion/block_sparse.h, one unknown per
+ *    cell). Then the momentum takes the implicit pressure's face averages (hydrostatically
+ *    extrapolated to walls) and gravity, m_i += -h grad P(n) + h n_i g, conservatively;
+ *  - the energy keeps the thermal energy per grain up to the kinetic pressure's reversible
+ *    compression (GranularGas::compressed_temperature()): by the convective step's density
+ *    change with Z - Z_e (the part whose work that step did not do) and by this step's with
+ *    Z, and E = |m|^2/2n + n w(n) + (3/2) n T: the contact pressure's work goes to n w.
+ *    Gravity acts here instead of in the diffusion step.
  *
  * Properties (doc/user-guide.md, 'Implicit contact pressure'): unconditionally stable for
- * the contact acoustics (backward Euler of the wave equation n_tt = div grad p_f), first
- * order in time for them, exact mass and momentum conservation on periodic faces; a pile in
- * discrete equilibrium ((p_R - p_L)/delta = n_f g at every contact face) has J = 0. Energy
- * is not in flux form: the acoustic energy backward Euler damps is lost, not turned into
- * heat.
+ * the stiff acoustics (backward Euler of n_tt = div grad P(n)), first order in time for
+ * them; mass conserved to round-off (flux form), momentum too along periodic directions; a
+ * pile in discrete balance ((P_R - P_L + p_e,R - p_e,L)/delta = n_f g at every dense face)
+ * has J = 0. Energy is not in flux form: the acoustic energy backward Euler damps is lost,
+ * not turned into heat.
  */
 #include <granhydro/diffusion/block_sparse.h>
 #include <granhydro/mesh/cartesian_patch.h>
@@ -108,6 +112,18 @@ namespace granhydro::diffusion
     bool face_flux(const unsigned int d, const unsigned int l, const unsigned int r, const double h,
                    const double *n, FaceFlux &F) const;
 
+    /// n*, T*, the explicit pressure and the thermal energy from the convective result U;
+    /// n_iter = n*. Returns the largest density
+    double read_state(Vector &U);
+    /// the residual R_i of owned cell i at the iterate n (all local slots), and the row of
+    /// -dR_i/dn (the matrix is I minus it), one entry per column
+    double residual_row(const unsigned int i, const double h, const double *n,
+                        std::vector<std::pair<unsigned int, std::array<double, 1>>> &row) const;
+    /// Newton's method for the density (n_iter); false if it failed (last_failure_ says why)
+    bool newton(const double h, const double n_max);
+    /// momentum and energy of U from the converged density
+    void update(Vector &U, const double h);
+
     const mesh::CartesianPatch<dim>                           &patch;
     const physics::GranularGas<dim>                           &desc;
     const physics::GranularGas<dim>                           &explicit_desc;
@@ -127,7 +143,9 @@ namespace granhydro::diffusion
     // the implicit pressure and its derivative at the iterate
     std::vector<double> n_star, T_star, p_exp, p_imp, dp_imp;
     std::vector<double> n_before; ///< owned densities before the convective step
-    std::vector<double> inv_h;    ///< scaled 1/dx per local cell and direction
+    std::vector<double> thermal;  ///< owned thermal energy densities after it
+    std::vector<std::vector<std::pair<unsigned int, std::array<double, 1>>>> J; ///< Newton rows
+    std::vector<double> inv_h; ///< scaled 1/dx per local cell and direction
     BlockSparseMatrix   matrix;
     BlockILU            ilu;
     Vector              n_iter, rhs, delta;
