@@ -92,18 +92,23 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
-  void ContactStep<dim>::shift_energy(Vector &U, const double sign)
+  void ContactStep<dim>::shift_energy(Vector &U, const double sign) const
   {
     U.zero_out_ghost_values();
-    if (sign < 0)
-      n_before.resize(patch.n_owned());
     for (unsigned int s = 0; s < patch.n_owned(); ++s)
       {
         double *u = &U.local_element(std::size_t(s) * NC);
         u[NC - 1] += sign * desc.contact.energy_density(u[0]);
-        if (sign < 0)
-          n_before[s] = u[0];
       }
+  }
+
+  template <int dim>
+  void ContactStep<dim>::begin_convective_step(Vector &U)
+  {
+    n_before.resize(patch.n_owned());
+    for (unsigned int s = 0; s < patch.n_owned(); ++s)
+      n_before[s] = U.local_element(std::size_t(s) * NC);
+    shift_energy(U, -1.);
   }
 
   template <int dim>

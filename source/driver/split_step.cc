@@ -104,7 +104,7 @@ namespace granhydro::driver
         // energy n w(n) (its description has no dense closure), which the state regains from
         // its new density after it: the contact pressure's work is the contact step's alone
         if (contact_)
-          contact_->shift_energy(V, -1.);
+          contact_->begin_convective_step(V);
         ok = conv_->ssp_rk3_step(V, h / pieces, repair_energy_);
         ++counters_.convective_pieces; // every step taken (also without splitting, also retried ones)
         if (contact_)

@@ -95,7 +95,10 @@ namespace granhydro::diffusion
     /// E += sign n w(n) on the owned cells of U: the convective step, whose description has
     /// no dense closure, works on the energy without the contact energy (sign -1 before it,
     /// +1 after it with the new densities)
-    void shift_energy(Vector &U, const double sign);
+    void shift_energy(Vector &U, const double sign) const;
+    /// before a convective step on U: record its densities (step() needs them) and take the
+    /// contact energy out of E (shift_energy(U, -1))
+    void begin_convective_step(Vector &U);
 
     const ContactStepCounts &counts() const { return counts_; }
     void                     reset_counts() { counts_ = ContactStepCounts(); }
