@@ -77,6 +77,7 @@ namespace granhydro::driver
         GRANHYDRO_FIELD("adaptations", adaptations, sum, none),
         GRANHYDRO_FIELD("refined_cells", refined_cells, sum, none),
         GRANHYDRO_FIELD("coarsened_cells", coarsened_cells, sum, none),
+        GRANHYDRO_FIELD("cell_steps", cell_steps, sum, none),
         GRANHYDRO_FIELD("max_cells", max_cells, max, none),
         GRANHYDRO_FIELD("peak_memory_max", peak_memory_max, max, none),
         GRANHYDRO_FIELD("peak_memory_total", peak_memory_total, max, none),
@@ -314,9 +315,9 @@ namespace granhydro::driver
     if (const auto [balanced, balance_skipped] = balance_counts; report.adaptive)
       pcout << "  adaptive mesh: " << sum.adaptations << " adaptations, " << sum.refined_cells
             << " cells refined, " << sum.coarsened_cells << " coarsened; " << sum.cells
-            << " cells at the end, at most " << sum.max_cells << "; 2:1 balance by p4est in " << balanced
-            << " (skipped in " << balance_skipped << ": the changes kept it); adaptation "
-            << sum.adaptation_seconds << " s\n";
+            << " cells at the end, at most " << sum.max_cells << "; " << sum.cell_steps
+            << " cell-steps; 2:1 balance by p4est in " << balanced << " (skipped in " << balance_skipped
+            << ": the changes kept it); adaptation " << sum.adaptation_seconds << " s\n";
     if (report.adaptive && sum.ranks > 1)
       pcout << "  partition: " << sum.min_rank_cells << " to " << sum.max_rank_cells
             << " cells per rank at the end, "
@@ -358,6 +359,7 @@ namespace granhydro::driver
       {"adaptations", N(sum.adaptations)},
       {"refined_cells", sum.refined_cells},
       {"coarsened_cells", sum.coarsened_cells},
+      {"cell_steps", sum.cell_steps},
       {"time", sum.time_si},
       {"steps", N(sum.steps)},
       {"rejected_steps", N(sum.rejected_steps)},

@@ -85,6 +85,7 @@ namespace granhydro::driver
     a.indicator.coarsen_threshold  = scene.coarsen_threshold;
     a.indicator.buffer             = scene.adapt_buffer;
     a.indicator.second_differences = scene.adapt_indicator == scene::RefinementIndicator::second_differences;
+    a.indicator.packing_fraction   = scene.adapt_indicator == scene::RefinementIndicator::packing_fraction;
     a.balance_by_cost              = scene.balance_by_measured_cost(scene.diffusion_active());
     return r;
   }

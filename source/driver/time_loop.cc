@@ -154,6 +154,7 @@ namespace granhydro::driver
         const double t_before = L.t;
         L.t += dt;
         ++L.step;
+        L.cell_steps += patch.n_global_cells();
         L.last_dt = dt;
         if (history_due(t_before))
           write_history_row(io::state_totals(patch, U, desc, units_.length, comm));
@@ -460,6 +461,7 @@ namespace granhydro::driver
     sum.adaptations               = adaptation.adaptations;
     sum.refined_cells             = adaptation.refined_cells;
     sum.coarsened_cells           = adaptation.coarsened_cells;
+    sum.cell_steps                = L.cell_steps;
     sum.min_rank_cells            = Utilities::MPI::min<unsigned long long>(patch.n_owned(), comm);
     sum.max_rank_cells            = Utilities::MPI::max<unsigned long long>(patch.n_owned(), comm);
     const SplitStepCounters &c    = split.counters();

@@ -45,6 +45,12 @@ namespace granhydro::mesh
         for (unsigned int d = 0; d < dim; ++d)
           if (settings.second_differences)
             eta[s] = std::max({eta[s], loehner(n, s, d), loehner(p, s, d)});
+          else if (settings.packing_fraction) // sigma = 1: phi = (pi/6) n
+            {
+              const auto [b, e] = P.cell_faces(d, s);
+              for (auto cf = b; cf != e; ++cf)
+                eta[s] = std::max(eta[s], M_PI / 6. * std::abs(n[s] - n[P.across(d, *cf)]));
+            }
           else
             {
               const auto [b, e] = P.cell_faces(d, s);

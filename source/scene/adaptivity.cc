@@ -26,7 +26,11 @@ namespace granhydro::scene
                         "|a_L - a_R| / min(a_L, a_R); 'second differences' = Loehner's "
                         "indicator |a_R - 2 a + a_L| / (|a_R - a| + |a - a_L| + 0.05 (|a_R| + "
                         "2 |a| + |a_L|)) per direction, in [0, 1]: high at shocks, contacts and "
-                        "kinks, low in smooth regions (a rarefaction fan stays coarse).");
+                        "kinks, low in smooth regions (a rarefaction fan stays coarse); "
+                        "'packing fraction' (granular model) = the largest jump of the packing "
+                        "fraction across the cell's faces, absolute: fine at falling fronts and "
+                        "pile surfaces, coarse in a uniform gas, inside a pile and in a "
+                        "near-vacuum.");
       prm.declare_entry("Refine threshold", default_text(defaults.refine_threshold),
                         Patterns::Double(0, Patterns::Double::max_double_value),
                         "Refine a cell where the indicator exceeds this.");
@@ -85,6 +89,9 @@ namespace granhydro::scene
         if (!(s.coarsen_threshold < s.refine_threshold))
           fail(s, "Adaptivity/Coarsen threshold",
                "must be below 'Adaptivity/Refine threshold' (" + std::to_string(s.refine_threshold) + ")");
+        if (s.adapt_indicator == RefinementIndicator::packing_fraction && s.model != physics::Model::granular)
+          fail(s, "Adaptivity/Indicator",
+               "'packing fraction' needs 'Material/Model = granular'; use jumps or second differences");
         double total = 1;
         for (unsigned int d = 0; d < dim; ++d)
           total *= double(s.cells[d]) * double(1u << s.max_level);

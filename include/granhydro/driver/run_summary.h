@@ -43,6 +43,8 @@ namespace granhydro::driver
     unsigned int       adaptations = 0;
     /// cells flagged for refinement and coarsening over the run
     unsigned long long refined_cells = 0, coarsened_cells = 0;
+    /// the mesh's cells summed over the steps (an adaptive mesh's work against a uniform one)
+    unsigned long long cell_steps = 0;
     /// the fewest and most cells a rank owns at the end
     unsigned long long min_rank_cells = 0, max_rank_cells = 0;
     /// cell updates of a cooling dense pile set to the temperature floor, and the largest

@@ -45,6 +45,8 @@ namespace granhydro::driver
     double            t_end = 0, dt_fixed = 0, interval = 0; ///< scaled
     double            t = 0, next_output = 0;                ///< scaled
     unsigned int      step = 0;
+    /// the mesh's cells summed over the steps taken (the work of an adaptive mesh)
+    unsigned long long cell_steps = 0;
     /// Numerics/Strang splitting = merged: adjacent convective half-steps of the
     /// splitting are taken as one (SplitStep::advance())
     bool        merge = false;

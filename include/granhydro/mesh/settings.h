@@ -40,6 +40,8 @@ namespace granhydro::mesh
     double       refine_threshold = 0, coarsen_threshold = 0;
     unsigned int buffer             = 0;     ///< cells marked around each refined one (passes)
     bool         second_differences = false; ///< the indicator: second differences (else jumps)
+    /// the indicator: absolute jumps of the packing fraction (pi/6) n (granular; scaled n)
+    bool packing_fraction = false;
   };
 
 } // namespace granhydro::mesh

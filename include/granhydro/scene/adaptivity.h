@@ -17,12 +17,14 @@ namespace granhydro::scene
   enum class RefinementIndicator
   {
     jumps,
-    second_differences
+    second_differences,
+    packing_fraction
   };
   constexpr auto enum_names(RefinementIndicator)
   {
     return enum_table(EnumName{RefinementIndicator::jumps, "jumps"},
-                      EnumName{RefinementIndicator::second_differences, "second differences"});
+                      EnumName{RefinementIndicator::second_differences, "second differences"},
+                      EnumName{RefinementIndicator::packing_fraction, "packing fraction"});
   }
   static_assert(check_enum_names(enum_names(RefinementIndicator{})));
 
