@@ -17,7 +17,7 @@ from conftest import REPO, TOOLS
 
 SCRIPTS = ["chute_mu_i.py", "closure_sensitivity.py", "code_size.py", "compare_profiles.py", "cost_model.py",
            "explicit_baseline.py", "format_check.py", "fuzz_scenes.py", "layer_rules.py", "make_silo_mesh.py", "paraview_check.py",
-           "paraview_picture.py", "plot_chute.py",
+           "paraview_picture.py", "plot_adaptive_sedimentation.py", "plot_chute.py",
            "plot_profiles.py", "work_precision.py", "dem/coarse_grain.py", "dem/compare.py",
            "dem/make_input.py", "dem/run_ensemble.py", "dem/stiffness_check.py"]
 MODULES = ["granhydro_output.py", "dem/packing.py", "dem/scene.py"]  # imported, not run
