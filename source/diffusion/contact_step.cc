@@ -67,8 +67,10 @@ namespace granhydro::diffusion
     double       Z, dZ, Ze, dZe;
     desc.model.Z_and_derivative(phi, Z, dZ);
     explicit_desc.model.Z_and_derivative(phi, Ze, dZe);
-    p     = desc.contact.pressure(n) + n * T * (Z - Ze);
-    dp_dn = desc.contact.dpressure_dn(n) + T * ((Z - Ze) + phi * (dZ - dZe));
+    double nw, pf_phi, pf, dpf; // one evaluation of the potential: pf = pressure(), dpf = dpressure_dn()
+    desc.contact.evaluate(n, nw, pf_phi, dpf, pf);
+    p     = pf + n * T * (Z - Ze);
+    dp_dn = dpf + T * ((Z - Ze) + phi * (dZ - dZe));
   }
 
   template <int dim>
