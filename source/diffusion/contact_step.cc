@@ -147,7 +147,9 @@ namespace granhydro::diffusion
         const double e = S[NC - 1] - physics::kinetic_energy<dim>(S) - desc.contact.energy_density(S[0]);
         n_star[s]      = S[0];
         T_star[s]      = std::max(e, 0.) / (1.5 * S[0]);
-        p_exp[s]       = S[0] * T_star[s] * explicit_desc.model.Z(S[0] * desc.phi_per_n);
+        if (s < no && e < 0) // counted: the run summary's contact_negative_thermal_cells
+          ++counts_.negative_thermal_cells;
+        p_exp[s] = S[0] * T_star[s] * explicit_desc.model.Z(S[0] * desc.phi_per_n);
         if (s < no)
           {
             thermal[s] = e;
@@ -290,8 +292,12 @@ namespace granhydro::diffusion
                 double       p_face;
                 if (patch.is_cell(f.l) && patch.is_cell(f.r))
                   p_face = 0.5 * (p_imp[f.l] + p_imp[f.r]);
-                else // a wall: the cell's pressure extrapolated hydrostatically to it
-                  p_face = p_imp[i] > 0 ? std::max(0., p_imp[i] - sign * 0.5 * hd * n[i] * g) : 0.;
+                else // a wall: the cell's pressure extrapolated hydrostatically to it, >= 0 (counted)
+                  {
+                    const double p_wall = p_imp[i] - sign * 0.5 * hd * n[i] * g;
+                    p_face              = p_imp[i] > 0 ? std::max(0., p_wall) : 0.;
+                    counts_.wall_pressure_floors += p_imp[i] > 0 && p_wall < 0;
+                  }
                 force += sign * frac * p_face;
               }
             u[1 + d] += h * (force / hd + n[i] * g);

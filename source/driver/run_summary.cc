@@ -73,6 +73,8 @@ namespace granhydro::driver
         GRANHYDRO_FIELD("contact_newton_iterations", contact_newton_iterations, sum, none),
         GRANHYDRO_FIELD("contact_linear_iterations", contact_linear_iterations, sum, none),
         GRANHYDRO_FIELD("contact_failures", contact_failures, sum, none),
+        GRANHYDRO_FIELD("contact_negative_thermal_cells", contact_negative_thermal_cells, sum, none),
+        GRANHYDRO_FIELD("contact_wall_pressure_floors", contact_wall_pressure_floors, sum, none),
         GRANHYDRO_FIELD("max_temperature_repair", max_temperature_repair, max, energy),
         GRANHYDRO_FIELD("adaptations", adaptations, sum, none),
         GRANHYDRO_FIELD("refined_cells", refined_cells, sum, none),
@@ -332,7 +334,9 @@ namespace granhydro::driver
     if (sum.contact_steps > 0)
       pcout << "  implicit contact step: " << sum.contact_steps << " steps, " << sum.contact_newton_iterations
             << " Newton iterations (" << sum.contact_linear_iterations << " GMRES), " << sum.contact_failures
-            << " failed solves (each step retried with half dt)\n";
+            << " failed solves (each step retried with half dt); " << sum.contact_negative_thermal_cells
+            << " cell reads with negative thermal energy taken as T = 0, " << sum.contact_wall_pressure_floors
+            << " wall faces whose hydrostatically extrapolated pressure was taken as 0\n";
     if (sum.temperature_repairs > 0)
       pcout << "  temperature floor: " << sum.temperature_repairs
             << " cell updates of a cooling dense pile ended with T < "
@@ -418,6 +422,8 @@ namespace granhydro::driver
       {"contact_newton_iterations", sum.contact_newton_iterations},
       {"contact_linear_iterations", sum.contact_linear_iterations},
       {"contact_failures", sum.contact_failures},
+      {"contact_negative_thermal_cells", sum.contact_negative_thermal_cells},
+      {"contact_wall_pressure_floors", sum.contact_wall_pressure_floors},
       {"final_mass_kg", sum.final_mass_si},
       {"final_total_energy_J", sum.final_energy_si},
       {"segments", N(sum.segments)},

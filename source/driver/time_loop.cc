@@ -453,28 +453,30 @@ namespace granhydro::driver
     sum.steps        = L.step;
     sum.min_dt_si =
       (std::isfinite(L.min_dt) ? L.min_dt : (std::isfinite(L.min_cut_dt) ? L.min_cut_dt : 0)) * t0;
-    sum.max_dt_si                 = L.max_dt * t0;
-    sum.min_cfl_dt_si             = std::isfinite(L.min_cfl) ? L.min_cfl * t0 : 0;
-    sum.min_cfl_dt_time_si        = L.min_cfl_t * t0;
-    sum.cells                     = patch.n_global_cells();
-    sum.max_cells                 = std::max<unsigned long long>(adaptation.max_cells, sum.cells);
-    sum.adaptations               = adaptation.adaptations;
-    sum.refined_cells             = adaptation.refined_cells;
-    sum.coarsened_cells           = adaptation.coarsened_cells;
-    sum.cell_steps                = L.cell_steps;
-    sum.min_rank_cells            = Utilities::MPI::min<unsigned long long>(patch.n_owned(), comm);
-    sum.max_rank_cells            = Utilities::MPI::max<unsigned long long>(patch.n_owned(), comm);
-    const SplitStepCounters &c    = split.counters();
-    sum.temperature_repairs       = Utilities::MPI::sum(c.temperature_repairs, comm);
-    sum.continuation_cells        = Utilities::MPI::sum(c.continuation_cells, comm);
-    const auto cc                 = split.contact_counts(); // the same on every rank
-    sum.contact_steps             = cc.steps;
-    sum.contact_newton_iterations = cc.newton_iterations;
-    sum.contact_linear_iterations = cc.linear_iterations;
-    sum.contact_failures          = cc.failures;
-    sum.convective_steps          = c.convective_pieces; // the same on every rank
-    sum.max_temperature_repair    = Utilities::MPI::max(c.max_repair, comm);
-    sum.ranks                     = Utilities::MPI::n_mpi_processes(comm);
+    sum.max_dt_si                      = L.max_dt * t0;
+    sum.min_cfl_dt_si                  = std::isfinite(L.min_cfl) ? L.min_cfl * t0 : 0;
+    sum.min_cfl_dt_time_si             = L.min_cfl_t * t0;
+    sum.cells                          = patch.n_global_cells();
+    sum.max_cells                      = std::max<unsigned long long>(adaptation.max_cells, sum.cells);
+    sum.adaptations                    = adaptation.adaptations;
+    sum.refined_cells                  = adaptation.refined_cells;
+    sum.coarsened_cells                = adaptation.coarsened_cells;
+    sum.cell_steps                     = L.cell_steps;
+    sum.min_rank_cells                 = Utilities::MPI::min<unsigned long long>(patch.n_owned(), comm);
+    sum.max_rank_cells                 = Utilities::MPI::max<unsigned long long>(patch.n_owned(), comm);
+    const SplitStepCounters &c         = split.counters();
+    sum.temperature_repairs            = Utilities::MPI::sum(c.temperature_repairs, comm);
+    sum.continuation_cells             = Utilities::MPI::sum(c.continuation_cells, comm);
+    const auto cc                      = split.contact_counts(); // the same on every rank
+    sum.contact_steps                  = cc.steps;
+    sum.contact_newton_iterations      = cc.newton_iterations;
+    sum.contact_linear_iterations      = cc.linear_iterations;
+    sum.contact_failures               = cc.failures;
+    sum.contact_negative_thermal_cells = Utilities::MPI::sum(cc.negative_thermal_cells, comm);
+    sum.contact_wall_pressure_floors   = Utilities::MPI::sum(cc.wall_pressure_floors, comm);
+    sum.convective_steps               = c.convective_pieces; // the same on every rank
+    sum.max_temperature_repair         = Utilities::MPI::max(c.max_repair, comm);
+    sum.ranks                          = Utilities::MPI::n_mpi_processes(comm);
     {
       rusage usage{};
       getrusage(RUSAGE_SELF, &usage);

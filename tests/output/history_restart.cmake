@@ -88,7 +88,8 @@ endfunction()
 # uninterrupted run's exactly (wall times, memory and the rows naming the run excepted)
 set(counted_rows status time steps rejected_steps convective_steps diffusion_steps newton_iterations
     gmres_iterations rkl2_steps implicit_steps flux_points limited_reconstructions first_order_fallbacks
-    newton_failures gmres_failures temperature_repairs continuation_cells cell_steps min_dt max_dt mass_drift
+    newton_failures gmres_failures temperature_repairs continuation_cells contact_negative_thermal_cells
+    contact_wall_pressure_floors cell_steps min_dt max_dt mass_drift
     final_mass_kg final_total_energy_J)
 
 if(MODE STREQUAL "summary")

@@ -242,6 +242,11 @@ namespace
                     "  floor phi in [0.62, 0.645] (random close packing)");
           // the pile's T (1e-10 J) is far above the splitting residue at either step
           chk.check(sum.temperature_repairs == 0, "  no temperature repair");
+          // the contact step's floors: the states it reads are admissible (thermal energy
+          // >= 0), and at the floor the pressure grows towards the wall under gravity, so
+          // neither floor may act on this column
+          chk.check(sum.contact_negative_thermal_cells == 0 && sum.contact_wall_pressure_floors == 0,
+                    "  contact step: no negative thermal energy read, no wall pressure floored");
         }
     // the settled pile's steps: the explicit step is bound by the contact sound speed,
     // the implicit one by the flow; the issue asks for at least 5x fewer in the last 50 ms

@@ -68,6 +68,12 @@ namespace granhydro::diffusion
   {
     unsigned long long steps = 0, newton_iterations = 0, linear_iterations = 0, failures = 0;
     unsigned int       max_newton_iterations = 0;
+    /// this rank's owned cells whose thermal energy (total minus kinetic minus contact)
+    /// entered a step negative, read as T* = 0 (the explicit pressure's temperature), and
+    /// its wall faces (per accepted step) where the cell's pressure extrapolated
+    /// hydrostatically to the wall fell below 0 and was taken as 0; summed over the ranks
+    /// in the run summary
+    unsigned long long negative_thermal_cells = 0, wall_pressure_floors = 0;
   };
 
   template <int dim>

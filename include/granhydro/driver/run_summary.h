@@ -56,7 +56,10 @@ namespace granhydro::driver
     /// GMRES iterations, failed solves (each rejected the step, which was retried)
     unsigned long long contact_steps = 0, contact_newton_iterations = 0, contact_linear_iterations = 0,
                        contact_failures = 0;
-    double max_temperature_repair       = 0;
+    /// the contact step's floors (counted, never silent): cell reads with negative thermal
+    /// energy taken as T* = 0, wall faces whose extrapolated pressure was taken as 0
+    unsigned long long contact_negative_thermal_cells = 0, contact_wall_pressure_floors = 0;
+    double             max_temperature_repair = 0;
     /// SSP-RK3 steps taken by the convective part since the start of this run: 1 per step
     /// without the diffusion step, with it 2 per step with symmetric Strang splitting,
     /// about 1 with merged; retried steps included, and the owed half-step a stop between
