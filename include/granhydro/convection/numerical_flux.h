@@ -152,18 +152,39 @@ namespace granhydro::convection
     {
       namespace lanes          = physics::lanes;
       constexpr unsigned int L = lanes::width<V>;
-      using VS                 = std::array<V, NC>;
-      using M                  = lanes::Mask<V>;
-      VS UL, UR, FL, FR, Uh, Fh, F, Fprev;
+      std::array<V, NC>      UL, UR, F;
       for (unsigned int c = 0; c < NC; ++c)
-        {
-          for (unsigned int i = 0; i < L; ++i)
-            {
-              lanes::ref(UL[c], i) = UL0[i][c];
-              lanes::ref(UR[c], i) = UR0[i][c];
-            }
-          F[c] = Fprev[c] = V();
-        }
+        for (unsigned int i = 0; i < L; ++i)
+          {
+            lanes::ref(UL[c], i) = UL0[i][c];
+            lanes::ref(UR[c], i) = UR0[i][c];
+          }
+      const auto fallback = musta_vector<V>(UL, UR, d, F, stats, repair_energy);
+      for (unsigned int i = 0; i < L; ++i)
+        if (lanes::set(fallback, i))
+          rusanov(UL0[i], UR0[i], d, Fout[i]);
+        else
+          for (unsigned int c = 0; c < NC; ++c)
+            Fout[i][c] = lanes::get(F[c], i);
+    }
+
+    /**
+     * musta_lanes() on states already in lanes (UL, UR: component c of lane i is
+     * UL[c][i]; they are overwritten), the fluxes into F; returns the lanes whose
+     * predictor state was inadmissible (counted as fallbacks), whose flux the caller
+     * takes as the Rusanov flux of their original states.
+     */
+    template <class V>
+    __attribute__((always_inline)) inline physics::lanes::Mask<V>
+    musta_vector(std::array<V, NC> &UL, std::array<V, NC> &UR, const unsigned int d, std::array<V, NC> &F,
+                 FluxStatistics &stats, const double repair_energy) const
+    {
+      namespace lanes = physics::lanes;
+      using VS        = std::array<V, NC>;
+      using M         = lanes::Mask<V>;
+      VS FL, FR, Uh, Fh, Fprev;
+      for (unsigned int c = 0; c < NC; ++c)
+        F[c] = Fprev[c] = V();
       M active = V() == V(), fallback = V() != V(); // all lanes, none
       // what the formulas read of each state's density (the dense closure's potential, chi),
       // evaluated once per state and stage for its pressure, wave speed and admissibility
@@ -174,8 +195,7 @@ namespace granhydro::convection
       V aL = physical_flux(UL, tL, pL, d, FL), aR = physical_flux(UR, tR, pR, d, FR);
       for (unsigned int l = 0; l < max_stages; ++l)
         {
-          for (unsigned int i = 0; i < L; ++i)
-            stats.stages += lanes::set(active, i);
+          stats.stages += lanes::count(active);
           const V smax = aL < aR ? aR : aL; // std::max(aL, aR)
           const V r    = cloc / smax;       // local dt/dx
           for (unsigned int c = 0; c < NC; ++c)
@@ -234,8 +254,7 @@ namespace granhydro::convection
           tL          = desc.density_terms(UL[0]);
           tR          = desc.density_terms(UR[0]);
           active = active && desc.admissible(UL, tL, repair_energy) && desc.admissible(UR, tR, repair_energy);
-          for (unsigned int i = 0; i < L; ++i)
-            stats.early_stops += lanes::set(was, i) && !lanes::set(active, i);
+          stats.early_stops += lanes::count(was && !active);
           if (!lanes::any(active))
             break;
           pL    = desc.pressure(UL, tL);
@@ -244,16 +263,13 @@ namespace granhydro::convection
           aR    = physical_flux(UR, tR, pR, d, FR);
           Fprev = F;
         }
-      for (unsigned int i = 0; i < L; ++i)
-        if (lanes::set(fallback, i))
-          {
-            ++stats.fallbacks;
-            rusanov(UL0[i], UR0[i], d, Fout[i]);
-          }
-        else
-          for (unsigned int c = 0; c < NC; ++c)
-            Fout[i][c] = lanes::get(F[c], i);
+      stats.fallbacks += lanes::count(fallback);
+      return fallback;
     }
+
+    /// MUSTA on vectors of states (musta_vector()): the face loops then load the points
+    /// into lanes themselves
+    bool vector_musta() const { return Description::vector_lanes && type == FluxType::musta; }
 
   private:
     /// the flux F of the state U (its density terms t, pressure p); returns its largest

@@ -59,9 +59,18 @@ namespace granhydro::physics::lanes
       return T(x);
   }
 
-  __attribute__((always_inline)) inline double sqrt(const double x) { return std::sqrt(x); }
-  __attribute__((always_inline)) inline double abs(const double x) { return std::abs(x); }
-  __attribute__((always_inline)) inline bool   isfinite(const double x) { return std::isfinite(x); }
+  __attribute__((always_inline)) inline double sqrt(const double x)
+  {
+    return std::sqrt(x);
+  }
+  __attribute__((always_inline)) inline double abs(const double x)
+  {
+    return std::abs(x);
+  }
+  __attribute__((always_inline)) inline bool isfinite(const double x)
+  {
+    return std::isfinite(x);
+  }
 
   /// correctly rounded square root per lane (as std::sqrt)
   template <class T, std::enable_if_t<!std::is_arithmetic_v<T>, int> = 0>
@@ -69,7 +78,7 @@ namespace granhydro::physics::lanes
   {
 #if defined(__SSE2__)
     typedef double v2 __attribute__((vector_size(16)));
-    T r;
+    T              r;
     for (unsigned int i = 0; i < width<T>; i += 2)
       {
         v2 h;
@@ -120,8 +129,14 @@ namespace granhydro::physics::lanes
   }
 
   /// lane i of x (x itself for double), to read and to write
-  __attribute__((always_inline)) inline double get(const double x, const unsigned int) { return x; }
-  __attribute__((always_inline)) inline double &ref(double &x, const unsigned int) { return x; }
+  __attribute__((always_inline)) inline double get(const double x, const unsigned int)
+  {
+    return x;
+  }
+  __attribute__((always_inline)) inline double &ref(double &x, const unsigned int)
+  {
+    return x;
+  }
   template <class T, std::enable_if_t<!std::is_arithmetic_v<T>, int> = 0>
   __attribute__((always_inline)) inline double get(const T &x, const unsigned int i)
   {
@@ -134,7 +149,10 @@ namespace granhydro::physics::lanes
   }
 
   /// whether lane i of a mask is set
-  __attribute__((always_inline)) inline bool set(const bool m, const unsigned int) { return m; }
+  __attribute__((always_inline)) inline bool set(const bool m, const unsigned int)
+  {
+    return m;
+  }
   template <class M, std::enable_if_t<!std::is_same_v<M, bool>, int> = 0>
   __attribute__((always_inline)) inline bool set(const M m, const unsigned int i)
   {
@@ -142,13 +160,30 @@ namespace granhydro::physics::lanes
   }
 
   /// true if any lane of the mask is set
-  __attribute__((always_inline)) inline bool any(const bool m) { return m; }
+  __attribute__((always_inline)) inline bool any(const bool m)
+  {
+    return m;
+  }
   template <class M, std::enable_if_t<!std::is_same_v<M, bool>, int> = 0>
   __attribute__((always_inline)) inline bool any(const M m)
   {
-    bool r = false;
-    for (unsigned int i = 0; i < sizeof(M) / sizeof(m[0]); ++i)
-      r = r || m[i] != 0;
-    return r;
+    auto r = m[0]; // the lanes or-ed without a branch per lane
+    for (unsigned int i = 1; i < sizeof(M) / sizeof(m[0]); ++i)
+      r |= m[i];
+    return r != 0;
+  }
+
+  /// the number of lanes set in a mask (0 or 1 for bool)
+  __attribute__((always_inline)) inline unsigned int count(const bool m)
+  {
+    return m;
+  }
+  template <class M, std::enable_if_t<!std::is_same_v<M, bool>, int> = 0>
+  __attribute__((always_inline)) inline unsigned int count(const M m)
+  {
+    auto r = m[0]; // a set lane is -1
+    for (unsigned int i = 1; i < sizeof(M) / sizeof(m[0]); ++i)
+      r += m[i];
+    return static_cast<unsigned int>(-r);
   }
 } // namespace granhydro::physics::lanes
