@@ -162,10 +162,10 @@ namespace granhydro::convection
           const double      *vl      = fin + (std::size_t(sl) * 2 + 1) * npts * NC;
           const double      *vr      = fin + (std::size_t(sr) * 2 + 0) * npts * NC;
           // a hanging (fine sub-) face: the coarse side's Gauss point in this sub-face
-          const int  cp      = npts > 1 ? faces[k].coarse_point : -1;
-          const bool l_fixed = cp >= 0 && patch.level(sl) < patch.level(sr);
-          const bool r_fixed = cp >= 0 && patch.level(sr) < patch.level(sl);
-          double    *Fsum    = F + k * NC;
+          const int  cp       = npts > 1 ? faces[k].coarse_point : -1;
+          const bool l_fixed  = cp >= 0 && patch.level(sl) < patch.level(sr);
+          const bool r_fixed  = cp >= 0 && patch.level(sr) < patch.level(sl);
+          bool       in_lanes = false;
           if constexpr (physics::lanes::width<V> == 4)
             if (npts == 4 && numflux.vector_musta())
               {
@@ -199,25 +199,22 @@ namespace granhydro::convection
                   else
                     for (unsigned int c = 0; c < NC; ++c)
                       Fq[q][c] = fv[c][q];
-                for (unsigned int c = 0; c < NC; ++c)
-                  {
-                    double acc = 0.;
-                    for (unsigned int q = 0; q < 4; ++q)
-                      acc += wq * Fq[q][c];
-                    Fsum[c] = acc;
-                  }
-                continue;
+                in_lanes = true;
               }
-          for (unsigned int q = 0; q < npts; ++q)
+          if (!in_lanes)
             {
-              const unsigned int ql = l_fixed ? cp : q, qr = r_fixed ? cp : q;
-              for (unsigned int c = 0; c < NC; ++c)
+              for (unsigned int q = 0; q < npts; ++q)
                 {
-                  UL[q][c] = vl[ql * NC + c];
-                  UR[q][c] = vr[qr * NC + c];
+                  const unsigned int ql = l_fixed ? cp : q, qr = r_fixed ? cp : q;
+                  for (unsigned int c = 0; c < NC; ++c)
+                    {
+                      UL[q][c] = vl[ql * NC + c];
+                      UR[q][c] = vr[qr * NC + c];
+                    }
                 }
+              numflux.template points<V>(UL, UR, npts, d, Fq, counted, repair_energy);
             }
-          numflux.template points<V>(UL, UR, npts, d, Fq, counted, repair_energy);
+          double *Fsum = F + k * NC;
           for (unsigned int c = 0; c < NC; ++c)
             Fsum[c] = 0.;
           for (unsigned int q = 0; q < npts; ++q)
