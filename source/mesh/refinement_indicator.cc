@@ -4,6 +4,7 @@
  * test of an adaptive mesh.
  */
 #include <granhydro/mesh/adaptivity.h>
+#include <granhydro/physics/packing_fraction.h>
 
 #include <deal.II/lac/la_parallel_vector.h>
 
@@ -45,11 +46,11 @@ namespace granhydro::mesh
         for (unsigned int d = 0; d < dim; ++d)
           if (settings.second_differences)
             eta[s] = std::max({eta[s], loehner(n, s, d), loehner(p, s, d)});
-          else if (settings.packing_fraction) // sigma = 1: phi = (pi/6) n
+          else if (settings.packing_fraction) // phi is linear in n: the jump of phi
             {
               const auto [b, e] = P.cell_faces(d, s);
               for (auto cf = b; cf != e; ++cf)
-                eta[s] = std::max(eta[s], M_PI / 6. * std::abs(n[s] - n[P.across(d, *cf)]));
+                eta[s] = std::max(eta[s], physics::packing_fraction(std::abs(n[s] - n[P.across(d, *cf)])));
             }
           else
             {
