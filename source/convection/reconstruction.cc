@@ -19,7 +19,7 @@ namespace granhydro::convection
         for (unsigned int i = 0; i < n; ++i)
           {
             const double a = first + int(i) - 0.5, b = first + int(i) + 0.5;
-            M[j][i]        = (std::pow(b, j + 1) - std::pow(a, j + 1)) / (j + 1);
+            M[j][i] = (std::pow(b, j + 1) - std::pow(a, j + 1)) / (j + 1);
           }
         M[j][n] = std::pow(xi, j);
       }
@@ -83,6 +83,15 @@ namespace granhydro::convection
           for (unsigned int k = 0; k < 3; ++k)
             if (!(d[p][s][k] > 0))
               throw std::logic_error("WENO5: non-positive linear weights");
+          // pair_k() multiplies by the tables kc, kd: they must be these values, bit for bit
+          for (unsigned int k = 0; k < 3; ++k)
+            {
+              if (d[p][s][k] != kd[p][s][k])
+                throw std::logic_error("WENO5: the linear weights table kd differs from its derivation");
+              for (unsigned int j = 0; j < 3; ++j)
+                if (c[p][s][k][j] != kc[p][s][k][j])
+                  throw std::logic_error("WENO5: the coefficient table kc differs from its derivation");
+            }
         }
     // centre point: linear weights (-9/80, 49/40, -9/80), split after Shi-Hu-Shu
     const auto c5 = point_coefficients(-2, 5, 0.);
