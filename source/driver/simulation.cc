@@ -80,13 +80,12 @@ namespace granhydro::driver
     c.source              = scene.source;
     c.adaptive            = scene.max_level > 0;
 
-    AdaptationSettings &a          = r.adaptation;
-    a.indicator.refine_threshold   = scene.refine_threshold;
-    a.indicator.coarsen_threshold  = scene.coarsen_threshold;
-    a.indicator.buffer             = scene.adapt_buffer;
-    a.indicator.second_differences = scene.adapt_indicator == scene::RefinementIndicator::second_differences;
-    a.indicator.packing_fraction   = scene.adapt_indicator == scene::RefinementIndicator::packing_fraction;
-    a.balance_by_cost              = scene.balance_by_measured_cost(scene.diffusion_active());
+    AdaptationSettings &a         = r.adaptation;
+    a.indicator.refine_threshold  = scene.refine_threshold;
+    a.indicator.coarsen_threshold = scene.coarsen_threshold;
+    a.indicator.buffer            = scene.adapt_buffer;
+    a.indicator.indicator         = scene.adapt_indicator;
+    a.balance_by_cost             = scene.balance_by_measured_cost(scene.diffusion_active());
     return r;
   }
 

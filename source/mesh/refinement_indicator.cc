@@ -44,9 +44,9 @@ namespace granhydro::mesh
     for (unsigned int s = 0; s < n_owned; ++s)
       {
         for (unsigned int d = 0; d < dim; ++d)
-          if (settings.second_differences)
+          if (settings.indicator == RefinementIndicator::second_differences)
             eta[s] = std::max({eta[s], loehner(n, s, d), loehner(p, s, d)});
-          else if (settings.packing_fraction) // phi is linear in n: the jump of phi
+          else if (settings.indicator == RefinementIndicator::packing_fraction) // phi linear in n: its jump
             {
               const auto [b, e] = P.cell_faces(d, s);
               for (auto cf = b; cf != e; ++cf)

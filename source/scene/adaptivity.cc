@@ -20,7 +20,8 @@ namespace granhydro::scene
                         Patterns::Integer(0, mesh::max_levels - 1),
                         "Adaptive octree refinement (p4est): cells may be refined this many "
                         "levels above Domain/Cells; 0 = uniform mesh. Box domains in 2D and 3D.");
-      prm.declare_entry("Indicator", to_string(defaults.adapt_indicator), selection_of<RefinementIndicator>(),
+      prm.declare_entry("Indicator", to_string(defaults.adapt_indicator),
+                        selection_of<mesh::RefinementIndicator>(),
                         "Refinement indicator, from the number density n and the pressure p: "
                         "'jumps' = the largest normalised jump across the cell's faces, "
                         "|a_L - a_R| / min(a_L, a_R); 'second differences' = Loehner's "
@@ -63,7 +64,7 @@ namespace granhydro::scene
   {
     prm.enter_subsection("Adaptivity");
     max_level         = prm.get_integer("Maximum level");
-    adapt_indicator   = get_enum<RefinementIndicator>(prm, "Adaptivity", "Indicator");
+    adapt_indicator   = get_enum<mesh::RefinementIndicator>(prm, "Adaptivity", "Indicator");
     refine_threshold  = prm.get_double("Refine threshold");
     coarsen_threshold = prm.get_double("Coarsen threshold");
     adapt_interval    = prm.get_integer("Interval");
@@ -89,7 +90,8 @@ namespace granhydro::scene
         if (!(s.coarsen_threshold < s.refine_threshold))
           fail(s, "Adaptivity/Coarsen threshold",
                "must be below 'Adaptivity/Refine threshold' (" + std::to_string(s.refine_threshold) + ")");
-        if (s.adapt_indicator == RefinementIndicator::packing_fraction && s.model != physics::Model::granular)
+        if (s.adapt_indicator == mesh::RefinementIndicator::packing_fraction &&
+            s.model != physics::Model::granular)
           fail(s, "Adaptivity/Indicator",
                "'packing fraction' needs 'Material/Model = granular'; use jumps or second differences");
         double total = 1;

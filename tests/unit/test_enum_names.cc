@@ -137,7 +137,7 @@ int main()
   check_table<physics::FrictionalLaw>("Dense closure/Frictional stress", chk);
   check_table<diffusion::ImplicitMethod>("Diffusion step/Integrator", chk);
   check_table<scene::Preconditioner>("Diffusion step/Preconditioner", chk);
-  check_table<scene::RefinementIndicator>("Adaptivity/Indicator", chk);
+  check_table<mesh::RefinementIndicator>("Adaptivity/Indicator", chk);
   check_table<scene::LoadBalance>("Adaptivity/Load balance", chk);
 
   // a list of three or more reads "'a', 'b' or 'c'", of two "'a' or 'b'"

@@ -5,6 +5,7 @@
  * boundaries (their kinds and wall velocities). scene/ fills it (Scene::mesh_settings());
  * the mesh never sees the scene.
  */
+#include <granhydro/base/enum_names.h>
 #include <granhydro/boundary/wall_settings.h>
 
 #include <array>
@@ -34,14 +35,27 @@ namespace granhydro::mesh
     double velocity_unit = 1;
   };
 
+  /// Adaptivity/Indicator: what marks a cell for refinement
+  enum class RefinementIndicator
+  {
+    jumps,              ///< relative jumps of density and pressure across its faces
+    second_differences, ///< Loehner's normalised second differences of density and pressure
+    packing_fraction    ///< absolute jumps of the packing fraction across its faces (granular)
+  };
+  constexpr auto enum_names(RefinementIndicator)
+  {
+    return enum_table(EnumName{RefinementIndicator::jumps, "jumps"},
+                      EnumName{RefinementIndicator::second_differences, "second differences"},
+                      EnumName{RefinementIndicator::packing_fraction, "packing fraction"});
+  }
+  static_assert(check_enum_names(enum_names(RefinementIndicator{})));
+
   /// Adaptivity/Refine threshold, Coarsen threshold, Buffer cells, Indicator
   struct RefinementIndicatorSettings
   {
-    double       refine_threshold = 0, coarsen_threshold = 0;
-    unsigned int buffer             = 0;     ///< cells marked around each refined one (passes)
-    bool         second_differences = false; ///< the indicator: second differences (else jumps)
-    /// the indicator: absolute jumps of the packing fraction (pi/6) n (granular; scaled n)
-    bool packing_fraction = false;
+    double              refine_threshold = 0, coarsen_threshold = 0;
+    unsigned int        buffer    = 0; ///< cells marked around each refined one (passes)
+    RefinementIndicator indicator = RefinementIndicator::jumps;
   };
 
 } // namespace granhydro::mesh

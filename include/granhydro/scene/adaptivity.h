@@ -5,6 +5,7 @@
  * 2D and 3D.
  */
 #include <granhydro/base/enum_names.h>
+#include <granhydro/mesh/settings.h>
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -13,21 +14,6 @@
 
 namespace granhydro::scene
 {
-  /// Adaptivity/Indicator
-  enum class RefinementIndicator
-  {
-    jumps,
-    second_differences,
-    packing_fraction
-  };
-  constexpr auto enum_names(RefinementIndicator)
-  {
-    return enum_table(EnumName{RefinementIndicator::jumps, "jumps"},
-                      EnumName{RefinementIndicator::second_differences, "second differences"},
-                      EnumName{RefinementIndicator::packing_fraction, "packing fraction"});
-  }
-  static_assert(check_enum_names(enum_names(RefinementIndicator{})));
-
   /// Adaptivity/Load balance
   enum class LoadBalance
   {
@@ -46,13 +32,13 @@ namespace granhydro::scene
 
   struct AdaptivityParameters
   {
-    unsigned int        max_level         = 0; ///< refinement levels above Domain/Cells; 0 = uniform
-    RefinementIndicator adapt_indicator   = RefinementIndicator::jumps;
-    double              refine_threshold  = 0.05; ///< refine where the indicator exceeds this
-    double              coarsen_threshold = 0.01; ///< coarsen where it stays below this
-    unsigned int        adapt_interval    = 5;    ///< steps between adaptations
-    unsigned int        adapt_buffer      = 2;    ///< the refine flag spreads over this many cell layers
-    LoadBalance         load_balance      = LoadBalance::automatic; ///< the MPI partition
+    unsigned int              max_level         = 0; ///< refinement levels above Domain/Cells; 0 = uniform
+    mesh::RefinementIndicator adapt_indicator   = mesh::RefinementIndicator::jumps;
+    double                    refine_threshold  = 0.05; ///< refine where the indicator exceeds this
+    double                    coarsen_threshold = 0.01; ///< coarsen where it stays below this
+    unsigned int              adapt_interval    = 5;    ///< steps between adaptations
+    unsigned int              adapt_buffer      = 2; ///< the refine flag spreads over this many cell layers
+    LoadBalance               load_balance      = LoadBalance::automatic; ///< the MPI partition
 
     /// weigh each rank's cells by its measured cost at each adaptation ('Load balance'
     /// resolved: 'auto' = when no implicit step runs, whose GMRES + block ILU iterates
