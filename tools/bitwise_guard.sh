@@ -2,17 +2,18 @@
 # tools/bitwise_guard.sh OLD_BUILD_DIR NEW_BUILD_DIR: the bit-for-bit guard for refactors.
 # Each dir holds granhydro + libgranhydro_core.so. Runs scenes on 1 and 2 ranks
 # (shortened), compares log key lines, checkpoint digests and md5 of csv/vtu.
+# A scene "name@implicit" runs with Numerics/Contact pressure = implicit.
 # env: GUARD_OLD_PARTITION=1 when the old build predates Adaptivity/Load balance; OLD_RESULTS (a folder that caches the old runs between calls), SCENES (space list, relative to REPO/parameters), GUARD_DIR (/tmp/guard), REPO (this checkout)
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 OLD=$(readlink -f $1); NEW=$(readlink -f $2)
 REPO=${REPO:-$(cd "$(dirname "$0")/.." && pwd)}
 G=${GUARD_DIR:-/tmp/guard}
-SCENES=${SCENES:-"blast_2d bouncing_bed-ci silo-ci hard/harsh_vibration-ci vibrated_bed_1d sedimentation_column_1d sedimentation-ci inclined_chute-ci amr_blast_3d"}
-declare -A ENDT=( [vibrated_bed_1d]=0.05 [sedimentation_column_1d]=0.02 [blast_2d]=0.05 [sedimentation-ci]=0.01 [inclined_chute-ci]=0.02 [bouncing_bed-ci]=0.02 )
+SCENES=${SCENES:-"blast_2d bouncing_bed-ci silo-ci hard/harsh_vibration-ci vibrated_bed_1d sedimentation_column_1d sedimentation-ci inclined_chute-ci amr_blast_3d sedimentation_column_1d@implicit sedimentation-ci@implicit"}
+declare -A ENDT=( [vibrated_bed_1d]=0.05 [sedimentation_column_1d]=0.02 [blast_2d]=0.05 [sedimentation-ci]=0.01 [sedimentation_column_1d_implicit]=0.15 [sedimentation-ci_implicit]=0.08 [inclined_chute-ci]=0.02 [bouncing_bed-ci]=0.02 )
 rm -rf $G/new; mkdir -p $G
 status=0
 for s in $SCENES; do
-  n=$(echo $s | tr / _)
+  n=$(echo $s | tr /@ __); scene=${s%@*}
   for which in old new; do
     B=$OLD; [ $which = new ] && B=$NEW
     for np in 1 2; do
@@ -20,10 +21,11 @@ for s in $SCENES; do
       if [ $which = old ]; then d=${OLD_RESULTS:-$G/old}/$n-$np; [ -f $d/md5.txt ] && continue; fi
       mkdir -p $d; cd $d
       # mesh files are referenced relative to the scene file (../meshes/...)
-      mkdir -p prm; ln -sfn $REPO/meshes meshes; cp $REPO/parameters/$s.prm prm/scene.prm
+      mkdir -p prm; ln -sfn $REPO/meshes meshes; cp $REPO/parameters/$scene.prm prm/scene.prm
       # the changes as -p overrides (a scene file sets each parameter once: appending a
       # second End time to the file is refused)
       P=(-p "Output/Directory=out" -p "Output/Write checkpoint=true" -p "Output/Write profiles=true")
+      if [ "${s#*@}" = implicit ]; then P+=(-p "Numerics/Contact pressure=implicit"); fi
       if [ -n "${ENDT[$n]:-}" ]; then P+=(-p "Time/End time=${ENDT[$n]}"); fi
       if [ $n = amr_blast_3d ]; then P+=(-p "Time/Maximum steps=60"); fi
       # the new build partitions by cell count like the old ones (the default weighs cells by

@@ -97,15 +97,25 @@ namespace granhydro::convection
   }
 
   template <int dim, class Description>
-  double ConvectionOperator<dim, Description>::max_rate(const Vector &U) const
+  physics::State<dim> ConvectionOperator<dim, Description>::owned_state(const Vector &U, const unsigned int s,
+                                                                        const double *energy_shift) const
+  {
+    physics::State<dim> S;
+    for (unsigned int c = 0; c < NC; ++c)
+      S[c] = U.local_element(std::size_t(s) * NC + c);
+    if (energy_shift != nullptr)
+      S[NC - 1] -= energy_shift[s];
+    return S;
+  }
+
+  template <int dim, class Description>
+  double ConvectionOperator<dim, Description>::max_rate(const Vector &U, const double *energy_shift) const
   {
     double m = 0;
     for (unsigned int s = 0; s < patch.n_owned(); ++s)
       {
-        physics::State<dim> S;
-        for (unsigned int c = 0; c < NC; ++c)
-          S[c] = U.local_element(std::size_t(s) * NC + c);
-        double rate = 0;
+        const physics::State<dim> S    = owned_state(U, s, energy_shift);
+        double                    rate = 0;
         for (unsigned int d = 0; d < dim; ++d)
           rate += desc.max_wave_speed(S, d) * inv_h[d][patch.level(s)];
         m = std::max(m, rate);
@@ -142,24 +152,18 @@ namespace granhydro::convection
   }
 
   template <int dim, class Description>
-  bool ConvectionOperator<dim, Description>::admissible(const Vector &U, std::string *what) const
+  bool ConvectionOperator<dim, Description>::admissible(const Vector &U, std::string *what,
+                                                        const double *energy_shift) const
   {
     int bad = -1;
     for (unsigned int s = 0; s < patch.n_owned() && bad < 0; ++s)
-      {
-        physics::State<dim> S;
-        for (unsigned int c = 0; c < NC; ++c)
-          S[c] = U.local_element(std::size_t(s) * NC + c);
-        if (!desc.admissible(S))
-          bad = s;
-      }
+      if (!desc.admissible(owned_state(U, s, energy_shift)))
+        bad = s;
     const bool ok = Utilities::MPI::min(bad < 0 ? 1 : 0, patch.communicator()) == 1;
     if (!ok && what != nullptr && bad >= 0)
       {
-        std::ostringstream  os;
-        physics::State<dim> S;
-        for (unsigned int c = 0; c < NC; ++c)
-          S[c] = U.local_element(std::size_t(bad) * NC + c);
+        std::ostringstream        os;
+        const physics::State<dim> S = owned_state(U, bad, energy_shift);
         os << "cell at x = " << patch.center(bad) << " m: n*sigma^3 = " << S[0] << ", packing fraction "
            << physics::packing_fraction(S[0]) << ", T = " << desc.temperature(S) << " (scaled units)";
         *what = os.str();

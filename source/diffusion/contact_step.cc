@@ -80,12 +80,10 @@ namespace granhydro::diffusion
     owned = per_cell(*patch.partitioner(), NC, false);
     AssertThrow(cells->n_ghost_indices() == patch.n_mpi_ghosts(),
                 ExcMessage("contact step: the cell partitioner's ghosts are not the patch's MPI ghosts"));
-    n_min         = std::min(desc.contact.phi_min, desc.model.pair_correlation().phi_f()) / desc.phi_per_n;
-    const auto nl = patch.n_owned() + patch.n_mpi_ghosts();
-    inv_h.resize(std::size_t(nl) * dim);
-    for (unsigned int s = 0; s < nl; ++s)
+    n_min = std::min(desc.contact.phi_min, desc.model.pair_correlation().phi_f()) / desc.phi_per_n;
+    for (unsigned int k = 0; k < mesh::max_levels; ++k)
       for (unsigned int d = 0; d < dim; ++d)
-        inv_h[std::size_t(s) * dim + d] = length_unit / patch.cell_size(s, d);
+        inv_h_level[k][d] = length_unit / patch.level_cell_size(k, d);
     matrix.clear();
     matrix.ghosted = cells;
     n_iter.reinit(cells);
@@ -105,6 +103,13 @@ namespace granhydro::diffusion
   }
 
   template <int dim>
+  void ContactStep<dim>::contact_energies(const Vector &U, double *w) const
+  {
+    for (unsigned int s = 0; s < patch.n_owned(); ++s)
+      w[s] = desc.contact.energy_density(U.local_element(std::size_t(s) * NC));
+  }
+
+  template <int dim>
   void ContactStep<dim>::begin_convective_step(Vector &U)
   {
     n_before.resize(patch.n_owned());
@@ -121,12 +126,11 @@ namespace granhydro::diffusion
       return false;
     if (!(n_star[l] > n_min || n_star[r] > n_min)) // no grains in enduring contact here
       return false;
-    const double inv_dist =
-      2. / (1. / inv_h[std::size_t(l) * dim + d] + 1. / inv_h[std::size_t(r) * dim + d]);
-    const double g = settings.gravity[d];
-    F.J            = -h * ((p_imp[r] - p_imp[l] + p_exp[r] - p_exp[l]) * inv_dist - 0.5 * (n[l] + n[r]) * g);
-    F.dJ_dl        = -h * (-dp_imp[l] * inv_dist - 0.5 * g);
-    F.dJ_dr        = -h * (dp_imp[r] * inv_dist - 0.5 * g);
+    const double inv_dist = 2. / (1. / inv_h(l, d) + 1. / inv_h(r, d));
+    const double g        = settings.gravity[d];
+    F.J     = -h * ((p_imp[r] - p_imp[l] + p_exp[r] - p_exp[l]) * inv_dist - 0.5 * (n[l] + n[r]) * g);
+    F.dJ_dl = -h * (-dp_imp[l] * inv_dist - 0.5 * g);
+    F.dJ_dr = -h * (dp_imp[r] * inv_dist - 0.5 * g);
     return true;
   }
 
@@ -135,10 +139,17 @@ namespace granhydro::diffusion
   {
     const unsigned int no = patch.n_owned(), nl = no + patch.n_mpi_ghosts();
     U.update_ghost_values();
-    for (auto *v : {&n_star, &T_star, &p_exp, &p_imp, &dp_imp})
-      v->resize(nl);
-    thermal.resize(no);
-    double n_max = 0;
+    // the step's per-cell values in a work array the convective and diffusion steps share
+    // (neither runs inside this step): no memory of their own
+    double *const work      = patch.scratch(mesh::Scratch::stage_c, 6 * std::size_t(nl));
+    double *const arrays[6] = {work, work + nl, work + 2 * nl, work + 3 * nl, work + 4 * nl, work + 5 * nl};
+    n_star                  = arrays[0];
+    T_star                  = arrays[1];
+    p_exp                   = arrays[2];
+    p_imp                   = arrays[3];
+    dp_imp                  = arrays[4];
+    thermal                 = arrays[5];
+    double n_max            = 0;
     for (unsigned int s = 0; s < nl; ++s)
       {
         physics::State<dim> S;
@@ -178,7 +189,7 @@ namespace granhydro::diffusion
             if (!face_flux(d, f.l, f.r, h, n, F))
               continue;
             // the flux leaves i through its upper faces, enters through its lower ones
-            const double w = h * inv_h[std::size_t(i) * dim + d] * (cf->upper ? f.frac_l : -f.frac_r);
+            const double w = h * inv_h(i, d) * (cf->upper ? f.frac_l : -f.frac_r);
             R += w * F.J;
             row.push_back({f.l, {{-w * F.dJ_dl}}}); // the matrix is I - J
             row.push_back({f.r, {{-w * F.dJ_dr}}});
@@ -281,7 +292,7 @@ namespace granhydro::diffusion
         double *u = &U.local_element(std::size_t(i) * NC);
         for (unsigned int d = 0; d < dim; ++d)
           {
-            const double g = settings.gravity[d], hd = 1. / inv_h[std::size_t(i) * dim + d];
+            const double g = settings.gravity[d], hd = 1. / inv_h(i, d);
             double       force = 0; // minus the pressure's difference across the cell, times the share
             const auto [b, e]  = patch.cell_faces(d, i);
             for (auto cf = b; cf != e; ++cf)

@@ -69,28 +69,25 @@ namespace granhydro::driver
   }
 
   template <int dim, class Description>
-  const typename SplitStep<dim, Description>::Vector &
-  SplitStep<dim, Description>::convective_view(const Vector &U)
+  const double *SplitStep<dim, Description>::contact_energy(const Vector &U)
   {
     if (!contact_)
-      return U;
-    if (shifted_.get_partitioner() != U.get_partitioner())
-      shifted_.reinit(U.get_partitioner());
-    shifted_ = U;
-    contact_->shift_energy(shifted_, -1.);
-    return shifted_;
+      return nullptr;
+    double *const w = patch_->scratch(mesh::Scratch::owned_0, std::size_t(patch_->n_owned()) * (dim + 2));
+    contact_->contact_energies(U, w);
+    return w;
   }
 
   template <int dim, class Description>
   double SplitStep<dim, Description>::max_rate(const Vector &U)
   {
-    return conv_->max_rate(convective_view(U));
+    return conv_->max_rate(U, contact_energy(U));
   }
 
   template <int dim, class Description>
   bool SplitStep<dim, Description>::admissible(const Vector &U, std::string *what)
   {
-    return conv_->admissible(convective_view(U), what);
+    return conv_->admissible(U, what, contact_energy(U));
   }
 
   template <int dim, class Description>

@@ -87,8 +87,10 @@ namespace granhydro::convection
     /// grain; physics::GranularGas::admissible()), which MUSTA's predictor states may use
     void apply(const double *W, double *rhs, const double repair_energy) const;
 
-    /// max over owned cells of sum_d (|u_d| + c)/dx_d (global MPI max)
-    double max_rate(const Vector &U) const;
+    /// max over owned cells of sum_d (|u_d| + c)/dx_d (global MPI max). energy_shift (per
+    /// owned cell, or none): taken off each cell's energy first (the implicit contact
+    /// step's contact energy, which this operator's description does not hold)
+    double max_rate(const Vector &U, const double *energy_shift = nullptr) const;
 
     /// one SSP-RK3 step (eq. 4.10) of size dt; U must be built on patch.partitioner().
     /// Returns false (U then undefined) if a stage stays inadmissible even with
@@ -98,8 +100,8 @@ namespace granhydro::convection
 
     /// true if every owned cell is admissible outside a step (no splitting allowance; a
     /// state after the temperature repair passes with any allowance) (global); on
-    /// failure, where/what
-    bool admissible(const Vector &U, std::string *what = nullptr) const;
+    /// failure, where/what; energy_shift as in max_rate()
+    bool admissible(const Vector &U, std::string *what = nullptr, const double *energy_shift = nullptr) const;
 
     const ConvectionStatistics &statistics() const { return stats; }
 
@@ -146,6 +148,8 @@ namespace granhydro::convection
     void add_gravity_sources(double *rhs) const;
     bool stage_update(Vector &U, const double a, const double b, const double den, const double dt,
                       const double repair_energy) const;
+    /// owned cell s of U, energy_shift[s] taken off its energy (none: nullptr)
+    physics::State<dim> owned_state(const Vector &U, const unsigned int s, const double *energy_shift) const;
 
     const mesh::CartesianPatch<dim> &patch;
     const Description               &desc;

@@ -102,6 +102,9 @@ namespace granhydro::diffusion
     /// no dense closure, works on the energy without the contact energy (sign -1 before it,
     /// +1 after it with the new densities)
     void shift_energy(Vector &U, const double sign) const;
+    /// the contact energy n w(n) of each owned cell of U into w (what shift_energy(U, -1)
+    /// takes off)
+    void contact_energies(const Vector &U, double *w) const;
     /// before a convective step on U: record its densities (step() needs them) and take the
     /// contact energy out of E (shift_energy(U, -1))
     void begin_convective_step(Vector &U);
@@ -149,16 +152,21 @@ namespace granhydro::diffusion
     void implicit_pressure(const unsigned int s, const double n, double &p, double &dp_dn) const;
 
     // per local cell (owned, then MPI ghosts): n*, T*, the explicit kinetic pressure at n*,
-    // the implicit pressure and its derivative at the iterate
-    std::vector<double> n_star, T_star, p_exp, p_imp, dp_imp;
+    // the implicit pressure and its derivative at the iterate; per owned cell the thermal
+    // energy density after the convective step. They live in the patch's work array
+    // mesh::Scratch::stage_c during step() (read_state() points them there) and are
+    // undefined outside it
+    double *n_star = nullptr, *T_star = nullptr, *p_exp = nullptr, *p_imp = nullptr, *dp_imp = nullptr,
+           *thermal = nullptr;
     std::vector<double> n_before; ///< owned densities before the convective step
-    std::vector<double> thermal;  ///< owned thermal energy densities after it
     std::vector<std::vector<std::pair<unsigned int, std::array<double, 1>>>> J; ///< Newton rows
-    std::vector<double> inv_h; ///< scaled 1/dx per local cell and direction
-    BlockSparseMatrix   matrix;
-    BlockILU            ilu;
-    Vector              n_iter, rhs, delta;
-    ContactStepCounts   counts_;
-    std::string         last_failure_;
+    /// scaled 1/dx per refinement level and direction
+    std::array<std::array<double, dim>, mesh::max_levels> inv_h_level{};
+    double inv_h(const unsigned int s, const unsigned int d) const { return inv_h_level[patch.level(s)][d]; }
+    BlockSparseMatrix matrix;
+    BlockILU          ilu;
+    Vector            n_iter, rhs, delta;
+    ContactStepCounts counts_;
+    std::string       last_failure_;
   };
 } // namespace granhydro::diffusion

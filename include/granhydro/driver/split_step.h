@@ -116,8 +116,9 @@ namespace granhydro::driver
     diffusion::ContactStep<dim>                      *contact_    = nullptr;
     double                                            owed_       = 0;
     SplitStepCounters                                 counters_;
-    Vector                                            shifted_; ///< U without the contact energy
-    /// U, or with the implicit contact step U without the contact energy (in shifted_)
-    const Vector &convective_view(const Vector &U);
+    /// with the implicit contact step, the contact energy of each owned cell of U, which the
+    /// convective operator's view of U leaves out (in the patch's work array
+    /// mesh::Scratch::owned_0, valid until the next step); without it nullptr
+    const double *contact_energy(const Vector &U);
   };
 } // namespace granhydro::driver

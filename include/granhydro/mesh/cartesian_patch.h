@@ -93,7 +93,8 @@ namespace granhydro::mesh
   enum class Scratch : unsigned int
   {
     slot_array, ///< the gathered slot array W (both)
-    /// convection: reconstruction stages A, B, C; diffusion: face fluxes normal to 0, 1, 2
+    /// convection: reconstruction stages A, B, C; diffusion: face fluxes normal to 0, 1, 2;
+    /// stage_c also the implicit contact step's per-cell values (between the two steps)
     stage_a,
     stage_b,
     stage_c,
