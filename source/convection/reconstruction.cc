@@ -69,27 +69,28 @@ namespace granhydro::convection
     for (unsigned int p = 0; p < 2; ++p)
       for (unsigned int s = 0; s < 2; ++s)
         {
+          // the candidates' coefficients c and linear weights d at the pair's point: pair_k()
+          // multiplies by the tables kc, kd, which must be these values, bit for bit
           const double xi = pair_point(p, s);
           const auto   c5 = point_coefficients(-2, 5, xi);
+          double       c[3][3], d[3];
           for (unsigned int k = 0; k < 3; ++k)
             {
               const auto ck = point_coefficients(int(k) - 2, 3, xi);
               for (unsigned int j = 0; j < 3; ++j)
-                c[p][s][k][j] = ck[j];
+                c[k][j] = ck[j];
             }
-          d[p][s][0] = c5[0] / c[p][s][0][0];
-          d[p][s][2] = c5[4] / c[p][s][2][2];
-          d[p][s][1] = 1 - d[p][s][0] - d[p][s][2];
-          for (unsigned int k = 0; k < 3; ++k)
-            if (!(d[p][s][k] > 0))
-              throw std::logic_error("WENO5: non-positive linear weights");
-          // pair_k() multiplies by the tables kc, kd: they must be these values, bit for bit
+          d[0] = c5[0] / c[0][0];
+          d[2] = c5[4] / c[2][2];
+          d[1] = 1 - d[0] - d[2];
           for (unsigned int k = 0; k < 3; ++k)
             {
-              if (d[p][s][k] != kd[p][s][k])
+              if (!(d[k] > 0))
+                throw std::logic_error("WENO5: non-positive linear weights");
+              if (d[k] != kd[p][s][k])
                 throw std::logic_error("WENO5: the linear weights table kd differs from its derivation");
               for (unsigned int j = 0; j < 3; ++j)
-                if (c[p][s][k][j] != kc[p][s][k][j])
+                if (c[k][j] != kc[p][s][k][j])
                   throw std::logic_error("WENO5: the coefficient table kc differs from its derivation");
             }
         }

@@ -141,15 +141,13 @@ namespace granhydro::diffusion
     U.update_ghost_values();
     // the step's per-cell values in a work array the convective and diffusion steps share
     // (neither runs inside this step): no memory of their own
-    double *const work      = patch.scratch(mesh::Scratch::stage_c, 6 * std::size_t(nl));
-    double *const arrays[6] = {work, work + nl, work + 2 * nl, work + 3 * nl, work + 4 * nl, work + 5 * nl};
-    n_star                  = arrays[0];
-    T_star                  = arrays[1];
-    p_exp                   = arrays[2];
-    p_imp                   = arrays[3];
-    dp_imp                  = arrays[4];
-    thermal                 = arrays[5];
-    double n_max            = 0;
+    n_star       = patch.scratch(mesh::Scratch::stage_c, 6 * std::size_t(nl));
+    T_star       = n_star + nl;
+    p_exp        = T_star + nl;
+    p_imp        = p_exp + nl;
+    dp_imp       = p_imp + nl;
+    thermal      = dp_imp + nl;
+    double n_max = 0;
     for (unsigned int s = 0; s < nl; ++s)
       {
         physics::State<dim> S;

@@ -96,8 +96,6 @@ namespace granhydro::convection
   {
     static constexpr int r = 2;
     Weno5();
-    double c[2][2][3][3]; // [pair][side][candidate][j]
-    double d[2][2][3];
     double cc[3][3];       // centre: candidate coefficients
     double gp[3], gm[3];   // centre: split positive weights, normalised
     double sp = 1, sm = 0; // centre: their sums
@@ -149,8 +147,10 @@ namespace granhydro::convection
       else
         pair_k<T, 1>(v0, v1, v2, v3, v4, lo, hi);
     }
-    /// c and d as compile-time constants: the values the constructor derives from the exact
-    /// polynomial reconstruction (point_coefficients()), checked there bit for bit. As
+    /// the candidates' coefficients [pair][side][candidate][j] and linear weights
+    /// [pair][side][candidate] as compile-time constants: the values the constructor derives
+    /// from the exact polynomial reconstruction (point_coefficients()), checked there bit
+    /// for bit. As
     /// constants they are operands the compiler folds into the multiplications (14 % fewer
     /// instructions in the reconstruction, see doc/performance.md)
     static constexpr double kc[2][2][3][3] = {
